@@ -1,0 +1,158 @@
+"""
+Slow, obvious twins of the core, written straight from the paper's equations for comparison.
+
+Nothing here is vectorised or clever: every cell is compared with every laser point in plain
+Python loops. Tests compare the core with these cell for cell; the benchmark times them.
+
+"""
+
+import heapq
+import math
+
+import numpy as np
+
+NON_EXPLORED, EXPLORED, STEADY, MOBILE = 0, 1, 2, 3
+
+# The FSM table of the README, written out as literal transitions.
+FSM = {
+    (NON_EXPLORED, 1, 0): STEADY, (NON_EXPLORED, 0, 1): EXPLORED,
+    (EXPLORED, 1, 0): MOBILE, (EXPLORED, 0, 1): EXPLORED,
+    (STEADY, 1, 0): STEADY, (STEADY, 0, 1): EXPLORED,
+    (MOBILE, 1, 0): MOBILE, (MOBILE, 0, 1): EXPLORED,
+}
+
+
+def literal_scan_points(pose, ranges, angle_min, angle_increment, range_min, range_max):
+    """
+    Polygon vertices and hit points of a scan, one beam at a time.
+
+    Returns
+    -------
+    vertices : list of (float, float)
+        Laser position first, then one vertex per beam.
+    hits : list of (float, float)
+
+    """
+    x, y, yaw = pose
+    vertices = [(x, y)]
+    hits = []
+    for i, reading in enumerate(ranges):
+        reading = float(reading)
+        theta = yaw + (angle_min + i * angle_increment)
+        if math.isfinite(reading) and range_min <= reading < range_max:
+            point = (x + reading * math.cos(theta), y + reading * math.sin(theta))
+            vertices.append(point)
+            hits.append(point)
+        elif reading == math.inf or reading >= range_max:
+            vertices.append((x + range_max * math.cos(theta), y + range_max * math.sin(theta)))
+        else:
+            vertices.append((x, y))
+    return vertices, hits
+
+
+def literal_f1(cx, cy, hits, safety_radius):
+    """Eq. 1-2: 1 if some hit point lies within the safety radius of the centre."""
+    for hx, hy in hits:
+        dx = hx - cx
+        dy = hy - cy
+        if math.sqrt(dx * dx + dy * dy) <= safety_radius:
+            return 1
+    return 0
+
+
+def literal_f2(cx, cy, vertices):
+    """Even-odd crossing test of the centre against the closed polygon (ray along +x)."""
+    inside = False
+    count = len(vertices)
+    for a in range(count):
+        xa, ya = vertices[a]
+        xb, yb = vertices[(a + 1) % count]
+        if (ya > cy) != (yb > cy) and cx < xa + (xb - xa) * (cy - ya) / (yb - ya):
+            inside = not inside
+    return 1 if inside else 0
+
+
+def literal_update(labels, origin, resolution, pose, ranges, angle_min, angle_increment,
+                   range_min, range_max, safety_radius, path=None):
+    """
+    Update a label array in place over every cell; return the replan flag.
+
+    Parameters
+    ----------
+    labels : (H, W) ndarray of uint8
+        Labels, changed in place.
+    origin : (float, float)
+        Lower-left corner [m].
+    resolution : float
+        Cell side [m].
+
+    """
+    vertices, hits = literal_scan_points(
+        pose, ranges, angle_min, angle_increment, range_min, range_max)
+    x0, y0 = origin
+    on_path = set() if path is None else {(int(r), int(c)) for r, c in path}
+    replan = False
+    rows, cols = labels.shape
+    for i in range(rows):
+        for j in range(cols):
+            cx = x0 + (j + 0.5) * resolution
+            cy = y0 + (i + 0.5) * resolution
+            f1 = literal_f1(cx, cy, hits, safety_radius)
+            f2 = 0 if f1 else literal_f2(cx, cy, vertices)
+            old = int(labels[i, j])
+            new = FSM.get((old, f1, f2), old)
+            labels[i, j] = new
+            if (i, j) in on_path and ((old, new) == (NON_EXPLORED, STEADY)
+                                      or (old, new) == (EXPLORED, MOBILE)):
+                replan = True
+    return replan
+
+
+def tuple_astar(blocked, start, goal):
+    """
+    Textbook A* over (row, col) tuples: the baseline the benchmark compares against.
+
+    Same moves and rule as the core: 8-connected, costs 1 and sqrt(2), no diagonal between two
+    blocked cells, octile heuristic. Returns a list of cells or None.
+
+    """
+    rows, cols = np.shape(blocked)
+    blocked = np.asarray(blocked, dtype=bool).tolist()
+    sqrt2 = math.sqrt(2.0)
+
+    def heuristic(cell):
+        dr = abs(cell[0] - goal[0])
+        dc = abs(cell[1] - goal[1])
+        return (dr + dc) + (sqrt2 - 2.0) * min(dr, dc)
+
+    g_score = {start: 0.0}
+    parent = {start: None}
+    frontier = [(heuristic(start), start)]
+    closed = set()
+    while frontier:
+        _, cell = heapq.heappop(frontier)
+        if cell in closed:
+            continue
+        if cell == goal:
+            path = []
+            while cell is not None:
+                path.append(cell)
+                cell = parent[cell]
+            return path[::-1]
+        closed.add(cell)
+        r, c = cell
+        for dr in (-1, 0, 1):
+            for dc in (-1, 0, 1):
+                if dr == 0 and dc == 0:
+                    continue
+                nr, nc = r + dr, c + dc
+                if not (0 <= nr < rows and 0 <= nc < cols) or blocked[nr][nc]:
+                    continue
+                if dr and dc and blocked[r + dr][c] and blocked[r][c + dc]:
+                    continue
+                cost = g_score[cell] + (sqrt2 if dr and dc else 1.0)
+                if cost < g_score.get((nr, nc), math.inf):
+                    g_score[(nr, nc)] = cost
+                    parent[(nr, nc)] = cell
+                    heapq.heappush(frontier, (cost + heuristic((nr, nc)), (nr, nc)))
+    return None

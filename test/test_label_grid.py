@@ -1,0 +1,242 @@
+"""Tests of the labelled occupancy grid: f1, f2, the FSM and the replan flag."""
+
+import math
+
+from dpn_navigator.core.cell_label import CellLabel, OCCUPANCY_VALUE, TRANSITION
+from dpn_navigator.core.label_grid import LabelGrid
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from literal_reference import FSM, literal_update
+import numpy as np
+from numpy.testing import assert_array_equal
+import pytest
+
+N, E, S, M = (CellLabel.NON_EXPLORED, CellLabel.EXPLORED,
+              CellLabel.STEADY_OBSTACLE, CellLabel.MOBILE_OBSTACLE)
+
+SCAN = dict(angle_min=-math.pi / 2, angle_increment=math.pi / 639, range_min=0.1,
+            range_max=30.0)
+
+
+def test_labels_start_non_explored_with_the_documented_shape():
+    grid = LabelGrid(width=40.0, height=30.0, resolution=0.5, origin=(-3.0, 2.0))
+    assert grid.labels.shape == (60, 80)
+    assert grid.labels.dtype == np.uint8
+    assert np.all(grid.labels == N)
+    odd = LabelGrid(width=10.2, height=3.1, resolution=0.5)
+    assert odd.labels.shape == (7, 21)
+
+
+def test_label_values_and_occupancy_values_are_fixed():
+    assert (N, E, S, M) == (0, 1, 2, 3)
+    assert OCCUPANCY_VALUE.tolist() == [-1, 0, 100, 70]
+    assert 65 <= OCCUPANCY_VALUE[M] <= 99
+
+
+@pytest.mark.parametrize('state', list(CellLabel))
+@pytest.mark.parametrize('scan_input, f1, f2', [(0, 0, 0), (1, 0, 1), (2, 1, 0)])
+def test_transition_table_matches_the_readme_table(state, scan_input, f1, f2):
+    assert TRANSITION[state, scan_input] == FSM.get((int(state), f1, f2), int(state))
+
+
+def wall_scan(distance, beams=181):
+    """Ranges of a laser facing +x at a wall ``distance`` m ahead (x = distance)."""
+    angles = -math.pi / 2 + np.arange(beams) * (math.pi / (beams - 1))
+    with np.errstate(divide='ignore'):
+        ranges = distance / np.cos(angles)
+    ranges[np.abs(angles) > math.radians(80)] = np.inf
+    return ranges, dict(angle_min=-math.pi / 2, angle_increment=math.pi / (beams - 1),
+                        range_min=0.1, range_max=30.0)
+
+
+def test_wall_becomes_steady_and_free_space_explored():
+    grid = LabelGrid(width=10.0, height=10.0, resolution=0.5)
+    ranges, scan = wall_scan(3.0)
+    grid.update((2.0, 5.0, 0.0), ranges, safety_radius=0.3, **scan)
+    # The wall at x = 5.0 m lies on the border of columns 9 and 10; centres at 4.75 and 5.25.
+    row = grid.geometry.world_to_cell(0.0, 5.0)[0]
+    assert grid.labels[row, 9] == S and grid.labels[row, 10] == S
+    assert np.all(grid.labels[row, 4:9] == E)
+    assert grid.labels[row, 12] == N          # behind the wall: never seen
+    assert grid.labels[row, 0] == N           # behind the laser
+
+
+def test_obstacle_over_explored_space_is_mobile_and_clears_when_gone():
+    grid = LabelGrid(width=10.0, height=10.0, resolution=0.5)
+    far, scan = wall_scan(4.0)
+    laser = (1.0, 5.25, 0.0)                     # on the centre line of row 10
+    grid.update(laser, far, safety_radius=0.3, **scan)
+    assert grid.labels[10, 6] == E
+    near = far.copy()
+    near[90] = 2.25                              # something at (3.25, 5.25): centre of (10, 6)
+    path = np.array([[10, c] for c in range(2, 9)])
+    assert grid.update(laser, near, safety_radius=0.3, path=path, **scan)
+    assert grid.labels[10, 6] == M
+    assert grid.labels[10, 5] == E and grid.labels[10, 7] == E   # 0.5 m > r: not hit
+    # It leaves: the cell is seen free again and goes back to explored.
+    assert not grid.update(laser, far, safety_radius=0.3, path=path, **scan)
+    assert np.all(grid.labels[10, 3:9] == E)
+
+
+def test_replan_only_for_cells_on_the_path():
+    grid = LabelGrid(width=10.0, height=10.0, resolution=0.5)
+    ranges, scan = wall_scan(3.0)
+    row = grid.geometry.world_to_cell(0.0, 5.0)[0]
+    off_path = np.array([[0, 0], [1, 1]])
+    assert not grid.update((2.0, 5.0, 0.0), ranges, safety_radius=0.3, path=off_path, **scan)
+    fresh = LabelGrid(width=10.0, height=10.0, resolution=0.5)
+    on_path = np.array([[row, 9]])
+    assert fresh.update((2.0, 5.0, 0.0), ranges, safety_radius=0.3, path=on_path, **scan)
+    # Seen again: steady stays steady, so no new replan.
+    assert not fresh.update((2.0, 5.0, 0.0), ranges, safety_radius=0.3, path=on_path, **scan)
+
+
+def test_scan_entirely_off_the_map_changes_nothing():
+    grid = LabelGrid(width=10.0, height=10.0, resolution=0.5)
+    ranges, scan = wall_scan(3.0)
+    assert not grid.update((-100.0, -100.0, 0.0), ranges, safety_radius=0.5, **scan)
+    assert np.all(grid.labels == N)
+
+
+def test_empty_scan_changes_nothing():
+    grid = LabelGrid(width=10.0, height=10.0, resolution=0.5)
+    assert not grid.update((5.0, 5.0, 0.0), np.array([]), safety_radius=0.5, **SCAN)
+    assert np.all(grid.labels == N)
+
+
+@pytest.mark.parametrize('kwargs, message', [
+    (dict(pose=(1.0, float('nan'), 0.0)), 'pose must be finite'),
+    (dict(pose=(1.0, 2.0)), r'pose must be \(x, y, yaw\)'),
+    (dict(ranges=np.ones((3, 2))), 'one-dimensional'),
+    (dict(angle_increment=0.0), 'angle_increment must be positive'),
+    (dict(angle_increment=-0.01), 'angle_increment must be positive'),
+    (dict(angle_increment=float('inf')), 'angle_increment must be finite'),
+    (dict(range_max=0.05), 'range_min < range_max'),
+    (dict(range_min=-1.0), 'range_min < range_max'),
+    (dict(range_max=float('inf')), 'range_max must be finite'),
+    (dict(angle_max=0.5), 'ranges has 640 beams'),
+    (dict(angle_increment=0.1, angle_max=None), 'more than a full turn'),
+    (dict(safety_radius=-0.1), 'safety_radius'),
+    (dict(safety_radius=float('nan')), 'safety_radius'),
+    (dict(path=np.array([1, 2, 3])), r'\(N, 2\)'),
+    (dict(path=np.array([[0.5, 1.0]])), 'integers'),
+    (dict(path=np.array([[0, 1], [20, 1]])), 'off the 20x20 grid'),
+])
+def test_bad_input_raises_and_leaves_labels_unchanged(kwargs, message):
+    grid = LabelGrid(width=10.0, height=10.0, resolution=0.5)
+    args = dict(pose=(5.0, 5.0, 0.0), ranges=np.full(640, 2.0), safety_radius=0.5,
+                angle_max=math.pi / 2, **SCAN)
+    args.update(kwargs)
+    with pytest.raises(ValueError, match=message):
+        grid.update(**args)
+    assert np.all(grid.labels == N)
+
+
+@pytest.mark.parametrize('kwargs, message', [
+    (dict(resolution=0.0), 'resolution must be positive'),
+    (dict(resolution=-0.5), 'resolution must be positive'),
+    (dict(width=0.0), 'width and height must be positive'),
+    (dict(height=float('nan')), 'height must be finite'),
+    (dict(origin=(0.0,)), 'origin'),
+    (dict(origin=(0.0, float('inf'))), 'origin y must be finite'),
+])
+def test_bad_grid_raises(kwargs, message):
+    args = dict(width=10.0, height=10.0, resolution=0.5, origin=(0.0, 0.0))
+    args.update(kwargs)
+    with pytest.raises(ValueError, match=message):
+        LabelGrid(**args)
+
+
+def test_angle_max_within_one_beam_is_accepted():
+    grid = LabelGrid(width=10.0, height=10.0, resolution=0.5)
+    increment = math.pi / 640            # a driver whose angle_max is one increment short
+    grid.update((5.0, 5.0, 0.0), np.full(640, 2.0), -math.pi / 2, increment, 0.1, 30.0, 0.5,
+                angle_max=math.pi / 2 - increment)
+    assert np.any(grid.labels != N)
+
+
+# Readings that exercise every REP 117 case: valid, short, NaN, +/-inf, at and past range_max.
+reading = st.one_of(
+    st.floats(0.0, 9.0), st.sampled_from([math.nan, math.inf, -math.inf, 6.0, 0.2, 7.5]))
+
+
+@st.composite
+def scans(draw):
+    """Random scans, half of them on a lattice where centres, hits and radii coincide exactly."""
+    lattice = draw(st.booleans())
+    rows = draw(st.integers(1, 14))
+    cols = draw(st.integers(1, 14))
+    if lattice:
+        # Hits land on cell centres and edges, crossings on centres, distances equal to r.
+        quarter = st.integers(-12, 40).map(lambda k: 0.25 * k)
+        resolution = 0.5
+        origin = (0.0, 0.0)
+        x, y = draw(quarter), draw(quarter)
+        yaw = draw(st.integers(-4, 4)) * math.pi / 4
+        angle_min = draw(st.integers(-4, 0)) * math.pi / 4
+        quarter_turns = draw(st.sampled_from([1, 2]))          # increment of 45 or 90 degrees
+        increment = quarter_turns * math.pi / 4
+        beams = draw(st.integers(0, 8 // quarter_turns + 1))     # at most one full turn
+        ranges = draw(st.lists(st.one_of(st.integers(0, 24).map(lambda k: 0.25 * k), reading),
+                               min_size=beams, max_size=beams))
+        range_max = draw(st.sampled_from([2.0, 4.0, 6.0]))
+        safety_radius = draw(st.integers(0, 4).map(lambda k: 0.25 * k))
+    else:
+        resolution = draw(st.sampled_from([0.25, 0.5, 0.7]))
+        origin = (draw(st.floats(-3.0, 3.0)), draw(st.floats(-3.0, 3.0)))
+        # Poses inside, near the edge and outside the map.
+        x = draw(st.floats(origin[0] - 3.0, origin[0] + cols * resolution + 3.0))
+        y = draw(st.floats(origin[1] - 3.0, origin[1] + rows * resolution + 3.0))
+        yaw = draw(st.floats(-4.0, 4.0))
+        angle_min = draw(st.floats(-3.2, 0.0))
+        beams = draw(st.integers(0, 40))
+        span = draw(st.sampled_from([math.pi, 1.5 * math.pi, 2.0 * math.pi, 0.5]))
+        increment = span / max(beams - 1, 1)
+        ranges = draw(st.lists(reading, min_size=beams, max_size=beams))
+        range_max = draw(st.floats(1.0, 7.5))
+        safety_radius = draw(st.floats(0.0, 1.2))
+    return dict(rows=rows, cols=cols, resolution=resolution, origin=origin,
+                pose=(x, y, yaw), ranges=np.array(ranges, dtype=float), angle_min=angle_min,
+                angle_increment=increment, range_min=0.2, range_max=range_max,
+                safety_radius=safety_radius, path_seed=draw(st.integers(0, 2**31 - 1)),
+                rounds=draw(st.integers(1, 3)))
+
+
+@settings(max_examples=400)
+@given(scans())
+def test_update_equals_the_literal_reference(case):
+    grid = LabelGrid(case['cols'] * case['resolution'], case['rows'] * case['resolution'],
+                     case['resolution'], case['origin'])
+    assert grid.labels.shape == (case['rows'], case['cols'])
+    rng = np.random.default_rng(case['path_seed'])
+    expected = rng.integers(0, 4, grid.labels.shape).astype(np.uint8)
+    grid.labels[...] = expected
+    path = np.argwhere(rng.random(grid.labels.shape) < 0.3)
+    scan = {k: case[k] for k in ('angle_min', 'angle_increment', 'range_min', 'range_max',
+                                 'safety_radius')}
+    for step in range(case['rounds']):
+        # Later rounds move the laser so that labels go through several transitions.
+        x, y, yaw = case['pose']
+        pose = (x + 0.25 * step, y - 0.5 * step, yaw + math.pi / 4 * step)
+        want = literal_update(expected, case['origin'], case['resolution'], pose,
+                              case['ranges'], path=path, **scan)
+        got = grid.update(pose, case['ranges'], path=path, **scan)
+        assert_array_equal(grid.labels, expected)
+        assert got == want
+
+
+def test_dense_640_beam_scan_equals_the_literal_reference():
+    rng = np.random.default_rng(7)
+    grid = LabelGrid(width=12.0, height=9.0, resolution=0.5, origin=(-1.0, -1.0))
+    expected = grid.labels.copy()
+    for _ in range(3):
+        ranges = rng.uniform(0.05, 8.0, 640)
+        ranges[rng.random(640) < 0.05] = np.nan
+        ranges[rng.random(640) < 0.05] = np.inf
+        pose = (rng.uniform(0.0, 10.0), rng.uniform(0.0, 7.0), rng.uniform(-math.pi, math.pi))
+        path = np.argwhere(rng.random(grid.labels.shape) < 0.2)
+        want = literal_update(expected, (-1.0, -1.0), 0.5, pose, ranges, safety_radius=0.6,
+                              path=path, **SCAN)
+        got = grid.update(pose, ranges, safety_radius=0.6, path=path, **SCAN)
+        assert_array_equal(grid.labels, expected)
+        assert got == want
