@@ -1,5 +1,5 @@
 """
-Synthetic worlds and laser scans for the core benchmark: a walled hall with random boxes.
+Synthetic worlds and laser scans for tests and the core benchmark, without a simulator.
 
 Scans are ray-marched on a fine ground-truth grid, so neighbouring beams see the same walls as a
 real laser would; a scan of independent random ranges is kept as the worst case.
@@ -61,9 +61,16 @@ def free_pose(occupied, rng, truth_resolution=0.05, clearance=1.0):
                     rng.uniform(-math.pi, math.pi))
 
 
-def ray_cast(occupied, pose, truth_resolution=0.05, noise=0.0, rng=None):
+def ray_cast(occupied, pose, truth_resolution=0.05, range_max=RANGE_MAX):
     """
     Ranges of a 640-beam, 180-degree laser at ``pose``, REP 117 (``inf`` for no return).
+
+    Parameters
+    ----------
+    occupied : (n, m) ndarray of bool
+        Ground truth, origin (0, 0), cell side ``truth_resolution`` [m].
+    pose : (float, float, float)
+        The laser's ``(x, y, yaw)`` [m, m, rad].
 
     Returns
     -------
@@ -73,20 +80,16 @@ def ray_cast(occupied, pose, truth_resolution=0.05, noise=0.0, rng=None):
     x, y, yaw = pose
     angles = yaw + ANGLE_MIN + np.arange(LASER_BEAMS) * ANGLE_INCREMENT
     step = truth_resolution / 2
-    distances = np.arange(RANGE_MIN, RANGE_MAX, step)
+    distances = np.arange(RANGE_MIN, range_max, step)
     px = x + np.cos(angles)[:, None] * distances
     py = y + np.sin(angles)[:, None] * distances
     cc = np.floor(px / truth_resolution).astype(np.int64)
     rr = np.floor(py / truth_resolution).astype(np.int64)
-    n = occupied.shape[0]
-    inside = (rr >= 0) & (rr < n) & (cc >= 0) & (cc < n)
+    inside = (rr >= 0) & (rr < occupied.shape[0]) & (cc >= 0) & (cc < occupied.shape[1])
     hit = np.zeros(px.shape, dtype=bool)
     hit[inside] = occupied[rr[inside], cc[inside]]
     first = np.argmax(hit, axis=1)
-    ranges = np.where(hit.any(axis=1), distances[first], np.inf)
-    if noise and rng is not None:
-        ranges = ranges + rng.normal(0.0, noise, ranges.shape)
-    return ranges
+    return np.where(hit.any(axis=1), distances[first], np.inf)
 
 
 def random_ranges(rng):

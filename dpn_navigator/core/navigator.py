@@ -1,0 +1,280 @@
+"""
+The dynamic planner navigator without ROS: grid update, replanning and path following per scan.
+
+Per scan the navigator folds the scan into its ``LabelGrid``, decides whether to replan (the
+grid's replan flag, no path yet, a blocked cell ahead on the path, the robot off its path, or a
+new goal), plans with A* on the partly known grid (non-explored counts as free) and turns the
+path into a velocity command. The ROS node and the batch benchmark both drive this object.
+
+"""
+
+from dataclasses import dataclass, field
+import enum
+import math
+
+import numpy as np
+
+from .astar import astar
+from .cell_label import blocked_mask
+from .label_grid import LabelGrid
+from .path_follower import follow_path, FollowerConfig, STOP, VelocityCommand
+from .pose2d import compose
+from .scan_polygon import check_pose
+
+
+class NavigatorStatus(enum.Enum):
+    """What the navigator is doing."""
+
+    IDLE = 'idle'                    # no goal
+    ACTIVE = 'active'                # following a path to the goal
+    GOAL_REACHED = 'goal_reached'    # inside the goal tolerance; stays until a new goal
+    NO_PATH = 'no_path'              # no path on the current map; retried as the map changes
+
+
+@dataclass(frozen=True)
+class NavigatorConfig:
+    """
+    Everything the navigator needs to know before the first scan.
+
+    Attributes
+    ----------
+    width, height : float
+        Size of the environment, ``W x H`` [m].
+    origin : (float, float)
+        Map-frame position of the environment's lower-left corner [m].
+    resolution : float
+        Grid cell side [m]; the paper uses 0.5.
+    safety_radius : float
+        f1's ``r`` [m]; the default is the Husky's circumscribed radius, ~0.6 m.
+    footprint_radius : float
+        Cells whose centre is this close to the robot are planned through even when labelled
+        as obstacles: the robot stands on them, so whatever was seen there has moved [m].
+    laser_offset : (float, float, float)
+        Laser pose on the robot base ``(x, y, yaw)`` [m, m, rad].
+    max_path_deviation : float
+        Replan when the robot is farther than this from its path [m].
+    no_path_retry_period : float
+        While there is no path, plan again at most this often [s].
+    follower : FollowerConfig
+        Speed limits and gains of the path follower.
+
+    """
+
+    width: float
+    height: float
+    origin: tuple = (0.0, 0.0)
+    resolution: float = 0.5
+    safety_radius: float = 0.6
+    footprint_radius: float = 0.35
+    laser_offset: tuple = (0.0, 0.0, 0.0)
+    max_path_deviation: float = 1.0
+    no_path_retry_period: float = 0.5
+    follower: FollowerConfig = field(default_factory=FollowerConfig)
+
+    def __post_init__(self):
+        for name in ('safety_radius', 'footprint_radius', 'no_path_retry_period'):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value >= 0.0):
+                raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
+        if not (math.isfinite(self.max_path_deviation) and self.max_path_deviation > 0.0):
+            raise ValueError(
+                f'max_path_deviation must be positive, got {self.max_path_deviation!r}')
+        check_pose(self.laser_offset, 'laser_offset')
+
+
+@dataclass(frozen=True)
+class NavigatorOutput:
+    """
+    The result of one navigator step.
+
+    Attributes
+    ----------
+    command : VelocityCommand
+        What to send to the base.
+    status : NavigatorStatus
+    reason : str
+        Why the status is what it is, for people (empty when active).
+    replanned : bool
+        True when this step computed a new path.
+
+    """
+
+    command: VelocityCommand
+    status: NavigatorStatus
+    reason: str = ''
+    replanned: bool = False
+
+
+class Navigator:
+    """
+    Map, plan and follow toward a goal in an unknown environment with moving obstacles.
+
+    Parameters
+    ----------
+    config : NavigatorConfig
+
+    Attributes
+    ----------
+    grid : LabelGrid
+        The labelled occupancy grid built from the scans.
+    path : (N, 2) ndarray of int64, or None
+        The planned path as ``(row, col)`` cells, start to goal.
+    goal : (float, float) or None
+        The goal in the map frame [m].
+    status : NavigatorStatus
+    replans : int
+        How many paths have been planned since the goal was set.
+
+    """
+
+    def __init__(self, config):
+        self.config = config
+        self.grid = LabelGrid(config.width, config.height, config.resolution, config.origin)
+        self.path = None
+        self.goal = None
+        self.status = NavigatorStatus.IDLE
+        self.reason = 'no goal'
+        self.replans = 0
+        self._path_xy = None
+        self._next_retry = -math.inf
+
+    def set_goal(self, x, y):
+        """
+        Set a new goal [m] in the map frame; the next step plans a path to it.
+
+        Raises
+        ------
+        ValueError
+            When the goal is not finite or lies outside the map.
+
+        """
+        x = float(x)
+        y = float(y)
+        if not (math.isfinite(x) and math.isfinite(y)):
+            raise ValueError(f'goal must be finite, got ({x!r}, {y!r})')
+        rr, cc = self.grid.geometry.world_to_cell(x, y)
+        if not self.grid.geometry.contains_cell(rr, cc):
+            raise ValueError(f'goal ({x:.2f}, {y:.2f}) m is outside the map')
+        self.goal = (x, y)
+        self.path = None
+        self._path_xy = None
+        self.status = NavigatorStatus.ACTIVE
+        self.reason = ''
+        self.replans = 0
+        self._next_retry = -math.inf
+
+    def clear_goal(self):
+        """Drop the goal; the robot stops."""
+        self.goal = None
+        self.path = None
+        self._path_xy = None
+        self.status = NavigatorStatus.IDLE
+        self.reason = 'no goal'
+
+    def step(self, stamp, pose, ranges, angle_min, angle_increment, range_min, range_max,
+             angle_max=None):
+        """
+        Fold one scan into the map and decide the next velocity command.
+
+        Parameters
+        ----------
+        stamp : float
+            Time of the scan [s], any monotonic clock (simulated time in the simulator).
+        pose : (float, float, float)
+            Robot base ``(x, y, yaw)`` in the map frame when the scan was taken [m, m, rad].
+        ranges, angle_min, angle_increment, range_min, range_max, angle_max
+            The laser scan, as for ``LabelGrid.update``.
+
+        Returns
+        -------
+        NavigatorOutput
+
+        Raises
+        ------
+        ValueError
+            For a malformed scan or pose; the navigator's state is then unchanged.
+
+        """
+        pose = check_pose(pose)
+        laser_pose = compose(pose, self.config.laser_offset)
+        replan = self.grid.update(laser_pose, ranges, angle_min, angle_increment, range_min,
+                                  range_max, self.config.safety_radius, path=self.path,
+                                  angle_max=angle_max)
+        return self._decide(stamp, pose, replan)
+
+    def _decide(self, stamp, pose, replan_flag):
+        if self.goal is None:
+            return NavigatorOutput(STOP, self.status, self.reason)
+        if self.status is NavigatorStatus.GOAL_REACHED:
+            return NavigatorOutput(STOP, self.status, self.reason)
+        replanned = False
+        if replan_flag or self._path_is_stale(pose):
+            if self.path is None and stamp < self._next_retry:
+                return NavigatorOutput(STOP, self.status, self.reason)
+            replanned = self._plan(pose)
+            if self.path is None:
+                self._next_retry = stamp + self.config.no_path_retry_period
+                return NavigatorOutput(STOP, self.status, self.reason, replanned)
+        command = follow_path(pose, self._path_xy, self.config.follower)
+        if command.goal_reached:
+            self.status = NavigatorStatus.GOAL_REACHED
+            self.reason = 'inside the goal tolerance'
+            return NavigatorOutput(STOP, self.status, self.reason, replanned)
+        return NavigatorOutput(command, self.status, self.reason, replanned)
+
+    def _path_is_stale(self, pose):
+        """True when there is no path, a cell ahead on it is blocked, or the robot left it."""
+        if self.path is None:
+            return True
+        distance = np.hypot(self._path_xy[:, 0] - pose[0], self._path_xy[:, 1] - pose[1])
+        closest = int(np.argmin(distance))
+        if distance[closest] > self.config.max_path_deviation:
+            return True
+        ahead = self.path[closest + 1:]
+        return bool(blocked_mask(self.grid.labels[ahead[:, 0], ahead[:, 1]]).any())
+
+    def _plan(self, pose):
+        """Plan from the robot's cell to the goal's; set path, status and reason."""
+        geometry = self.grid.geometry
+        start = tuple(int(v) for v in geometry.world_to_cell(pose[0], pose[1]))
+        goal = tuple(int(v) for v in geometry.world_to_cell(*self.goal))
+        self.replans += 1
+        if not geometry.contains_cell(*start):
+            return self._no_path('the robot is outside the map')
+        blocked = self.grid.blocked()
+        if blocked[goal]:
+            return self._no_path('the goal cell is an obstacle')
+        self._clear_footprint(blocked, pose)
+        cells = astar(blocked, start, goal)
+        if cells is None:
+            return self._no_path('no path to the goal on the current map')
+        self.path = np.array(cells, dtype=np.int64)
+        path_x, path_y = geometry.cell_to_world(self.path[:, 0], self.path[:, 1])
+        self._path_xy = np.column_stack((path_x, path_y))
+        self._path_xy[-1] = self.goal                  # aim at the goal itself, not its cell
+        self.status = NavigatorStatus.ACTIVE
+        self.reason = ''
+        return True
+
+    def _no_path(self, reason):
+        self.path = None
+        self._path_xy = None
+        self.status = NavigatorStatus.NO_PATH
+        self.reason = reason
+        return True
+
+    def _clear_footprint(self, blocked, pose):
+        geometry = self.grid.geometry
+        radius = self.config.footprint_radius
+        rows, cols = geometry.cell_window(pose[0] - radius, pose[0] + radius,
+                                          pose[1] - radius, pose[1] + radius)
+        x_centres, y_centres = geometry.window_centres(rows, cols)
+        near = np.hypot(x_centres[None, :] - pose[0], y_centres[:, None] - pose[1]) <= radius
+        start_rr, start_cc = geometry.world_to_cell(pose[0], pose[1])
+        blocked[rows, cols] &= ~near
+        blocked[start_rr, start_cc] = False            # the robot's own cell, always
+
+    @property
+    def path_xy(self):
+        """The planned path in the map frame, (N, 2) float64 [m], or None."""
+        return self._path_xy

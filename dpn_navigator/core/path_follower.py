@@ -1,0 +1,134 @@
+"""
+A path follower for a differential-drive robot: pose and path in, ``(v, omega)`` out.
+
+The robot steers toward a look-ahead point on the path: the first path point at least
+``lookahead_distance`` ahead of the path point closest to the robot (or the goal). The angular
+speed is proportional to the heading error; the robot turns in place when the error is larger
+than ``turn_in_place_angle``, slows down as the error grows and as the goal nears, and stops
+inside ``goal_tolerance``.
+
+"""
+
+from dataclasses import dataclass
+import math
+
+import numpy as np
+
+from .pose2d import wrap_angle
+
+
+@dataclass(frozen=True)
+class FollowerConfig:
+    """
+    Limits and gains of the path follower; defaults suit a Clearpath Husky A200.
+
+    Attributes
+    ----------
+    max_linear_speed : float
+        [m/s], the Husky's top speed is 1.0.
+    max_angular_speed : float
+        [rad/s].
+    lookahead_distance : float
+        How far ahead along the path the robot aims [m].
+    goal_tolerance : float
+        Distance to the goal that counts as arrived [m].
+    heading_gain : float
+        Angular speed per radian of heading error [1/s].
+    turn_in_place_angle : float
+        Heading error above which the robot stops to turn [rad].
+    slowdown_distance : float
+        Within this distance of the goal, the speed falls linearly toward zero [m].
+
+    """
+
+    max_linear_speed: float = 1.0
+    max_angular_speed: float = 1.5
+    lookahead_distance: float = 1.0
+    goal_tolerance: float = 0.3
+    heading_gain: float = 2.0
+    turn_in_place_angle: float = 0.8
+    slowdown_distance: float = 1.5
+
+    def __post_init__(self):
+        for name in ('max_linear_speed', 'max_angular_speed', 'lookahead_distance',
+                     'goal_tolerance', 'heading_gain', 'turn_in_place_angle',
+                     'slowdown_distance'):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0.0):
+                raise ValueError(f'{name} must be positive and finite, got {value!r}')
+        if self.turn_in_place_angle > math.pi:
+            raise ValueError(
+                f'turn_in_place_angle must be at most pi, got {self.turn_in_place_angle!r}')
+
+
+@dataclass(frozen=True)
+class VelocityCommand:
+    """
+    A velocity command for a differential-drive base.
+
+    Attributes
+    ----------
+    linear : float
+        Forward speed [m/s], in ``[0, max_linear_speed]``.
+    angular : float
+        Turn rate, counter-clockwise positive [rad/s], in ``[-max_angular_speed,
+        max_angular_speed]``.
+    goal_reached : bool
+        True when the robot is inside the goal tolerance (the command is then zero).
+
+    """
+
+    linear: float
+    angular: float
+    goal_reached: bool = False
+
+
+STOP = VelocityCommand(0.0, 0.0)
+
+
+def follow_path(pose, path_xy, config):
+    """
+    Compute the velocity that follows a path.
+
+    Parameters
+    ----------
+    pose : (float, float, float)
+        Robot base ``(x, y, yaw)`` in the map frame [m, m, rad], finite.
+    path_xy : (N, 2) ndarray of float64
+        Path points in the map frame [m], the last one the goal; ``N >= 1``.
+    config : FollowerConfig
+        Limits and gains.
+
+    Returns
+    -------
+    VelocityCommand
+
+    Raises
+    ------
+    ValueError
+        When the path is empty or not (N, 2), or the pose is not finite.
+
+    """
+    path_xy = np.asarray(path_xy, dtype=np.float64)
+    if path_xy.ndim != 2 or path_xy.shape[1] != 2 or path_xy.shape[0] == 0:
+        raise ValueError(f'path_xy must be a non-empty (N, 2) array, got shape {path_xy.shape}')
+    x, y, yaw = (float(v) for v in pose)
+    if not all(math.isfinite(v) for v in (x, y, yaw)):
+        raise ValueError(f'pose must be finite, got {pose!r}')
+    goal_x, goal_y = path_xy[-1]
+    to_goal = math.hypot(goal_x - x, goal_y - y)
+    if to_goal <= config.goal_tolerance:
+        return VelocityCommand(0.0, 0.0, goal_reached=True)
+    distance = np.hypot(path_xy[:, 0] - x, path_xy[:, 1] - y)
+    closest = int(np.argmin(distance))
+    ahead = np.flatnonzero(distance[closest:] >= config.lookahead_distance)
+    target = path_xy[closest + ahead[0]] if ahead.shape[0] else path_xy[-1]
+    heading_error = wrap_angle(math.atan2(target[1] - y, target[0] - x) - yaw)
+    angular = float(np.clip(config.heading_gain * heading_error,
+                            -config.max_angular_speed, config.max_angular_speed))
+    if abs(heading_error) > config.turn_in_place_angle:
+        return VelocityCommand(0.0, angular)
+    # Slow down as the heading error grows (cos) and inside the slow-down distance.
+    linear = config.max_linear_speed * math.cos(heading_error)
+    linear *= min(1.0, to_goal / config.slowdown_distance)
+    return VelocityCommand(float(np.clip(linear, 0.0, config.max_linear_speed)), angular)

@@ -1,0 +1,149 @@
+"""Closed-loop tests of the navigator: ray-cast scans, a unicycle robot, the real core."""
+
+import math
+
+from dpn_navigator.core import CellLabel, Navigator, NavigatorConfig, NavigatorStatus
+import numpy as np
+import pytest
+from scan_scenes import ANGLE_INCREMENT, ANGLE_MIN, ray_cast, RANGE_MIN
+
+TRUTH_RES = 0.05
+RANGE_MAX = 10.0
+DT = 0.1
+
+
+def walled_room(size=12.0):
+    """A square room with a 0.3 m thick border wall, as a ground-truth grid at 5 cm."""
+    n = int(round(size / TRUTH_RES))
+    occupied = np.zeros((n, n), dtype=bool)
+    occupied[:6, :] = occupied[-6:, :] = occupied[:, :6] = occupied[:, -6:] = True
+    return occupied
+
+
+def add_box(occupied, x0, y0, x1, y1):
+    occupied[int(y0 / TRUTH_RES):int(y1 / TRUTH_RES), int(x0 / TRUTH_RES):int(x1 / TRUTH_RES)] = True
+
+
+def drive(navigator, occupied, pose, steps, stop_when=None):
+    """Run the closed loop; return the final pose, the outputs and the closest wall distance."""
+    outputs = []
+    x, y, yaw = pose
+    occupied_rc = np.argwhere(occupied)
+    wall_xy = (occupied_rc[:, ::-1] + 0.5) * TRUTH_RES
+    clearance = math.inf
+    for step in range(steps):
+        ranges = ray_cast(occupied, (x, y, yaw), TRUTH_RES, RANGE_MAX)
+        out = navigator.step(step * DT, (x, y, yaw), ranges, ANGLE_MIN, ANGLE_INCREMENT,
+                             RANGE_MIN, RANGE_MAX)
+        outputs.append(out)
+        v, w = out.command.linear, out.command.angular
+        x += v * math.cos(yaw) * DT
+        y += v * math.sin(yaw) * DT
+        yaw += w * DT
+        clearance = min(clearance, float(np.min(np.hypot(wall_xy[:, 0] - x, wall_xy[:, 1] - y))))
+        if stop_when is not None and stop_when(out):
+            break
+    return (x, y, yaw), outputs, clearance
+
+
+def config(**kwargs):
+    return NavigatorConfig(width=12.0, height=12.0, **kwargs)
+
+
+def test_reaches_a_goal_behind_a_wall_without_touching_it():
+    occupied = walled_room()
+    add_box(occupied, 5.0, 0.0, 5.5, 8.0)            # a wall with a gap at the top
+    navigator = Navigator(config())
+    navigator.set_goal(9.0, 2.0)
+    pose, outputs, clearance = drive(
+        navigator, occupied, (2.0, 2.0, 0.0), 600,
+        stop_when=lambda out: out.status is NavigatorStatus.GOAL_REACHED)
+    assert outputs[-1].status is NavigatorStatus.GOAL_REACHED
+    assert math.hypot(pose[0] - 9.0, pose[1] - 2.0) <= 0.3
+    assert clearance > 0.35                          # the Husky's half width is 0.335 m
+    assert navigator.replans >= 2                    # the first plan ran into the wall
+    labels = navigator.grid.labels
+    assert np.count_nonzero(labels == CellLabel.STEADY_OBSTACLE) > 20
+    assert np.count_nonzero(labels == CellLabel.EXPLORED) > 100
+    for out in outputs:
+        assert 0.0 <= out.command.linear <= 1.0 and abs(out.command.angular) <= 1.5
+
+
+def test_unreachable_goal_stops_the_robot_and_recovers_when_the_way_opens():
+    occupied = walled_room()
+    add_box(occupied, 7.0, 0.0, 7.5, 12.0)           # a wall right across the room
+    navigator = Navigator(config())
+    navigator.set_goal(10.0, 6.0)
+    pose, outputs, _ = drive(navigator, occupied, (2.0, 6.0, 0.0), 300,
+                             stop_when=lambda out: out.status is NavigatorStatus.NO_PATH)
+    assert outputs[-1].status is NavigatorStatus.NO_PATH
+    assert 'no path' in outputs[-1].reason
+    assert (outputs[-1].command.linear, outputs[-1].command.angular) == (0.0, 0.0)
+    # While blocked, the robot stays put and keeps retrying.
+    pose, outputs, _ = drive(navigator, occupied, pose, 10)
+    assert all(out.command.linear == 0.0 for out in outputs)
+    assert all(out.status is NavigatorStatus.NO_PATH for out in outputs)
+    # The obstacle leaves (it was mobile after all): the cells are seen free and a path appears.
+    occupied[:, int(7.0 / TRUTH_RES):int(7.5 / TRUTH_RES)] = False
+    occupied[:6, :] = occupied[-6:, :] = True
+    pose, outputs, _ = drive(navigator, occupied, pose, 400,
+                             stop_when=lambda out: out.status is NavigatorStatus.GOAL_REACHED)
+    assert outputs[-1].status is NavigatorStatus.GOAL_REACHED
+
+
+def test_obstacle_appearing_on_the_path_triggers_a_replan():
+    occupied = walled_room()
+    navigator = Navigator(config())
+    navigator.set_goal(10.0, 6.0)
+    pose, outputs, _ = drive(navigator, occupied, (2.0, 6.0, 0.0), 5)
+    assert outputs[0].replanned and navigator.replans == 1
+    add_box(occupied, 5.0, 5.0, 6.0, 7.0)            # something steps onto the path
+    pose, outputs, clearance = drive(
+        navigator, occupied, pose, 300,
+        stop_when=lambda out: out.status is NavigatorStatus.GOAL_REACHED)
+    assert any(out.replanned for out in outputs)
+    assert outputs[-1].status is NavigatorStatus.GOAL_REACHED
+    assert clearance > 0.35
+    box_cells = navigator.grid.labels[10:14, 10:12]
+    assert np.any(box_cells == CellLabel.MOBILE_OBSTACLE)   # seen over explored cells
+
+
+def test_without_a_goal_the_robot_stays_idle():
+    navigator = Navigator(config())
+    out = navigator.step(0.0, (2.0, 2.0, 0.0), np.full(640, 3.0), ANGLE_MIN, ANGLE_INCREMENT,
+                         RANGE_MIN, RANGE_MAX)
+    assert out.status is NavigatorStatus.IDLE
+    assert (out.command.linear, out.command.angular) == (0.0, 0.0)
+    assert np.any(navigator.grid.labels != CellLabel.NON_EXPLORED)   # it still maps
+
+
+@pytest.mark.parametrize('goal, message', [((13.0, 2.0), 'outside the map'),
+                                           ((math.nan, 2.0), 'finite')])
+def test_bad_goal_raises(goal, message):
+    navigator = Navigator(config())
+    with pytest.raises(ValueError, match=message):
+        navigator.set_goal(*goal)
+    assert navigator.status is NavigatorStatus.IDLE
+
+
+def test_bad_scan_raises_and_leaves_the_navigator_unchanged():
+    navigator = Navigator(config())
+    navigator.set_goal(10.0, 6.0)
+    with pytest.raises(ValueError, match='angle_increment'):
+        navigator.step(0.0, (2.0, 6.0, 0.0), np.full(640, 3.0), ANGLE_MIN, 0.0, RANGE_MIN,
+                       RANGE_MAX)
+    with pytest.raises(ValueError, match='pose must be finite'):
+        navigator.step(0.0, (2.0, math.nan, 0.0), np.full(640, 3.0), ANGLE_MIN,
+                       ANGLE_INCREMENT, RANGE_MIN, RANGE_MAX)
+    assert navigator.path is None and navigator.replans == 0
+    assert np.all(navigator.grid.labels == CellLabel.NON_EXPLORED)
+
+
+@pytest.mark.parametrize('kwargs, message', [
+    (dict(safety_radius=-0.1), 'safety_radius'),
+    (dict(max_path_deviation=0.0), 'max_path_deviation'),
+    (dict(laser_offset=(0.0, math.inf, 0.0)), 'laser_offset must be finite'),
+])
+def test_bad_config_raises(kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        config(**kwargs)

@@ -1,0 +1,86 @@
+"""Tests of the differential-drive path follower."""
+
+import math
+
+from dpn_navigator.core.path_follower import follow_path, FollowerConfig
+from hypothesis import given, settings
+from hypothesis import strategies as st
+import numpy as np
+import pytest
+
+CONFIG = FollowerConfig()
+
+
+def test_inside_goal_tolerance_stops_and_reports_reached():
+    command = follow_path((4.9, 0.1, 1.0), np.array([[0.0, 0.0], [5.0, 0.0]]), CONFIG)
+    assert command.goal_reached
+    assert (command.linear, command.angular) == (0.0, 0.0)
+
+
+def test_straight_ahead_drives_at_full_speed():
+    path = np.array([[float(x), 0.0] for x in range(11)])
+    command = follow_path((0.0, 0.0, 0.0), path, CONFIG)
+    assert command.linear == pytest.approx(CONFIG.max_linear_speed)
+    assert command.angular == pytest.approx(0.0)
+    assert not command.goal_reached
+
+
+@pytest.mark.parametrize('yaw, turn_sign', [(3 * math.pi / 4, -1.0), (-3 * math.pi / 4, 1.0),
+                                            (-math.pi / 2, 1.0),
+                                            (math.pi / 2, -1.0)])
+def test_large_heading_error_turns_in_place_toward_the_path(yaw, turn_sign):
+    path = np.array([[1.0, 0.0], [5.0, 0.0]])
+    command = follow_path((0.0, 0.0, yaw), path, CONFIG)
+    assert command.linear == 0.0
+    assert math.copysign(1.0, command.angular) == turn_sign
+    assert abs(command.angular) == pytest.approx(CONFIG.max_angular_speed)
+
+
+def test_slows_down_near_the_goal():
+    path = np.array([[0.0, 0.0], [1.0, 0.0]])
+    far = follow_path((-5.0, 0.0, 0.0), np.array([[0.0, 0.0], [5.0, 0.0]]), CONFIG)
+    near = follow_path((0.25, 0.0, 0.0), path, CONFIG)
+    assert 0.0 < near.linear < far.linear
+
+
+def test_aims_at_the_lookahead_point_not_the_closest_one():
+    path = np.array([[0.0, 0.0], [0.5, 0.0], [1.0, 0.0], [1.0, 1.0], [1.0, 2.0], [1.0, 3.0]])
+    # From (0, 0) facing +x, the first point >= 1 m away is (1.0, 0.0): straight ahead.
+    command = follow_path((0.0, 0.0, 0.0), path, CONFIG)
+    assert command.angular == pytest.approx(0.0)
+    # From (1.0, 0.0) the next point >= 1 m away is (1.0, 1.0): a left turn.
+    command = follow_path((1.0, 0.0, 0.0), path, CONFIG)
+    assert command.angular > 0.0
+
+
+@settings(max_examples=200)
+@given(pose=st.tuples(st.floats(-10, 10), st.floats(-10, 10), st.floats(-7, 7)),
+       points=st.lists(st.tuples(st.floats(-10, 10), st.floats(-10, 10)), min_size=1,
+                       max_size=8))
+def test_commands_stay_within_limits(pose, points):
+    command = follow_path(pose, np.array(points), CONFIG)
+    assert 0.0 <= command.linear <= CONFIG.max_linear_speed
+    assert abs(command.angular) <= CONFIG.max_angular_speed
+    if command.goal_reached:
+        assert math.hypot(points[-1][0] - pose[0], points[-1][1] - pose[1]) <= 0.3
+
+
+@pytest.mark.parametrize('path, pose, message', [
+    (np.zeros((0, 2)), (0.0, 0.0, 0.0), 'non-empty'),
+    (np.zeros((3,)), (0.0, 0.0, 0.0), r'\(N, 2\)'),
+    (np.zeros((2, 2)), (0.0, math.inf, 0.0), 'pose must be finite'),
+])
+def test_bad_input_raises(path, pose, message):
+    with pytest.raises(ValueError, match=message):
+        follow_path(pose, path, CONFIG)
+
+
+@pytest.mark.parametrize('kwargs, message', [
+    (dict(max_linear_speed=0.0), 'max_linear_speed must be positive'),
+    (dict(max_angular_speed=-1.0), 'max_angular_speed must be positive'),
+    (dict(goal_tolerance=math.nan), 'goal_tolerance must be positive'),
+    (dict(turn_in_place_angle=4.0), 'at most pi'),
+])
+def test_bad_config_raises(kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        FollowerConfig(**kwargs)
