@@ -73,7 +73,7 @@ def literal_f2(cx, cy, vertices):
 
 
 def literal_update(labels, origin, resolution, pose, ranges, angle_min, angle_increment,
-                   range_min, range_max, safety_radius, path=None):
+                   range_min, range_max, safety_radius, path=None, cells=None):
     """
     Update a label array in place over every cell; return the replan flag.
 
@@ -85,6 +85,12 @@ def literal_update(labels, origin, resolution, pose, ranges, angle_min, angle_in
         Lower-left corner [m].
     resolution : float
         Cell side [m].
+    pose, ranges, angle_min, angle_increment, range_min, range_max, safety_radius
+        As for ``LabelGrid.update``.
+    path : iterable of (int, int), optional
+        The planned path's cells.
+    cells : iterable of (int, int), optional
+        Update only these cells (the benchmark samples the slow reference); default all.
 
     """
     vertices, hits = literal_scan_points(
@@ -93,18 +99,19 @@ def literal_update(labels, origin, resolution, pose, ranges, angle_min, angle_in
     on_path = set() if path is None else {(int(r), int(c)) for r, c in path}
     replan = False
     rows, cols = labels.shape
-    for i in range(rows):
-        for j in range(cols):
-            cx = x0 + (j + 0.5) * resolution
-            cy = y0 + (i + 0.5) * resolution
-            f1 = literal_f1(cx, cy, hits, safety_radius)
-            f2 = 0 if f1 else literal_f2(cx, cy, vertices)
-            old = int(labels[i, j])
-            new = FSM.get((old, f1, f2), old)
-            labels[i, j] = new
-            if (i, j) in on_path and ((old, new) == (NON_EXPLORED, STEADY)
-                                      or (old, new) == (EXPLORED, MOBILE)):
-                replan = True
+    if cells is None:
+        cells = ((i, j) for i in range(rows) for j in range(cols))
+    for i, j in cells:
+        cx = x0 + (j + 0.5) * resolution
+        cy = y0 + (i + 0.5) * resolution
+        f1 = literal_f1(cx, cy, hits, safety_radius)
+        f2 = 0 if f1 else literal_f2(cx, cy, vertices)
+        old = int(labels[i, j])
+        new = FSM.get((old, f1, f2), old)
+        labels[i, j] = new
+        if (i, j) in on_path and ((old, new) == (NON_EXPLORED, STEADY)
+                                  or (old, new) == (EXPLORED, MOBILE)):
+            replan = True
     return replan
 
 

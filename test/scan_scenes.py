@@ -71,6 +71,10 @@ def ray_cast(occupied, pose, truth_resolution=0.05, range_max=RANGE_MAX):
         Ground truth, origin (0, 0), cell side ``truth_resolution`` [m].
     pose : (float, float, float)
         The laser's ``(x, y, yaw)`` [m, m, rad].
+    truth_resolution : float
+        Cell side of ``occupied`` [m].
+    range_max : float
+        Maximum range [m]; beams that hit nothing closer return ``inf``.
 
     Returns
     -------

@@ -14,8 +14,8 @@ import pytest
 N, E, S, M = (CellLabel.NON_EXPLORED, CellLabel.EXPLORED,
               CellLabel.STEADY_OBSTACLE, CellLabel.MOBILE_OBSTACLE)
 
-SCAN = dict(angle_min=-math.pi / 2, angle_increment=math.pi / 639, range_min=0.1,
-            range_max=30.0)
+SCAN = {'angle_min': -math.pi / 2, 'angle_increment': math.pi / 639, 'range_min': 0.1,
+        'range_max': 30.0}
 
 
 def test_labels_start_non_explored_with_the_documented_shape():
@@ -45,8 +45,8 @@ def wall_scan(distance, beams=181):
     with np.errstate(divide='ignore'):
         ranges = distance / np.cos(angles)
     ranges[np.abs(angles) > math.radians(80)] = np.inf
-    return ranges, dict(angle_min=-math.pi / 2, angle_increment=math.pi / (beams - 1),
-                        range_min=0.1, range_max=30.0)
+    return ranges, {'angle_min': -math.pi / 2, 'angle_increment': math.pi / (beams - 1),
+                    'range_min': 0.1, 'range_max': 30.0}
 
 
 def test_wall_becomes_steady_and_free_space_explored():
@@ -105,27 +105,27 @@ def test_empty_scan_changes_nothing():
 
 
 @pytest.mark.parametrize('kwargs, message', [
-    (dict(pose=(1.0, float('nan'), 0.0)), 'pose must be finite'),
-    (dict(pose=(1.0, 2.0)), r'pose must be \(x, y, yaw\)'),
-    (dict(ranges=np.ones((3, 2))), 'one-dimensional'),
-    (dict(angle_increment=0.0), 'angle_increment must be positive'),
-    (dict(angle_increment=-0.01), 'angle_increment must be positive'),
-    (dict(angle_increment=float('inf')), 'angle_increment must be finite'),
-    (dict(range_max=0.05), 'range_min < range_max'),
-    (dict(range_min=-1.0), 'range_min < range_max'),
-    (dict(range_max=float('inf')), 'range_max must be finite'),
-    (dict(angle_max=0.5), 'ranges has 640 beams'),
-    (dict(angle_increment=0.1, angle_max=None), 'more than a full turn'),
-    (dict(safety_radius=-0.1), 'safety_radius'),
-    (dict(safety_radius=float('nan')), 'safety_radius'),
-    (dict(path=np.array([1, 2, 3])), r'\(N, 2\)'),
-    (dict(path=np.array([[0.5, 1.0]])), 'integers'),
-    (dict(path=np.array([[0, 1], [20, 1]])), 'off the 20x20 grid'),
+    ({'pose': (1.0, float('nan'), 0.0)}, 'pose must be finite'),
+    ({'pose': (1.0, 2.0)}, r'pose must be \(x, y, yaw\)'),
+    ({'ranges': np.ones((3, 2))}, 'one-dimensional'),
+    ({'angle_increment': 0.0}, 'angle_increment must be positive'),
+    ({'angle_increment': -0.01}, 'angle_increment must be positive'),
+    ({'angle_increment': float('inf')}, 'angle_increment must be finite'),
+    ({'range_max': 0.05}, 'range_min < range_max'),
+    ({'range_min': -1.0}, 'range_min < range_max'),
+    ({'range_max': float('inf')}, 'range_max must be finite'),
+    ({'angle_max': 0.5}, 'ranges has 640 beams'),
+    ({'angle_increment': 0.1, 'angle_max': None}, 'more than a full turn'),
+    ({'safety_radius': -0.1}, 'safety_radius'),
+    ({'safety_radius': float('nan')}, 'safety_radius'),
+    ({'path': np.array([1, 2, 3])}, r'\(N, 2\)'),
+    ({'path': np.array([[0.5, 1.0]])}, 'integers'),
+    ({'path': np.array([[0, 1], [20, 1]])}, 'off the 20x20 grid'),
 ])
 def test_bad_input_raises_and_leaves_labels_unchanged(kwargs, message):
     grid = LabelGrid(width=10.0, height=10.0, resolution=0.5)
-    args = dict(pose=(5.0, 5.0, 0.0), ranges=np.full(640, 2.0), safety_radius=0.5,
-                angle_max=math.pi / 2, **SCAN)
+    args = {'pose': (5.0, 5.0, 0.0), 'ranges': np.full(640, 2.0), 'safety_radius': 0.5,
+            'angle_max': math.pi / 2, **SCAN}
     args.update(kwargs)
     with pytest.raises(ValueError, match=message):
         grid.update(**args)
@@ -133,15 +133,15 @@ def test_bad_input_raises_and_leaves_labels_unchanged(kwargs, message):
 
 
 @pytest.mark.parametrize('kwargs, message', [
-    (dict(resolution=0.0), 'resolution must be positive'),
-    (dict(resolution=-0.5), 'resolution must be positive'),
-    (dict(width=0.0), 'width and height must be positive'),
-    (dict(height=float('nan')), 'height must be finite'),
-    (dict(origin=(0.0,)), 'origin'),
-    (dict(origin=(0.0, float('inf'))), 'origin y must be finite'),
+    ({'resolution': 0.0}, 'resolution must be positive'),
+    ({'resolution': -0.5}, 'resolution must be positive'),
+    ({'width': 0.0}, 'width and height must be positive'),
+    ({'height': float('nan')}, 'height must be finite'),
+    ({'origin': (0.0,)}, 'origin'),
+    ({'origin': (0.0, float('inf'))}, 'origin y must be finite'),
 ])
 def test_bad_grid_raises(kwargs, message):
-    args = dict(width=10.0, height=10.0, resolution=0.5, origin=(0.0, 0.0))
+    args = {'width': 10.0, 'height': 10.0, 'resolution': 0.5, 'origin': (0.0, 0.0)}
     args.update(kwargs)
     with pytest.raises(ValueError, match=message):
         LabelGrid(**args)
@@ -195,11 +195,11 @@ def scans(draw):
         ranges = draw(st.lists(reading, min_size=beams, max_size=beams))
         range_max = draw(st.floats(1.0, 7.5))
         safety_radius = draw(st.floats(0.0, 1.2))
-    return dict(rows=rows, cols=cols, resolution=resolution, origin=origin,
-                pose=(x, y, yaw), ranges=np.array(ranges, dtype=float), angle_min=angle_min,
-                angle_increment=increment, range_min=0.2, range_max=range_max,
-                safety_radius=safety_radius, path_seed=draw(st.integers(0, 2**31 - 1)),
-                rounds=draw(st.integers(1, 3)))
+    return {'rows': rows, 'cols': cols, 'resolution': resolution, 'origin': origin,
+            'pose': (x, y, yaw), 'ranges': np.array(ranges, dtype=float),
+            'angle_min': angle_min, 'angle_increment': increment, 'range_min': 0.2,
+            'range_max': range_max, 'safety_radius': safety_radius,
+            'path_seed': draw(st.integers(0, 2**31 - 1)), 'rounds': draw(st.integers(1, 3))}
 
 
 @settings(max_examples=400)

@@ -5,7 +5,7 @@ import math
 from dpn_navigator.core import CellLabel, Navigator, NavigatorConfig, NavigatorStatus
 import numpy as np
 import pytest
-from scan_scenes import ANGLE_INCREMENT, ANGLE_MIN, ray_cast, RANGE_MIN
+from scan_scenes import ANGLE_INCREMENT, ANGLE_MIN, RANGE_MIN, ray_cast
 
 TRUTH_RES = 0.05
 RANGE_MAX = 10.0
@@ -13,7 +13,7 @@ DT = 0.1
 
 
 def walled_room(size=12.0):
-    """A square room with a 0.3 m thick border wall, as a ground-truth grid at 5 cm."""
+    """Make a square room with a 0.3 m thick border wall, as a ground-truth grid at 5 cm."""
     n = int(round(size / TRUTH_RES))
     occupied = np.zeros((n, n), dtype=bool)
     occupied[:6, :] = occupied[-6:, :] = occupied[:, :6] = occupied[:, -6:] = True
@@ -21,7 +21,8 @@ def walled_room(size=12.0):
 
 
 def add_box(occupied, x0, y0, x1, y1):
-    occupied[int(y0 / TRUTH_RES):int(y1 / TRUTH_RES), int(x0 / TRUTH_RES):int(x1 / TRUTH_RES)] = True
+    rows = slice(int(y0 / TRUTH_RES), int(y1 / TRUTH_RES))
+    occupied[rows, int(x0 / TRUTH_RES):int(x1 / TRUTH_RES)] = True
 
 
 def drive(navigator, occupied, pose, steps, stop_when=None):
@@ -140,9 +141,9 @@ def test_bad_scan_raises_and_leaves_the_navigator_unchanged():
 
 
 @pytest.mark.parametrize('kwargs, message', [
-    (dict(safety_radius=-0.1), 'safety_radius'),
-    (dict(max_path_deviation=0.0), 'max_path_deviation'),
-    (dict(laser_offset=(0.0, math.inf, 0.0)), 'laser_offset must be finite'),
+    ({'safety_radius': -0.1}, 'safety_radius'),
+    ({'max_path_deviation': 0.0}, 'max_path_deviation'),
+    ({'laser_offset': (0.0, math.inf, 0.0)}, 'laser_offset must be finite'),
 ])
 def test_bad_config_raises(kwargs, message):
     with pytest.raises(ValueError, match=message):

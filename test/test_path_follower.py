@@ -76,10 +76,10 @@ def test_bad_input_raises(path, pose, message):
 
 
 @pytest.mark.parametrize('kwargs, message', [
-    (dict(max_linear_speed=0.0), 'max_linear_speed must be positive'),
-    (dict(max_angular_speed=-1.0), 'max_angular_speed must be positive'),
-    (dict(goal_tolerance=math.nan), 'goal_tolerance must be positive'),
-    (dict(turn_in_place_angle=4.0), 'at most pi'),
+    ({'max_linear_speed': 0.0}, 'max_linear_speed must be positive'),
+    ({'max_angular_speed': -1.0}, 'max_angular_speed must be positive'),
+    ({'goal_tolerance': math.nan}, 'goal_tolerance must be positive'),
+    ({'turn_in_place_angle': 4.0}, 'at most pi'),
 ])
 def test_bad_config_raises(kwargs, message):
     with pytest.raises(ValueError, match=message):

@@ -5,3 +5,16 @@ Everything here takes and returns plain floats and numpy arrays, so the ROS node
 benchmark and other tools can drive the same code.
 
 """
+
+from .astar_search import astar, path_cost
+from .cell_label import CellLabel, OCCUPANCY_VALUE
+from .grid_geometry import GridGeometry
+from .label_grid import LabelGrid
+from .navigator import Navigator, NavigatorConfig, NavigatorOutput, NavigatorStatus
+from .path_follower import follow_path, FollowerConfig, VelocityCommand
+
+__all__ = [
+    'astar', 'CellLabel', 'follow_path', 'FollowerConfig', 'GridGeometry', 'LabelGrid',
+    'Navigator', 'NavigatorConfig', 'NavigatorOutput', 'NavigatorStatus', 'OCCUPANCY_VALUE',
+    'path_cost', 'VelocityCommand',
+]

@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from .astar import astar
+from .astar_search import astar
 from .cell_label import blocked_mask
 from .label_grid import LabelGrid
 from .path_follower import follow_path, FollowerConfig, STOP, VelocityCommand
@@ -223,7 +223,7 @@ class Navigator:
         return NavigatorOutput(command, self.status, self.reason, replanned)
 
     def _path_is_stale(self, pose):
-        """True when there is no path, a cell ahead on it is blocked, or the robot left it."""
+        """Tell whether there is no path, a cell ahead on it is blocked, or the robot left it."""
         if self.path is None:
             return True
         distance = np.hypot(self._path_xy[:, 0] - pose[0], self._path_xy[:, 1] - pose[1])
@@ -276,5 +276,5 @@ class Navigator:
 
     @property
     def path_xy(self):
-        """The planned path in the map frame, (N, 2) float64 [m], or None."""
+        """Return the planned path in the map frame, (N, 2) float64 [m], or None."""
         return self._path_xy

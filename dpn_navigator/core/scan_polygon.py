@@ -87,7 +87,8 @@ def check_scan(ranges, angle_min, angle_increment, range_min, range_max, angle_m
     angle_increment : float
         Angle between consecutive beams [rad]; positive.
     range_min, range_max : float
-        Valid range interval ``[range_min, range_max)`` [m]; finite, ``0 <= range_min < range_max``.
+        Valid range interval ``[range_min, range_max)`` [m]; finite and
+        ``0 <= range_min < range_max``.
     angle_max : float, optional
         Angle of the last beam [rad]. When given, ``L`` must be
         ``(angle_max - angle_min) / angle_increment + 1`` to within one beam.

