@@ -26,7 +26,9 @@ from setuptools.command.install import install
 PACKAGE_NAME = 'dpn_navigator'
 
 #: Console scripts of ``dpn_navigator``; setup.cfg installs them to ``lib/dpn_navigator``.
-CONSOLE_SCRIPTS = []
+CONSOLE_SCRIPTS = [
+    'dpn = dpn_navigator.dpn_node:main',
+]
 
 #: Console scripts of the other ROS packages this distribution registers in the ament index,
 #: by package, as ``'<exe> = <module>:<function>'``; each lands in ``lib/<package>/<exe>``,

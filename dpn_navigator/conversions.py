@@ -1,0 +1,272 @@
+"""
+ROS message <-> array and tuple conversion: the one module the nodes convert with.
+
+Pure functions, no node: they take and return messages, numpy arrays and floats, so they are
+tested in memory. Array fields use the fast paths (``np.frombuffer`` in,
+``array.array(typecode, ndarray.tobytes())`` out).
+
+"""
+
+from array import array
+import math
+
+from geometry_msgs.msg import Point, Pose, Quaternion, Twist
+from nav_msgs.msg import OccupancyGrid, Odometry
+import numpy as np
+from sensor_msgs.msg import LaserScan
+from std_msgs.msg import ColorRGBA
+from visualization_msgs.msg import Marker
+
+from .core.cell_label import OCCUPANCY_VALUE
+
+
+def yaw_to_quaternion(yaw):
+    """Return the ``Quaternion`` of a rotation by ``yaw`` [rad] about +z."""
+    return Quaternion(x=0.0, y=0.0, z=math.sin(yaw / 2.0), w=math.cos(yaw / 2.0))
+
+
+def quaternion_to_yaw(quaternion):
+    """
+    Return the yaw [rad] of a quaternion: the heading of its x axis projected on the plane.
+
+    Raises
+    ------
+    ValueError
+        When a component is not finite or the quaternion is (nearly) zero.
+
+    """
+    x, y, z, w = quaternion.x, quaternion.y, quaternion.z, quaternion.w
+    if not all(math.isfinite(v) for v in (x, y, z, w)):
+        raise ValueError('orientation has a non-finite component')
+    if x * x + y * y + z * z + w * w < 1e-12:
+        raise ValueError('orientation is a zero quaternion')
+    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+
+
+def odometry_to_pose(msg):
+    """
+    Read the planar pose of an ``Odometry`` message.
+
+    Returns
+    -------
+    (float, float, float)
+        ``(x, y, yaw)`` of the child frame in the header's frame [m, m, rad].
+
+    Raises
+    ------
+    ValueError
+        When the position or orientation is not finite.
+
+    """
+    position = msg.pose.pose.position
+    if not (math.isfinite(position.x) and math.isfinite(position.y)):
+        raise ValueError('odometry position is not finite')
+    return (position.x, position.y, quaternion_to_yaw(msg.pose.pose.orientation))
+
+
+def pose_to_odometry(pose, velocity, stamp, frame_id='map', child_frame_id='base_link'):
+    """
+    Build an ``Odometry`` message from a planar pose and velocity.
+
+    Parameters
+    ----------
+    pose : (float, float, float)
+        ``(x, y, yaw)`` [m, m, rad] of ``child_frame_id`` in ``frame_id``.
+    velocity : (float, float)
+        Forward speed [m/s] and turn rate [rad/s] in the child frame.
+    stamp : builtin_interfaces.msg.Time
+        Header stamp.
+    frame_id, child_frame_id : str
+        Frames of the pose and of the body.
+
+    """
+    msg = Odometry()
+    msg.header.stamp = stamp
+    msg.header.frame_id = frame_id
+    msg.child_frame_id = child_frame_id
+    msg.pose.pose = Pose(position=Point(x=float(pose[0]), y=float(pose[1]), z=0.0),
+                         orientation=yaw_to_quaternion(float(pose[2])))
+    msg.twist.twist.linear.x = float(velocity[0])
+    msg.twist.twist.angular.z = float(velocity[1])
+    return msg
+
+
+def laser_scan_fields(msg):
+    """
+    Read a ``LaserScan`` into the arguments of ``LabelGrid.update`` and ``Navigator.step``.
+
+    Returns
+    -------
+    dict
+        ``ranges`` ((L,) float32 ndarray, a read-only view of the message's buffer, [m]),
+        ``angle_min``, ``angle_increment``, ``angle_max`` [rad], ``range_min``, ``range_max``
+        [m]. Validation is left to the core, which raises ``ValueError``.
+
+    """
+    return {
+        'ranges': np.frombuffer(msg.ranges, dtype=np.float32),
+        'angle_min': msg.angle_min,
+        'angle_increment': msg.angle_increment,
+        'angle_max': msg.angle_max,
+        'range_min': msg.range_min,
+        'range_max': msg.range_max,
+    }
+
+
+def make_laser_scan(ranges, angle_min, angle_increment, range_min, range_max, stamp,
+                    frame_id='laser', scan_time=0.0):
+    """
+    Build a ``LaserScan`` message.
+
+    Parameters
+    ----------
+    ranges : (L,) array_like of float
+        Ranges [m], REP 117.
+    angle_min, angle_increment : float
+        [rad]; ``angle_max`` is set to ``angle_min + (L - 1) * angle_increment``.
+    range_min, range_max : float
+        [m]
+    stamp : builtin_interfaces.msg.Time
+        Header stamp.
+    frame_id : str
+        The laser's frame.
+    scan_time : float
+        Time between scans [s].
+
+    """
+    ranges = np.asarray(ranges, dtype=np.float32)
+    msg = LaserScan()
+    msg.header.stamp = stamp
+    msg.header.frame_id = frame_id
+    msg.angle_min = float(angle_min)
+    msg.angle_increment = float(angle_increment)
+    msg.angle_max = float(angle_min + (ranges.shape[0] - 1) * angle_increment)
+    msg.range_min = float(range_min)
+    msg.range_max = float(range_max)
+    msg.scan_time = float(scan_time)
+    msg.ranges = array('f', ranges.tobytes())
+    return msg
+
+
+def labels_to_occupancy_grid(labels, resolution, origin, stamp, frame_id='map'):
+    """
+    Build an ``OccupancyGrid`` from cell labels.
+
+    Parameters
+    ----------
+    labels : (H, W) ndarray of uint8
+        ``CellLabel`` values, row 0 at the origin's y.
+    resolution : float
+        Cell side [m].
+    origin : (float, float)
+        Map-frame position of cell (0, 0)'s lower-left corner [m].
+    stamp : builtin_interfaces.msg.Time
+        Header stamp and map load time.
+    frame_id : str
+        The map's frame.
+
+    Returns
+    -------
+    OccupancyGrid
+        ``data`` holds -1, 0, 100 or 70 per cell (``OCCUPANCY_VALUE``), row-major.
+
+    """
+    msg = OccupancyGrid()
+    msg.header.stamp = stamp
+    msg.header.frame_id = frame_id
+    msg.info.map_load_time = stamp
+    msg.info.resolution = float(resolution)
+    msg.info.height, msg.info.width = (int(n) for n in labels.shape)
+    msg.info.origin.position.x = float(origin[0])
+    msg.info.origin.position.y = float(origin[1])
+    msg.info.origin.orientation.w = 1.0
+    msg.data = array('b', np.take(OCCUPANCY_VALUE, labels).tobytes())
+    return msg
+
+
+def occupancy_grid_values(msg):
+    """Return the ``data`` of an ``OccupancyGrid`` as an (height, width) int8 ndarray view."""
+    return np.frombuffer(msg.data, dtype=np.int8).reshape(msg.info.height, msg.info.width)
+
+
+def velocity_to_twist(linear, angular):
+    """Build a ``Twist`` for a differential-drive base: ``linear.x`` [m/s], ``angular.z``."""
+    msg = Twist()
+    msg.linear.x = float(linear)
+    msg.angular.z = float(angular)
+    return msg
+
+
+def twist_to_velocity(msg):
+    """
+    Read ``(linear.x, angular.z)`` from a ``Twist``.
+
+    Raises
+    ------
+    ValueError
+        When either is not finite.
+
+    """
+    linear, angular = msg.linear.x, msg.angular.z
+    if not (math.isfinite(linear) and math.isfinite(angular)):
+        raise ValueError(f'non-finite velocity command ({linear!r}, {angular!r})')
+    return linear, angular
+
+
+def line_strip_marker(points_xy, namespace, marker_id, rgba, width, stamp, frame_id='map'):
+    """
+    Build a ``LINE_STRIP`` marker through map-frame points.
+
+    Parameters
+    ----------
+    points_xy : (N, 2) array_like of float
+        The points [m]; fewer than 2 gives a ``DELETE`` marker.
+    namespace, marker_id : str, int
+        The marker's identity in RViz.
+    rgba : (float, float, float, float)
+        Colour, each in [0, 1].
+    width : float
+        Line width [m].
+    stamp : builtin_interfaces.msg.Time
+        Header stamp.
+    frame_id : str
+        Frame of the points.
+
+    """
+    marker = Marker()
+    marker.header.stamp = stamp
+    marker.header.frame_id = frame_id
+    marker.ns = namespace
+    marker.id = marker_id
+    points_xy = np.asarray(points_xy, dtype=np.float64).reshape(-1, 2)
+    if points_xy.shape[0] < 2:
+        marker.action = Marker.DELETE
+        return marker
+    marker.type = Marker.LINE_STRIP
+    marker.action = Marker.ADD
+    marker.pose.orientation.w = 1.0
+    marker.scale.x = float(width)
+    marker.color = ColorRGBA(r=rgba[0], g=rgba[1], b=rgba[2], a=rgba[3])
+    marker.points = [Point(x=x, y=y, z=0.05) for x, y in points_xy.tolist()]
+    return marker
+
+
+def sphere_marker(xy, namespace, marker_id, rgba, diameter, stamp, frame_id='map'):
+    """Build a ``SPHERE`` marker at a map-frame point ``xy`` [m] with ``diameter`` [m]."""
+    marker = Marker()
+    marker.header.stamp = stamp
+    marker.header.frame_id = frame_id
+    marker.ns = namespace
+    marker.id = marker_id
+    marker.type = Marker.SPHERE
+    marker.action = Marker.ADD
+    marker.pose.position = Point(x=float(xy[0]), y=float(xy[1]), z=0.1)
+    marker.pose.orientation.w = 1.0
+    marker.scale.x = marker.scale.y = marker.scale.z = float(diameter)
+    marker.color = ColorRGBA(r=rgba[0], g=rgba[1], b=rgba[2], a=rgba[3])
+    return marker
+
+
+def marker_points(marker):
+    """Return a marker's points as an (N, 2) float64 ndarray [m]."""
+    return np.array([(p.x, p.y) for p in marker.points], dtype=np.float64).reshape(-1, 2)

@@ -1,0 +1,18 @@
+"""Quality-of-service profiles, chosen by meaning and named once for every node here."""
+
+from rclpy.qos import (DurabilityPolicy, HistoryPolicy, qos_profile_sensor_data, QoSProfile,
+                       ReliabilityPolicy)
+
+#: Sensor streams (scan, odometry): best effort, keep the newest few.
+SENSOR_QOS = qos_profile_sensor_data
+
+#: Latched state (map, markers, status): reliable, transient local, depth 1, like map_server and
+#: slam_toolbox, so a late subscriber such as RViz gets the last message.
+LATCHED_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
+                         reliability=ReliabilityPolicy.RELIABLE,
+                         durability=DurabilityPolicy.TRANSIENT_LOCAL)
+
+#: Commands and goals: reliable, volatile.
+COMMAND_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10,
+                         reliability=ReliabilityPolicy.RELIABLE,
+                         durability=DurabilityPolicy.VOLATILE)

@@ -1,0 +1,84 @@
+"""Tests of the message <-> array conversions, in memory."""
+
+from array import array
+import math
+
+from builtin_interfaces.msg import Time
+from dpn_navigator.conversions import (labels_to_occupancy_grid, laser_scan_fields,
+                                       line_strip_marker, make_laser_scan, marker_points,
+                                       occupancy_grid_values, odometry_to_pose,
+                                       pose_to_odometry, quaternion_to_yaw, sphere_marker,
+                                       twist_to_velocity, velocity_to_twist, yaw_to_quaternion)
+from dpn_navigator.core import CellLabel
+from geometry_msgs.msg import Quaternion
+import numpy as np
+from numpy.testing import assert_array_equal
+import pytest
+from visualization_msgs.msg import Marker
+
+STAMP = Time(sec=12, nanosec=500)
+
+
+@pytest.mark.parametrize('yaw', [0.0, 0.3, -2.0, math.pi / 2, 3.1])
+def test_yaw_round_trips_through_a_quaternion(yaw):
+    assert quaternion_to_yaw(yaw_to_quaternion(yaw)) == pytest.approx(yaw)
+
+
+@pytest.mark.parametrize('quaternion, message', [
+    (Quaternion(x=0.0, y=0.0, z=0.0, w=0.0), 'zero quaternion'),
+    (Quaternion(x=0.0, y=0.0, z=math.nan, w=1.0), 'non-finite'),
+])
+def test_bad_quaternion_raises(quaternion, message):
+    with pytest.raises(ValueError, match=message):
+        quaternion_to_yaw(quaternion)
+
+
+def test_odometry_round_trip_and_rejection():
+    msg = pose_to_odometry((1.5, -2.0, 0.7), (0.4, -0.2), STAMP)
+    assert msg.header.frame_id == 'map' and msg.child_frame_id == 'base_link'
+    assert odometry_to_pose(msg) == pytest.approx((1.5, -2.0, 0.7))
+    assert (msg.twist.twist.linear.x, msg.twist.twist.angular.z) == (0.4, -0.2)
+    msg.pose.pose.position.x = math.inf
+    with pytest.raises(ValueError, match='position is not finite'):
+        odometry_to_pose(msg)
+
+
+def test_laser_scan_round_trip_keeps_rep117_values():
+    ranges = np.array([1.0, math.inf, math.nan, 0.05, 29.0], dtype=np.float32)
+    msg = make_laser_scan(ranges, -1.0, 0.5, 0.1, 30.0, STAMP, scan_time=0.1)
+    assert msg.header.frame_id == 'laser'
+    assert msg.angle_max == pytest.approx(1.0)
+    fields = laser_scan_fields(msg)
+    assert_array_equal(fields['ranges'], ranges)
+    assert fields['ranges'].dtype == np.float32
+    assert (fields['angle_min'], fields['angle_increment'], fields['range_min'],
+            fields['range_max']) == pytest.approx((-1.0, 0.5, 0.1, 30.0))
+
+
+def test_occupancy_grid_carries_the_four_values_row_major():
+    labels = np.array([[0, 1, 2], [3, 1, 0]], dtype=np.uint8)
+    msg = labels_to_occupancy_grid(labels, 0.5, (-1.0, 2.0), STAMP)
+    assert (msg.info.width, msg.info.height) == (3, 2)
+    assert msg.info.resolution == pytest.approx(0.5)
+    assert (msg.info.origin.position.x, msg.info.origin.position.y) == (-1.0, 2.0)
+    assert isinstance(msg.data, array)
+    assert_array_equal(occupancy_grid_values(msg), [[-1, 0, 100], [70, 0, -1]])
+    assert labels[1, 0] == CellLabel.MOBILE_OBSTACLE
+
+
+def test_twist_round_trip_and_rejection():
+    assert twist_to_velocity(velocity_to_twist(0.5, -1.0)) == (0.5, -1.0)
+    with pytest.raises(ValueError, match='non-finite'):
+        twist_to_velocity(velocity_to_twist(math.nan, 0.0))
+
+
+def test_markers():
+    strip = line_strip_marker([[0.0, 0.0], [1.0, 2.0]], 'planned_path', 0, (1, 0, 0, 1), 0.1,
+                              STAMP)
+    assert strip.type == Marker.LINE_STRIP and strip.action == Marker.ADD
+    assert_array_equal(marker_points(strip), [[0.0, 0.0], [1.0, 2.0]])
+    assert (strip.color.r, strip.color.g) == (1.0, 0.0)
+    empty = line_strip_marker(np.zeros((0, 2)), 'planned_path', 0, (1, 0, 0, 1), 0.1, STAMP)
+    assert empty.action == Marker.DELETE
+    goal = sphere_marker((3.0, 4.0), 'goal', 2, (0, 1, 0, 1), 0.4, STAMP)
+    assert (goal.pose.position.x, goal.pose.position.y) == (3.0, 4.0)
