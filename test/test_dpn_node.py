@@ -57,7 +57,7 @@ class Probe(Node):
         self.scan_pub.publish(scan)
 
     def status_value(self, key):
-        return dict((kv.key, kv.value) for kv in self.received['status'][-1].values)[key]
+        return {kv.key: kv.value for kv in self.received['status'][-1].values}[key]
 
 
 @pytest.fixture
