@@ -153,7 +153,9 @@ setup(
     packages=find_packages(exclude=['test', 'test.*']),
     data_files=_data_files(),
     install_requires=['setuptools'],
-    zip_safe=True,
+    # pybullet loads the URDF and the scenario maps from real file paths.
+    package_data={'sim_bridge': ['urdf/*.urdf', 'scenarios/*.yaml', 'scenarios/*.pgm']},
+    zip_safe=False,
     maintainer='Seed 6e49c337 maintainers',
     maintainer_email='maintainers@users.noreply.h-seed-6e49c337.example',
     description='dpn, the dynamic planner navigator, and its pybullet world (sim_bridge).',

@@ -25,7 +25,7 @@ MARKER_DIR = Path('share', 'ament_index', 'resource_index', 'packages')
 
 EXEC_DEPENDS = {
     'rclpy', 'sensor_msgs', 'nav_msgs', 'geometry_msgs', 'visualization_msgs', 'std_msgs',
-    'diagnostic_msgs',
+    'diagnostic_msgs', 'python3-yaml',
     'rosgraph_msgs', 'python3-numpy', 'python3-pybullet-pip',
 }
 TEST_DEPENDS = {

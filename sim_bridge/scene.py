@@ -1,0 +1,186 @@
+"""
+The pybullet side of the world: one client holding the walls, the Husky and the wanderers.
+
+The robots are kinematic (see `sim_bridge.world`): `Scene` only writes their poses into the
+physics engine and asks it for contacts; it never steps the dynamics. Collision filter groups
+decide which pairs are checked at all: the Husky against walls and wanderers, and rays against
+walls and wanderers; walls, and wanderers among themselves, are never paired.
+
+"""
+
+from contextlib import contextmanager
+import math
+import os
+import sys
+
+import pybullet
+import pybullet_data
+
+from .husky import HUSKY_URDF
+from .walls import build_walls, merge_cells
+from .wanderers import P3AT_URDF
+
+#: Collision filter groups. pybullet's ray tests carry group 1, so bodies the laser must see
+#: have bit 1 in their mask; the Husky's mask lacks it, so its own laser never sees it.
+RAY_GROUP = 1
+WALL_GROUP = 2
+HUSKY_GROUP = 4
+WANDERER_GROUP = 8
+#: Collision filter mask for the laser's rays.
+RAY_MASK = WALL_GROUP | WANDERER_GROUP
+
+
+class Scene:
+    """
+    One pybullet client with a scenario's walls, the Husky and ``n_wanderers`` P3-ATs.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        Its occupied cells become static boxes.
+    n_wanderers : int
+        Number of P3-AT bodies.
+    wall_height : float
+        Height of the walls [m].
+    time_step : float
+        The fixed time step [s], set on the engine for completeness.
+    gui : bool
+        Connect to the pybullet GUI instead of ``DIRECT``.
+
+    Attributes
+    ----------
+    client : int or None
+        The physics client id; None once closed.
+    husky : int
+        The Husky's body id.
+    wall_bodies, wanderer_bodies : list of int
+        Body ids.
+
+    """
+
+    def __init__(self, scenario, n_wanderers, wall_height, time_step, gui=False):
+        self.client = pybullet.connect(pybullet.GUI if gui else pybullet.DIRECT)
+        if self.client < 0:
+            raise RuntimeError('cannot connect to pybullet' + (' (GUI)' if gui else ''))
+        built = False
+        try:
+            self._build(scenario, n_wanderers, wall_height, time_step, gui)
+            built = True
+        finally:
+            if not built:
+                self.close()
+
+    def _build(self, scenario, n_wanderers, wall_height, time_step, gui):
+        client = self.client
+        pybullet.setRealTimeSimulation(0, physicsClientId=client)
+        pybullet.setTimeStep(time_step, physicsClientId=client)
+        pybullet.setGravity(0.0, 0.0, -9.81, physicsClientId=client)
+        if gui:
+            pybullet.configureDebugVisualizer(pybullet.COV_ENABLE_RENDERING, 0,
+                                              physicsClientId=client)
+            plane = pybullet.loadURDF(os.path.join(pybullet_data.getDataPath(), 'plane.urdf'),
+                                      physicsClientId=client)
+            pybullet.setCollisionFilterGroupMask(plane, -1, 0, 0, physicsClientId=client)
+        self.wall_bodies = build_walls(client, merge_cells(scenario.occupied),
+                                       scenario.geometry, wall_height, WALL_GROUP,
+                                       HUSKY_GROUP | RAY_GROUP, visual=gui)
+        with _quiet_native_output():
+            self.husky = pybullet.loadURDF(
+                os.path.join(pybullet_data.getDataPath(), HUSKY_URDF),
+                flags=pybullet.URDF_MERGE_FIXED_LINKS, physicsClientId=client)
+            self.wanderer_bodies = [pybullet.loadURDF(str(P3AT_URDF), physicsClientId=client)
+                                    for _ in range(n_wanderers)]
+        for link in range(-1, pybullet.getNumJoints(self.husky, physicsClientId=client)):
+            pybullet.setCollisionFilterGroupMask(self.husky, link, HUSKY_GROUP,
+                                                 WALL_GROUP | WANDERER_GROUP,
+                                                 physicsClientId=client)
+        for body in self.wanderer_bodies:
+            pybullet.setCollisionFilterGroupMask(body, -1, WANDERER_GROUP,
+                                                 HUSKY_GROUP | RAY_GROUP, physicsClientId=client)
+        self._walls = frozenset(self.wall_bodies)
+        self._wanderer_index = {body: i for i, body in enumerate(self.wanderer_bodies)}
+        # pybullet places a body by its base's centre of mass; keep each one's offset.
+        self._offsets = {}
+        for body in [self.husky] + self.wanderer_bodies:
+            info = pybullet.getDynamicsInfo(body, -1, physicsClientId=client)
+            self._offsets[body] = (info[3], info[4])
+        if gui:
+            pybullet.configureDebugVisualizer(pybullet.COV_ENABLE_RENDERING, 1,
+                                              physicsClientId=client)
+            x0, y0 = scenario.origin
+            pybullet.resetDebugVisualizerCamera(
+                0.8 * max(scenario.width, scenario.height), 0.0, -89.0,
+                [x0 + 0.5 * scenario.width, y0 + 0.5 * scenario.height, 0.0],
+                physicsClientId=client)
+
+    def place(self, body, pose):
+        """
+        Put a body's base frame at a planar pose on the ground.
+
+        Parameters
+        ----------
+        body : int
+            The body (the Husky or a wanderer).
+        pose : (float, float, float)
+            ``(x, y, yaw)`` of the URDF base frame in the map frame [m, m, rad].
+
+        """
+        x, y, yaw = pose
+        frame = ([x, y, 0.0], [0.0, 0.0, math.sin(0.5 * yaw), math.cos(0.5 * yaw)])
+        position, orientation = pybullet.multiplyTransforms(*frame, *self._offsets[body])
+        pybullet.resetBasePositionAndOrientation(body, position, orientation,
+                                                 physicsClientId=self.client)
+
+    def husky_contacts(self):
+        """
+        Run collision detection and report what the Husky penetrates.
+
+        Returns
+        -------
+        wall : bool
+            Whether it penetrates any wall.
+        wanderers : set of int
+            Indices of the wanderers it penetrates.
+        depth : float
+            The deepest penetration [m], 0 without contact.
+
+        """
+        pybullet.performCollisionDetection(physicsClientId=self.client)
+        wall = False
+        wanderers = set()
+        depth = 0.0
+        for point in pybullet.getContactPoints(bodyA=self.husky, physicsClientId=self.client):
+            distance = point[8]
+            if distance >= 0.0:  # within the contact margin but not touching
+                continue
+            other = point[2]
+            if other in self._walls:
+                wall = True
+            elif other in self._wanderer_index:
+                wanderers.add(self._wanderer_index[other])
+            depth = max(depth, -distance)
+        return wall, wanderers, depth
+
+    def close(self):
+        """Disconnect the client (again is harmless)."""
+        if self.client is not None and self.client >= 0:
+            pybullet.disconnect(physicsClientId=self.client)
+        self.client = None
+
+
+@contextmanager
+def _quiet_native_output():
+    """Silence C-level stdout and stderr (pybullet's URDF importer warnings) for a with block."""
+    sys.stdout.flush()
+    sys.stderr.flush()
+    saved = [os.dup(1), os.dup(2)]
+    null = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(null, 1)
+        os.dup2(null, 2)
+        yield
+    finally:
+        for fd, copy in zip((1, 2), saved):
+            os.dup2(copy, fd)
+            os.close(copy)
+        os.close(null)

@@ -1,0 +1,289 @@
+"""
+Wandering Pioneer 3-ATs: random reachable goals, A* on the ground truth, kinematic motion.
+
+Each wanderer walks from one random goal to the next at its own speed. It plans with
+`dpn_navigator.core.astar` (through `clear_paths.plan_path`) on a `ClearanceGrid` of the true
+map (cells where a disc of the P3-AT's radius plus a margin fits anywhere) and drives its path
+centre to centre: it turns in place until it faces the next waypoint, then moves along the
+straight segment, so it never leaves clear cells and never touches a wall. It does not drive
+into the Husky: while the Husky is in a corridor ahead of it (up to ``husky_look_ahead``
+beyond the Husky's radius) it stops, and likewise for another wanderer close ahead. A
+wanderer that stays stopped longer than its patience picks a new goal and plans around what
+blocks it, so none is stuck for long.
+
+Everything here is plain Python + numpy, with no pybullet; the world copies the poses into
+the physics engine. All randomness comes from the generator passed in, so a seed fixes the
+wanderers' spawn points, speeds, goals and therefore trajectories.
+
+"""
+
+from dataclasses import dataclass
+import math
+from pathlib import Path
+
+import numpy as np
+
+from .clear_paths import block_disc, plan_path, turning_points
+from .husky import HUSKY_RADIUS, wrap_angle
+
+#: The Pioneer 3-AT model.
+P3AT_URDF = Path(__file__).resolve().parent / 'urdf' / 'p3at.urdf'
+#: Radius of the circle around a P3-AT's 0.508 m x 0.497 m footprint [m].
+P3AT_RADIUS = 0.5 * math.hypot(0.508, 0.497)
+
+
+@dataclass(frozen=True)
+class WandererConfig:
+    """
+    Behaviour of the wanderers.
+
+    Parameters
+    ----------
+    speed_range : (float, float)
+        Each wanderer's walking speed is drawn uniformly from it [m/s].
+    max_turn_rate : float
+        Turn rate when turning towards a waypoint [rad/s].
+    heading_tolerance : float
+        Largest heading error at which a wanderer moves forward [rad].
+    clearance : float
+        Radius kept clear of walls and unknown space around a wanderer's centre [m].
+    husky_look_ahead : float
+        Stop while the Husky's circle is less than this far ahead [m].
+    wanderer_look_ahead : float
+        Stop while another wanderer's circle is less than this far ahead [m].
+    patience_range : (float, float)
+        After stopping this long (drawn uniformly per stop) pick a new goal [s].
+    goal_distance_range : (float, float)
+        Preferred straight-line distance to a new goal [m].
+    spawn_distance : float
+        Least distance between a spawn point and the Husky's start [m].
+
+    """
+
+    speed_range: tuple = (0.3, 0.7)
+    max_turn_rate: float = 1.5
+    heading_tolerance: float = 0.3
+    clearance: float = P3AT_RADIUS + 0.1
+    husky_look_ahead: float = 1.5
+    wanderer_look_ahead: float = 0.5
+    patience_range: tuple = (1.5, 3.0)
+    goal_distance_range: tuple = (3.0, 15.0)
+    spawn_distance: float = 3.0
+
+
+class Wanderers:
+    """
+    The wandering robots' state and behaviour.
+
+    Parameters
+    ----------
+    grid : ClearanceGrid
+        Clear cells for a circle of ``config.clearance``, from the true map.
+    count : int
+        Number of wanderers, 0 or more.
+    husky_xy : (float, float)
+        The Husky's start position [m]; wanderers spawn ``config.spawn_distance`` away.
+    rng : numpy.random.Generator
+        Source of all randomness.
+    config : WandererConfig
+        Behaviour.
+
+    Attributes
+    ----------
+    positions : (count, 2) ndarray of float64
+        Map-frame positions [m]; read-only for callers.
+    yaws : (count,) ndarray of float64
+        Headings [rad].
+    speeds : (count,) ndarray of float64
+        Walking speeds [m/s].
+    goals_reached, replans : int
+        Goals reached, and new goals picked because a wanderer was blocked or had no path.
+
+    """
+
+    radius = P3AT_RADIUS
+
+    def __init__(self, grid, count, husky_xy, rng, config=WandererConfig()):
+        if isinstance(count, bool) or not isinstance(count, int) or count < 0:
+            raise ValueError(f'count must be a non-negative integer, got {count!r}')
+        self.grid = grid
+        self.config = config
+        self.rng = rng
+        self.positions = np.zeros((count, 2), dtype=np.float64)
+        self.yaws = np.zeros(count, dtype=np.float64)
+        self.speeds = rng.uniform(*config.speed_range, count)
+        self.goals_reached = 0
+        self.replans = 0
+        self._blocked = ~grid.clear
+        self._xy = []  # positions as lists of floats during a step
+        self._paths = [[] for _ in range(count)]
+        # Last waypoint reached, a clear cell (where a new path starts if need be).
+        self._anchors = [None] * count
+        # Whether the first leg of the path is the short move to the centre of the wanderer's
+        # own cell, which needs no look-out.
+        self._centring = [False] * count
+        # Time stopped (or without a path), and how long to bear it before a new goal [s].
+        self._stopped = [0.0] * count
+        self._patience = [0.0] * count
+        self._spawn(husky_xy)
+
+    def _spawn(self, husky_xy):
+        rr, cc = np.nonzero(self.grid.clear)
+        labels = self.grid.labels[rr, cc]
+        # Only components with room to wander (50 cells, or the largest one) are candidates.
+        sizes = np.bincount(labels, minlength=1)
+        roomy = (sizes[labels] >= 50) | (labels == int(np.argmax(sizes)))
+        xs, ys = self.grid.geometry.cell_to_world(rr, cc)
+        ok = roomy & (np.hypot(xs - husky_xy[0], ys - husky_xy[1]) >= self.config.spawn_distance)
+        apart = 2.0 * self.radius + 0.5
+        for i in range(len(self.yaws)):
+            candidates = np.flatnonzero(ok)
+            if len(candidates) == 0:
+                raise ValueError(
+                    f'no room to spawn wanderer {i + 1} of {len(self.yaws)}: the map has too '
+                    'little clear space away from the Husky and the other wanderers')
+            k = int(candidates[self.rng.integers(len(candidates))])
+            self.positions[i] = xs[k], ys[k]
+            self.yaws[i] = self.rng.uniform(-math.pi, math.pi)
+            self._anchors[i] = (int(rr[k]), int(cc[k]))
+            ok &= np.hypot(xs - xs[k], ys - ys[k]) >= apart
+
+    def step(self, dt, husky_xy):
+        """
+        Advance every wanderer by one time step.
+
+        Parameters
+        ----------
+        dt : float
+            Time step [s].
+        husky_xy : (float, float)
+            The Husky's position [m].
+
+        Returns
+        -------
+        moved : list of int
+            Indices of the wanderers whose pose changed.
+
+        """
+        moved = []
+        self._xy = self.positions.tolist()  # plain floats: cheaper to scan than the array
+        for i in range(len(self.yaws)):
+            if not self._paths[i]:
+                # Without a path (at a goal, or after a failed plan) wait out the patience.
+                self._stopped[i] += dt
+                if self._stopped[i] < self._patience[i] or \
+                        not self._new_goal(i, husky_xy, None):
+                    continue
+            if self._advance(i, dt, husky_xy):
+                moved.append(i)
+        return moved
+
+    def _advance(self, i, dt, husky_xy):
+        """Turn and move wanderer ``i`` along its path; return True when it moved."""
+        cfg = self.config
+        x, y = self.positions[i]
+        tx, ty = self._paths[i][0]
+        dx, dy = tx - x, ty - y
+        dist = math.hypot(dx, dy)
+        if dist < 1e-9:
+            self._reach_waypoint(i)
+            return False
+        err = wrap_angle(math.atan2(dy, dx) - self.yaws[i])
+        turn = min(max(err, -cfg.max_turn_rate * dt), cfg.max_turn_rate * dt)
+        self.yaws[i] = wrap_angle(self.yaws[i] + turn)
+        if abs(err - turn) > cfg.heading_tolerance:
+            return turn != 0.0
+        ux, uy = dx / dist, dy / dist
+        blocker = None if self._centring[i] else self._blocker(i, ux, uy, husky_xy)
+        if blocker is not None:
+            self._stopped[i] += dt
+            if self._stopped[i] >= self._patience[i]:
+                self._new_goal(i, husky_xy, blocker)
+            return turn != 0.0
+        self._stopped[i] = 0.0
+        step = min(self.speeds[i] * dt, dist)
+        if step >= dist:
+            self._move_to(i, tx, ty)
+            self._reach_waypoint(i)
+        else:
+            self._move_to(i, x + step * ux, y + step * uy)
+        return True
+
+    def _blocker(self, i, ux, uy, husky_xy):
+        """Return the circle ``(x, y, r)`` ahead that stops wanderer ``i``, or None."""
+        cfg = self.config
+        x, y = self._xy[i]
+        circles = [(husky_xy[0], husky_xy[1], HUSKY_RADIUS, cfg.husky_look_ahead)]
+        circles += [(ox, oy, self.radius, cfg.wanderer_look_ahead)
+                    for j, (ox, oy) in enumerate(self._xy) if j != i]
+        for cx, cy, radius, look in circles:
+            rx, ry = cx - x, cy - y
+            along = rx * ux + ry * uy
+            if 0.0 < along <= look + radius + self.radius and \
+                    abs(rx * uy - ry * ux) < radius + self.radius + 0.1:
+                return cx, cy, radius
+        return None
+
+    def _move_to(self, i, x, y):
+        self.positions[i] = x, y
+        self._xy[i] = [x, y]
+
+    def _reach_waypoint(self, i):
+        tx, ty = self._paths[i].pop(0)
+        self._anchors[i] = self.grid.cell_of(tx, ty)
+        self._centring[i] = False
+        if not self._paths[i]:
+            self.goals_reached += 1
+
+    def _new_goal(self, i, husky_xy, blocker):
+        """
+        Pick a random reachable goal for wanderer ``i`` and plan a path to it.
+
+        When ``blocker`` (a circle ``(x, y, r)``) is given, the wanderer was stopped: the plan
+        also avoids the Husky's circle and ``blocker``. Returns True when a path was found.
+
+        The path starts at the centre of the clear cell the wanderer stands in: a move inside
+        one clear cell is always safe. (Standing exactly on a corner of a diagonal step, the
+        cell found may not be clear; the path then starts at the last waypoint reached, back
+        along the segment the wanderer is on.)
+
+        """
+        cfg = self.config
+        self._stopped[i] = 0.0
+        self._patience[i] = self.rng.uniform(*cfg.patience_range)
+        anchor = self.grid.cell_of(*self.positions[i])
+        own_cell = anchor is not None and bool(self.grid.clear[anchor])
+        if not own_cell:
+            anchor = self._anchors[i]
+        blocked = self._blocked
+        if blocker is not None:
+            blocked = blocked.copy()
+            for cx, cy, radius in ((husky_xy[0], husky_xy[1], HUSKY_RADIUS), blocker):
+                block_disc(blocked, self.grid.geometry, cx, cy, radius + cfg.clearance)
+        goal = self._pick_goal(anchor, blocked)
+        path = None if goal is None else plan_path(self.grid.geometry, blocked, anchor, goal)
+        if blocker is not None or path is None:
+            self.replans += 1
+        if path is None:
+            self._paths[i] = []  # wait out the new patience, then try another goal
+            return False
+        self._paths[i] = [self.grid.centre(*cell) for cell in turning_points(path)]
+        self._centring[i] = own_cell
+        return True
+
+    def _pick_goal(self, anchor, blocked):
+        label = self.grid.labels[anchor]
+        rr, cc = np.nonzero((self.grid.labels == label) & ~blocked)
+        if len(rr) == 0:
+            return None
+        xs, ys = self.grid.geometry.cell_to_world(rr, cc)
+        ax, ay = self.grid.centre(*anchor)
+        dist = np.hypot(xs - ax, ys - ay)
+        lo, hi = self.config.goal_distance_range
+        pool = np.flatnonzero((dist >= lo) & (dist <= hi))
+        if len(pool) == 0:
+            pool = np.flatnonzero(dist > 0.0)
+        if len(pool) == 0:
+            return None
+        k = int(pool[self.rng.integers(len(pool))])
+        return int(rr[k]), int(cc[k])

@@ -1,0 +1,316 @@
+"""
+The simulated world: a scenario's walls, the Husky with its laser, and wandering P3-ATs.
+
+**Kinematic bodies, pybullet for geometry.** The Husky and the wanderers are moved
+kinematically: each tick the Husky's pose is integrated exactly from the commanded ``(v, omega)``
+(clamped to the Husky's limits and ramped by its acceleration limits), the wanderers' poses come
+from their planner, and all of them are written into pybullet with
+``resetBasePositionAndOrientation``. pybullet then runs collision detection only
+(``performCollisionDetection``, no ``stepSimulation``) and one ``rayTestBatch`` per scan.
+The Husky's wheels are not driven through physics because (1) a skid-steer Husky in Bullet
+tracks a ``(v, omega)`` command only after tuning of friction, contact stiffness and motor
+gains, and its turn rate would depend on them rather than on the navigator under test, which is
+what the benchmark must measure; (2) the dynamics step would cost most of the time budget (the
+benchmark needs at least 20x real time with ten wanderers and a 640-beam scan at 10 Hz on one
+core); and (3) the kinematic world is exactly reproducible from a seed. Contacts are still
+detected by Bullet on the real collision shapes: a move that would push the Husky deeper into a
+wall or a wanderer is refused (the Husky stops where it was, as a robot held by an obstacle
+would), and the contact is counted as an event (`ContactLog`).
+
+**Contacts.** At 1 m/s the Husky moves 2 cm per tick at the default 50 Hz, less than the
+thinnest wall (one map cell: 10 cm on back_and_forth, 3 cm on the finest map tried), so it
+cannot tunnel through one and no contact is missed. A contact is counted when the pose a tick
+proposes penetrates an obstacle, even though the Husky is then held back. The robots' state
+lives in this module's arrays and is only written into pybullet, never read back.
+
+**Ticks and scans.** The world advances in fixed ticks of ``1 / physics_rate`` seconds
+(`step`); a scan is due every ``physics_rate / scan_rate`` ticks (`scan_due`), which must be a
+whole number. `advance` runs ticks up to the next scan and returns it, for batch runs as fast as
+possible; a ROS node can instead call `step` from a timer at a real-time factor and publish
+`scan` whenever `scan_due`. Simulated time is ``tick / physics_rate`` (`time`).
+
+"""
+
+import math
+
+import numpy as np
+
+from .contacts import ContactLog
+from .free_space import clearance_grid
+from .husky import clamp_command, HUSKY_LENGTH, HUSKY_WIDTH, integrate_pose, ramp, wrap_angle
+from .laser import Laser
+from .scene import RAY_MASK, Scene
+from .wanderers import Wanderers
+from .world_config import WorldConfig
+
+__all__ = ['World', 'WorldConfig']
+
+
+class World:
+    """
+    A pybullet world that runs one episode of a scenario.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        Map (walls are its occupied cells) and tasks.
+    config : WorldConfig, optional
+        Rates, robots and seed.
+    start : (float, float, float), optional
+        The Husky's start pose ``(x, y, yaw)`` [m, m, rad]; the first task's start by default.
+
+    Attributes
+    ----------
+    scenario : Scenario
+        The scenario; its ``occupied`` grid is the ground truth of the walls.
+    config : WorldConfig
+        The configuration.
+    contacts : ContactLog
+        The Husky's contact events with walls and wanderers, and their first times.
+    rejected_commands : int
+        Velocity commands ignored because they were not finite.
+    last_command_accepted : bool
+        Whether the latest command was accepted.
+    blocked_ticks : int
+        Ticks on which an obstacle held the Husky.
+    scene : Scene
+        The pybullet client and bodies (``scene.client``, ``scene.husky``, ...).
+
+    Raises
+    ------
+    ValueError
+        If there is no start pose, the Husky collides with a wall at it, or the wanderers find
+        no room to spawn.
+
+    Examples
+    --------
+    A batch run, as fast as possible, with the navigator in the loop:
+
+    >>> from sim_bridge.scenario import load_scenario
+    >>> with World(load_scenario('back_and_forth'), WorldConfig(n_wanderers=2)) as world:
+    ...     scan = world.scan()
+    ...     while world.time < 1.0:
+    ...         scan = world.advance(0.5, 0.0)  # v, omega from the navigator
+    ...     round(world.husky_pose[0], 2), len(scan.ranges)
+    (2.46, 640)
+
+    """
+
+    def __init__(self, scenario, config=None, start=None):
+        self.config = config = WorldConfig() if config is None else config
+        if start is None:
+            if not scenario.tasks:
+                raise ValueError(f'scenario {scenario.name!r} has no task: give a start pose')
+            start = scenario.tasks[0].start
+        x, y, yaw = (float(v) for v in start)
+        if not all(math.isfinite(v) for v in (x, y, yaw)):
+            raise ValueError(f'start pose must be finite, got {start!r}')
+        self.scenario = scenario
+        self.contacts = ContactLog()
+        self.rejected_commands = 0
+        self.blocked_ticks = 0
+        self.last_command_accepted = True
+        self._dt = 1.0 / config.physics_rate
+        self._tick = 0
+        self._pose = (x, y, wrap_angle(yaw))
+        self._velocity = (0.0, 0.0)
+        self._command = (0.0, 0.0)
+        self._depth = 0.0
+        self._scan = None
+        wander_seed, noise_seed = np.random.SeedSequence(config.seed).spawn(2)
+        grid = clearance_grid(scenario.free, scenario.geometry, config.wanderer.clearance)
+        self._wanderers = Wanderers(grid, config.n_wanderers, (x, y),
+                                    np.random.default_rng(wander_seed), config.wanderer)
+        self.scene = Scene(scenario, config.n_wanderers, config.wall_height, self._dt,
+                           config.gui)
+        for i in range(config.n_wanderers):
+            self._place_wanderer(i)
+        self.scene.place(self.scene.husky, self._pose)
+        wall, touched, self._depth = self.scene.husky_contacts()
+        if wall:
+            self.close()
+            raise ValueError(f'the Husky collides with a wall at its start pose {self._pose}')
+        self.contacts.update(0.0, wall, touched)
+        self._laser = Laser(self.scene.client, config.laser, RAY_MASK,
+                            np.random.default_rng(noise_seed))
+
+    # -- ground truth -----------------------------------------------------------------------
+
+    @property
+    def time(self):
+        """Return the simulated time [s]."""
+        return self._tick / self.config.physics_rate
+
+    @property
+    def tick(self):
+        """Return the number of ticks run so far."""
+        return self._tick
+
+    @property
+    def husky_pose(self):
+        """Return the Husky's true pose ``(x, y, yaw)`` in the map frame [m, m, rad]."""
+        return self._pose
+
+    @property
+    def husky_velocity(self):
+        """Return the Husky's true ``(v, omega)`` over the last tick [m/s, rad/s] (0 if held)."""
+        return self._velocity
+
+    @property
+    def husky_footprint(self):
+        """Return the Husky's length and width ``(l, w)`` [m]."""
+        return (HUSKY_LENGTH, HUSKY_WIDTH)
+
+    @property
+    def laser_pose(self):
+        """Return the laser's true pose ``(x, y, yaw)`` in the map frame [m, m, rad]."""
+        x, y, yaw = self._pose
+        mx, my, myaw = self.config.laser.mount
+        c, s = math.cos(yaw), math.sin(yaw)
+        return (x + c * mx - s * my, y + s * mx + c * my, wrap_angle(yaw + myaw))
+
+    @property
+    def wanderer_positions(self):
+        """Return the wanderers' positions, (N, 2) ndarray of float64 [m] (a copy)."""
+        return self._wanderers.positions.copy()
+
+    @property
+    def wanderer_yaws(self):
+        """Return the wanderers' headings, (N,) ndarray of float64 [rad] (a copy)."""
+        return self._wanderers.yaws.copy()
+
+    @property
+    def wanderer_radius(self):
+        """Return the radius of the circle around a wanderer's footprint [m]."""
+        return self._wanderers.radius
+
+    @property
+    def occupied(self):
+        """Return the walls, (rows, cols) ndarray of bool, row 0 at the bottom."""
+        return self.scenario.occupied
+
+    @property
+    def scan_due(self):
+        """Return True on ticks that fall on the scan rate (tick 0 included)."""
+        return self._tick % self.config.ticks_per_scan == 0
+
+    # -- stepping ---------------------------------------------------------------------------
+
+    def set_command(self, v, omega):
+        """
+        Set the velocity command, clamped to the drive limits.
+
+        Parameters
+        ----------
+        v, omega : float
+            Forward speed [m/s] and turn rate [rad/s].
+
+        Returns
+        -------
+        accepted : bool
+            False when either value is not a finite number: the command is then ignored (the
+            previous one stays) and `rejected_commands` grows by one.
+
+        """
+        try:
+            v, omega = float(v), float(omega)
+        except (TypeError, ValueError):
+            v = omega = math.nan
+        accepted = math.isfinite(v) and math.isfinite(omega)
+        if accepted:
+            self._command = clamp_command(v, omega, self.config.drive)
+        else:
+            self.rejected_commands += 1
+        self.last_command_accepted = accepted
+        return accepted
+
+    @property
+    def command(self):
+        """Return the command in force ``(v, omega)``, clamped [m/s, rad/s]."""
+        return self._command
+
+    def step(self, v, omega):
+        """
+        Set the command and advance the world by one tick.
+
+        Parameters
+        ----------
+        v, omega : float
+            Velocity command [m/s, rad/s], as for `set_command`.
+
+        Returns
+        -------
+        accepted : bool
+            Whether the command was accepted (see `set_command`).
+
+        """
+        accepted = self.set_command(v, omega)
+        dt, limits = self._dt, self.config.drive
+        lin = ramp(self._velocity[0], self._command[0], limits.max_linear_accel, dt)
+        ang = ramp(self._velocity[1], self._command[1], limits.max_angular_accel, dt)
+        proposed = integrate_pose(self._pose, lin, ang, dt)
+        for i in self._wanderers.step(dt, self._pose[:2]):
+            self._place_wanderer(i)
+        self.scene.place(self.scene.husky, proposed)
+        wall, touched, depth = self.scene.husky_contacts()
+        self._tick += 1
+        self._scan = None
+        self.contacts.update(self.time, wall, touched)
+        if depth > self._depth:
+            # Pushed deeper into an obstacle: the Husky is held where it was.
+            self.scene.place(self.scene.husky, self._pose)
+            self._velocity = (0.0, 0.0)
+            self.blocked_ticks += 1
+        else:
+            self._pose = proposed
+            self._velocity = (lin, ang)
+            self._depth = depth
+        return accepted
+
+    def scan(self):
+        """
+        Return the laser scan at the current tick (taken once per tick, then reused).
+
+        Returns
+        -------
+        LaserScan
+            Ranges and beam layout, stamped with `time`.
+
+        """
+        if self._scan is None:
+            self._scan = self._laser.scan(self.laser_pose, self.time)
+        return self._scan
+
+    def advance(self, v, omega):
+        """
+        Run ticks with one command up to the next scan and return that scan.
+
+        Parameters
+        ----------
+        v, omega : float
+            Velocity command [m/s, rad/s]; a rejected one is counted once per tick (see
+            `last_command_accepted`).
+
+        Returns
+        -------
+        LaserScan
+
+        """
+        self.step(v, omega)
+        while not self.scan_due:
+            self.step(v, omega)
+        return self.scan()
+
+    def close(self):
+        """Disconnect from pybullet; the world cannot be stepped afterwards."""
+        self.scene.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc_info):
+        self.close()
+
+    def _place_wanderer(self, i):
+        x, y = self._wanderers.positions[i]
+        self.scene.place(self.scene.wanderer_bodies[i], (x, y, self._wanderers.yaws[i]))

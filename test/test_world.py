@@ -1,0 +1,370 @@
+"""
+Tests of the sim_bridge world: walls, Husky drive, laser, contacts and wanderers, without ROS.
+
+Worlds run headless (pybullet DIRECT); most use tiny in-memory scenarios whose geometry makes
+the expected ranges, poses and contacts easy to compute by hand.
+
+"""
+
+import dataclasses
+import doctest
+import math
+import subprocess
+import sys
+
+from dpn_navigator.core import GridGeometry
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from hypothesis.extra import numpy as hnp
+import numpy as np
+from numpy.testing import assert_array_equal
+import pytest
+
+from sim_bridge import world as world_module
+from sim_bridge.free_space import clearance_grid
+from sim_bridge.husky import DriveLimits, HUSKY_RADIUS, LASER_MOUNT
+from sim_bridge.laser import LaserConfig
+from sim_bridge.scenario import load_scenario, Scenario
+from sim_bridge.tasks import Task
+from sim_bridge.walls import merge_cells
+from sim_bridge.wanderers import P3AT_RADIUS, WandererConfig, Wanderers
+from sim_bridge.world import World, WorldConfig
+
+NO_RAMP = DriveLimits(max_linear_accel=None, max_angular_accel=None)
+RESOLUTION = 0.1
+
+
+def room(size=12.0, walls=((0.0, 0.0, 0.1, 12.0), (11.9, 0.0, 12.0, 12.0),
+                           (0.0, 0.0, 12.0, 0.1), (0.0, 11.9, 12.0, 12.0))):
+    """Return a square scenario with wall rectangles ``(x0, y0, x1, y1)`` [m] and one task."""
+    geometry = GridGeometry(size, size, RESOLUTION)
+    xs, ys = geometry.cell_to_world(*np.indices(geometry.shape))
+    occupied = np.zeros(geometry.shape, dtype=bool)
+    for x0, y0, x1, y1 in walls:
+        occupied |= (xs > x0) & (xs < x1) & (ys > y0) & (ys < y1)
+    task = Task((size / 2, size / 2, 0.0), (size / 2 + 3.0, size / 2))
+    return Scenario('room', occupied, ~occupied, RESOLUTION, (0.0, 0.0), (task,))
+
+
+@pytest.fixture(scope='module')
+def back_and_forth():
+    return load_scenario('back_and_forth')
+
+
+# -- configuration ------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize('physics_rate, scan_rate', [(50.0, 15.0), (100.0, 30.0), (10.0, 20.0),
+                                                     (50.0, 0.0), (-50.0, 10.0),
+                                                     (math.inf, 10.0), (math.nan, 10.0)])
+def test_scan_rate_must_divide_physics_rate(physics_rate, scan_rate):
+    with pytest.raises(ValueError, match='scan_rate|physics_rate'):
+        WorldConfig(physics_rate=physics_rate, scan_rate=scan_rate)
+
+
+@pytest.mark.parametrize('physics_rate, scan_rate, ticks', [(50, 10, 5), (100.0, 10.0, 10),
+                                                            (40.0, 40.0, 1), (1000, 12.5, 80)])
+def test_ticks_per_scan(physics_rate, scan_rate, ticks):
+    assert WorldConfig(physics_rate=physics_rate, scan_rate=scan_rate).ticks_per_scan == ticks
+
+
+@pytest.mark.parametrize('kwargs, match', [
+    ({'n_wanderers': -1}, 'n_wanderers'), ({'n_wanderers': 2.0}, 'n_wanderers'),
+    ({'wall_height': 0.0}, 'wall_height'),
+])
+def test_world_config_errors(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        WorldConfig(**kwargs)
+
+
+@pytest.mark.parametrize('kwargs, match', [
+    ({'n_beams': 16384}, 'n_beams'), ({'n_beams': 1}, 'n_beams'),
+    ({'angle_min': 1.0, 'angle_max': -1.0}, 'angle_min'),
+    ({'range_min': 5.0, 'range_max': 2.0}, 'range_min < range_max'),
+    ({'noise_std': -0.1}, 'noise_std'), ({'range_max': math.inf}, 'finite'),
+])
+def test_laser_config_errors(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        LaserConfig(**kwargs)
+
+
+def test_laser_defaults_match_the_paper():
+    laser = LaserConfig()
+    assert laser.n_beams == 640
+    assert (laser.angle_min, laser.angle_max) == (-math.pi / 2, math.pi / 2)
+    assert laser.angle_increment == pytest.approx(math.pi / 639)
+    assert laser.mount == LASER_MOUNT and 0.3 < laser.height < 0.5
+
+
+# -- walls --------------------------------------------------------------------------------
+
+
+@settings(max_examples=80)
+@given(hnp.arrays(bool, st.tuples(st.integers(1, 12), st.integers(1, 12))))
+def test_merge_cells_covers_each_occupied_cell_once(occupied):
+    cover = np.zeros(occupied.shape, dtype=np.int64)
+    for r, c, n_rows, n_cols in merge_cells(occupied):
+        assert n_rows >= 1 and n_cols >= 1
+        cover[r:r + n_rows, c:c + n_cols] += 1
+    assert_array_equal(cover, occupied.astype(np.int64))
+
+
+def test_back_and_forth_has_few_wall_bodies(back_and_forth):
+    assert len(merge_cells(back_and_forth.occupied)) <= 12
+    with World(back_and_forth) as world:
+        assert len(world.scene.wall_bodies) == len(merge_cells(back_and_forth.occupied))
+
+
+# -- laser --------------------------------------------------------------------------------
+
+
+def test_scan_of_a_known_wall():
+    # The Husky at (6, 6) facing +x; the wall's face is at x = 9.0.
+    scenario = room(walls=((9.0, 0.0, 9.2, 12.0),))
+    with World(scenario, WorldConfig(laser=LaserConfig(range_max=30.0))) as world:
+        scan = world.scan()
+        assert scan.pose == pytest.approx((6.0 + LASER_MOUNT[0], 6.0, 0.0))
+        angles = scan.angle_min + scan.angle_increment * np.arange(640)
+        hits = np.abs(np.tan(angles)) * (9.0 - scan.pose[0]) < 5.9  # beams that meet the wall
+        expected = (9.0 - scan.pose[0]) / np.cos(angles[hits])
+        np.testing.assert_allclose(scan.ranges[hits], expected, atol=2e-4)
+        assert np.all(np.isposinf(scan.ranges[np.abs(angles) > 1.2]))  # REP 117: no return
+        assert scan.ranges.dtype == np.float32 and scan.stamp == 0.0
+
+
+def test_nothing_in_sight_is_all_inf_and_rays_miss_the_husky():
+    with World(room(walls=((0.0, 0.0, 0.1, 0.1),))) as world:
+        for _ in range(3):
+            scan = world.advance(0.0, 1.0)  # turning: beams sweep over the Husky's own body
+            assert np.all(np.isposinf(scan.ranges))
+
+
+def test_too_close_is_minus_inf():
+    laser = LaserConfig(range_min=0.5)
+    face = 6.0 + LASER_MOUNT[0] + 0.3  # 0.3 m ahead of the laser, 0.14 m ahead of the bumper
+    with World(room(walls=((face, 0.0, face + 0.2, 12.0),)), WorldConfig(laser=laser)) as world:
+        ranges = world.scan().ranges
+        assert np.isneginf(ranges[319]) and np.isneginf(ranges[320])
+
+
+def test_range_noise_is_seeded():
+    scenario = room()
+    laser = LaserConfig(noise_std=0.01)
+    with World(scenario) as exact, World(scenario, WorldConfig(laser=laser, seed=1)) as noisy, \
+            World(scenario, WorldConfig(laser=laser, seed=1)) as again:
+        error = noisy.scan().ranges - exact.scan().ranges
+        assert 0.005 < np.std(error) < 0.015
+        assert_array_equal(noisy.scan().ranges, again.scan().ranges)
+        assert_array_equal(noisy.scan().ranges, noisy.scan().ranges)  # once per tick
+
+
+# -- driving ------------------------------------------------------------------------------
+
+
+def test_drive_straight_one_second():
+    with World(room(), WorldConfig(drive=NO_RAMP)) as world:
+        for _ in range(50):
+            assert world.step(0.5, 0.0)
+        assert world.time == pytest.approx(1.0)
+        assert world.husky_pose == pytest.approx((6.5, 6.0, 0.0), abs=1e-9)
+        assert world.husky_velocity == (0.5, 0.0)
+
+
+def test_acceleration_limit_ramps_the_speed():
+    with World(room()) as world:  # husky_control's 3 m/s^2
+        for _ in range(50):
+            world.step(0.5, 0.0)
+        assert world.husky_pose[0] - 6.0 == pytest.approx(0.5 - 0.5 ** 2 / (2 * 3.0), abs=0.01)
+
+
+def test_drive_an_arc():
+    with World(room(), WorldConfig(drive=NO_RAMP, physics_rate=100.0)) as world:
+        for _ in range(100):
+            world.step(0.5, 1.0)
+        # A circle of radius 0.5 m about (6, 6.5), 1 rad along it.
+        assert world.husky_pose == pytest.approx(
+            (6.0 + 0.5 * math.sin(1.0), 6.5 - 0.5 * math.cos(1.0), 1.0), abs=1e-9)
+
+
+def test_commands_are_clamped():
+    with World(room(), WorldConfig(drive=NO_RAMP)) as world:
+        assert world.step(5.0, -9.0)
+        assert world.command == (1.0, -1.5)
+        assert world.husky_velocity == (1.0, -1.5)
+        world.set_command(-3.0, 2.0)
+        assert world.command == (-1.0, 1.5)
+
+
+@pytest.mark.parametrize('v, omega', [(math.nan, 0.0), (0.2, math.inf), (-math.inf, 0.1),
+                                      (None, 0.0), ('fast', 0.0)])
+def test_non_finite_commands_are_rejected_and_counted(v, omega):
+    with World(room(), WorldConfig(drive=NO_RAMP)) as world:
+        world.step(0.4, 0.0)
+        assert not world.step(v, omega)
+        assert (world.rejected_commands, world.last_command_accepted) == (1, False)
+        assert world.command == (0.4, 0.0)  # the previous command stays
+        assert world.husky_pose[0] == pytest.approx(6.0 + 2 * 0.4 / 50)
+        world.advance(v, omega)  # ticks 3, 4 and 5, each rejected
+        assert world.rejected_commands == 4 and world.tick == 5
+        assert world.step(0.0, 0.0) and world.last_command_accepted
+
+
+def test_advance_runs_to_the_next_scan():
+    with World(room(), WorldConfig(physics_rate=100.0, scan_rate=20.0)) as world:
+        assert world.scan_due and world.tick == 0
+        stamps = [world.advance(0.2, 0.0).stamp for _ in range(3)]
+        assert stamps == pytest.approx([0.05, 0.1, 0.15])
+        assert world.tick == 15 and world.scan_due
+        world.step(0.2, 0.0)
+        assert not world.scan_due
+
+
+def test_start_in_a_wall_is_refused():
+    with pytest.raises(ValueError, match='collides with a wall'):
+        World(room(), start=(0.3, 6.0, 0.0))
+    with pytest.raises(ValueError, match='no task'):
+        World(dataclasses.replace(room(), tasks=()))
+    with pytest.raises(ValueError, match='start pose must be finite'):
+        World(room(), start=(6.0, math.nan, 0.0))
+
+
+# -- contacts -----------------------------------------------------------------------------
+
+
+def test_driving_into_a_wall_is_one_contact_event():
+    scenario = room(walls=((8.0, 0.0, 8.2, 12.0),))
+    with World(scenario, WorldConfig(drive=NO_RAMP)) as world:
+        for _ in range(150):  # 3 s at 1 m/s: the bumper reaches the wall after about 1.5 s
+            world.step(1.0, 0.0)
+        contacts = world.contacts
+        assert (contacts.wall_events, contacts.wanderer_events) == (1, 0)
+        # The front of the collision box (0.504 m ahead of the base) meets x = 8.0 at 1.496 s.
+        assert contacts.first_wall_time == pytest.approx(1.5, abs=0.021)
+        assert contacts.first_contact_time == contacts.first_wall_time
+        assert 7.47 < world.husky_pose[0] < 7.5  # held at the wall, not through it
+        assert world.blocked_ticks > 60 and world.husky_velocity == (0.0, 0.0)
+        assert contacts.touching_wall
+        for _ in range(25):
+            world.step(-1.0, 0.0)
+        assert not world.contacts.touching_wall
+        for _ in range(50):
+            world.step(1.0, 0.0)
+        assert world.contacts.wall_events == 2
+
+
+def test_driving_into_a_wanderer_is_counted():
+    scenario = room()
+    config = WorldConfig(drive=NO_RAMP, n_wanderers=1, seed=2,
+                         wanderer=WandererConfig(speed_range=(0.0, 0.0)))  # it stays put
+    with World(scenario, config) as probe:
+        target = probe.wanderer_positions[0]
+    heading = math.atan2(target[1] - 6.0, target[0] - 6.0)
+    with World(scenario, config, start=(6.0, 6.0, heading)) as world:
+        assert_array_equal(world.wanderer_positions[0], target)
+        for _ in range(int(50 * math.dist(target, (6.0, 6.0)))):
+            world.step(1.0, 0.0)
+        assert (world.contacts.wanderer_events, world.contacts.wall_events) == (1, 0)
+        assert world.contacts.touching_wanderers == {0}
+        assert math.dist(world.husky_pose[:2], target) > HUSKY_RADIUS * 0.5
+
+
+# -- wanderers ----------------------------------------------------------------------------
+
+
+def wall_distance(scenario, points):
+    """Least distance from each point to the area of any wall cell [m]."""
+    geometry = scenario.geometry
+    xs, ys = geometry.cell_to_world(*np.nonzero(scenario.occupied))
+    half = 0.5 * geometry.resolution
+    dx = np.maximum(np.abs(points[:, 0, np.newaxis] - xs) - half, 0.0)
+    dy = np.maximum(np.abs(points[:, 1, np.newaxis] - ys) - half, 0.0)
+    return np.hypot(dx, dy).min(axis=1)
+
+
+def test_wanderers_roam_without_touching_walls_or_the_husky(back_and_forth):
+    config = WorldConfig(n_wanderers=10, seed=7)
+    with World(back_and_forth, config) as world:
+        start = world.husky_pose
+        positions = world.wanderer_positions
+        assert np.all(np.hypot(*(positions - start[:2]).T) >= 3.0)
+        gaps = np.hypot(*(positions[:, np.newaxis] - positions[np.newaxis]).transpose(2, 0, 1))
+        assert np.all(gaps[~np.eye(10, dtype=bool)] >= 2 * P3AT_RADIUS + 0.5)
+        travelled = np.zeros(10)
+        still = np.zeros(10)
+        longest_still = np.zeros(10)
+        nearest_husky = math.inf
+        for _ in range(1200):  # 120 s; the Husky stands still
+            world.advance(0.0, 0.0)
+            now = world.wanderer_positions
+            assert wall_distance(back_and_forth, now).min() > P3AT_RADIUS
+            step = np.hypot(*(now - positions).T)
+            travelled += step
+            still = np.where(step > 0.0, 0.0, still + 0.1)
+            longest_still = np.maximum(longest_still, still)
+            nearest_husky = min(nearest_husky, np.hypot(*(now - start[:2]).T).min())
+            positions = now
+        assert world.contacts.events == 0
+        assert nearest_husky > HUSKY_RADIUS + P3AT_RADIUS
+        assert np.all(travelled > 10.0)
+        assert np.all(longest_still < 15.0)  # blocked wanderers pick new goals
+        speeds = world._wanderers.speeds
+        assert np.all((speeds >= 0.3) & (speeds <= 0.7))
+
+
+def test_wanderer_stops_for_the_husky_then_picks_another_goal():
+    scenario = room()
+    grid = clearance_grid(scenario.free, scenario.geometry, WandererConfig().clearance)
+    husky = (100.0, 100.0)  # far away at first
+    wanderers = Wanderers(grid, 1, (6.0, 6.0), np.random.default_rng(0))
+    for _ in range(40):
+        wanderers.step(0.02, husky)
+    x, y = wanderers.positions[0]
+    yaw = wanderers.yaws[0]
+    husky = (x + 1.2 * math.cos(yaw), y + 1.2 * math.sin(yaw))  # right ahead of it
+    for _ in range(60):  # 1.2 s, less than the least patience
+        wanderers.step(0.02, husky)
+    assert math.dist(wanderers.positions[0], (x, y)) < 0.2  # at most centred in its cell
+    replans = wanderers.replans
+    for _ in range(400):  # 8 s: patience runs out, it turns away and walks on
+        wanderers.step(0.02, husky)
+    assert wanderers.replans > replans
+    assert math.dist(wanderers.positions[0], (x, y)) > 1.0
+    assert math.dist(wanderers.positions[0], husky) > HUSKY_RADIUS + P3AT_RADIUS
+
+
+def test_no_room_to_spawn():
+    with pytest.raises(ValueError, match='no room to spawn wanderer'):
+        World(room(size=5.0), WorldConfig(n_wanderers=3))
+
+
+def test_same_seed_same_episode(back_and_forth):
+    config = WorldConfig(n_wanderers=5, seed=11, laser=LaserConfig(noise_std=0.005))
+
+    def run(config):
+        with World(back_and_forth, config) as world:
+            scans = [world.scan().ranges]
+            for k in range(60):
+                scans.append(world.advance(0.6, 0.4 * math.sin(0.1 * k)).ranges)
+            return np.array(scans), world.wanderer_positions, world.husky_pose
+
+    first, second = run(config), run(config)
+    assert_array_equal(first[0], second[0])
+    assert_array_equal(first[1], second[1])
+    assert first[2] == second[2]
+    other = run(dataclasses.replace(config, seed=12))
+    assert not np.array_equal(first[1], other[1])
+
+
+# -- the package ----------------------------------------------------------------------------
+
+
+def test_world_docstring_example_runs():
+    result = doctest.testmod(world_module, optionflags=doctest.ELLIPSIS)
+    assert result.attempted >= 1 and result.failed == 0
+
+
+def test_no_ros_in_the_simulator_core():
+    code = ('import sys\n'
+            'import sim_bridge.world, sim_bridge.scenario, sim_bridge.scenarios.generate\n'
+            "assert 'rclpy' not in sys.modules, 'rclpy was imported'\n")
+    subprocess.run([sys.executable, '-c', code], check=True)
