@@ -35,7 +35,7 @@ CONSOLE_SCRIPTS = [
 #: e.g. ``{'sim_bridge': ['pybullet_world = sim_bridge.pybullet_world_node:main']}``.
 #: The keys are also the extra names registered in the ament index.
 PACKAGE_SCRIPTS = {
-    'sim_bridge': [],
+    'sim_bridge': ['pybullet_world = sim_bridge.pybullet_world_node:main'],
 }
 
 _SCRIPT_TEMPLATE = """\

@@ -36,7 +36,7 @@ FLOAT_PARAMETERS = {
     'max_angular_speed': (1.5, 'Turn rate limit [rad/s].', (0.01, 10.0), True),
     'goal_tolerance': (0.3, 'Distance to the goal that counts as reached [m].', (0.01, 5.0),
                        True),
-    'lookahead_distance': (1.0, 'How far ahead on the path the robot aims [m].', (0.1, 10.0),
+    'lookahead_distance': (0.6, 'How far ahead on the path the robot aims [m].', (0.1, 10.0),
                            True),
     'laser_x': (0.0, 'Laser position on the base, forward [m].', (-10.0, 10.0), True),
     'laser_y': (0.0, 'Laser position on the base, left [m].', (-10.0, 10.0), True),

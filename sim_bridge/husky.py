@@ -18,16 +18,17 @@ HUSKY_WIDTH = 0.67
 #: Radius of the circle around the footprint [m].
 HUSKY_RADIUS = 0.5 * math.hypot(HUSKY_LENGTH, HUSKY_WIDTH)
 
-#: Pose of the laser's focal point on the base frame ``(x, y, yaw)`` [m, m, rad]. It is where
-#: ``husky_description`` mounts its SICK LMS1xx: top plate at x 0.0812 m, mount 0.2206 m ahead
-#: of it, focal point 0.0352 m ahead of the mount (the LMS1xx frame there is upside down, roll
-#: pi; here the scan is reported upright, counter-clockwise, as a ROS driver configured for the
-#: mount would).
+#: Pose of the laser's focal point on the base frame ``(x, y, yaw)`` [m, m, rad]: 0.337 m ahead
+#: of the base centre, where ``husky_description`` puts its SICK LMS1xx (top plate at x 0.0812 m,
+#: mount 0.2206 m ahead of it, focal point 0.0352 m ahead of the mount), reported upright and
+#: counter-clockwise, as a ROS driver configured for the mount would.
 LASER_MOUNT = (0.3370, 0.0, 0.0)
-#: Height of the focal point above the ground [m]: top plate 0.245 m above ``base_link``, mount
-#: plate 0.00635 m, focal point 0.0566 m above the mount base, and ``base_link`` 0.14493 m up in
-#: the pybullet model. It clears the model's collision box (top at 0.404 m).
-LASER_HEIGHT = 0.4529
+#: Height of the scan plane above the ground [m]. Not the top-plate mount of
+#: ``husky_description`` (0.4529 m): that plane passes over the P3-AT wanderers, whose body is
+#: 0.08 to 0.277 m high, so the navigator would never see them. 0.20 m is a front-bumper mount,
+#: cutting the P3-AT chassis and wheels and every wall; rays ignore the Husky's own body by
+#: collision mask.
+LASER_HEIGHT = 0.20
 
 
 def _check_limit(value, name, allow_none=False):

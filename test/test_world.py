@@ -93,7 +93,9 @@ def test_laser_defaults_match_the_paper():
     assert laser.n_beams == 640
     assert (laser.angle_min, laser.angle_max) == (-math.pi / 2, math.pi / 2)
     assert laser.angle_increment == pytest.approx(math.pi / 639)
-    assert laser.mount == LASER_MOUNT and 0.3 < laser.height < 0.5
+    assert laser.mount == LASER_MOUNT
+    # The scan plane must cut the P3-AT chassis (0.08 to 0.277 m), or wanderers are invisible.
+    assert 0.08 < laser.height < 0.277
 
 
 # -- walls --------------------------------------------------------------------------------
@@ -368,3 +370,20 @@ def test_no_ros_in_the_simulator_core():
             'import sim_bridge.world, sim_bridge.scenario, sim_bridge.scenarios.generate\n'
             "assert 'rclpy' not in sys.modules, 'rclpy was imported'\n")
     subprocess.run([sys.executable, '-c', code], check=True)
+
+
+def test_the_laser_sees_the_wanderers(back_and_forth):
+    # The navigator can only label mobile obstacles it sees: some scans must hit wanderers.
+    hits_on_wanderers = 0
+    with World(back_and_forth, WorldConfig(n_wanderers=10, seed=3)) as world:
+        while world.time < 20.0:
+            scan = world.advance(0.0, 0.6)                # turn on the spot, look around
+            x, y, yaw = scan.pose
+            angles = yaw + scan.angle_min + np.arange(len(scan.ranges)) * scan.angle_increment
+            finite = np.isfinite(scan.ranges)
+            hit_x = x + scan.ranges[finite] * np.cos(angles[finite])
+            hit_y = y + scan.ranges[finite] * np.sin(angles[finite])
+            for wx, wy in world.wanderer_positions:
+                near = np.hypot(hit_x - wx, hit_y - wy) <= P3AT_RADIUS + 0.05
+                hits_on_wanderers += int(np.count_nonzero(near))
+    assert hits_on_wanderers > 20

@@ -43,10 +43,10 @@ class FollowerConfig:
 
     max_linear_speed: float = 1.0
     max_angular_speed: float = 1.5
-    lookahead_distance: float = 1.0
+    lookahead_distance: float = 0.6
     goal_tolerance: float = 0.3
     heading_gain: float = 2.0
-    turn_in_place_angle: float = 0.8
+    turn_in_place_angle: float = 0.6
     slowdown_distance: float = 1.5
 
     def __post_init__(self):

@@ -1,0 +1,326 @@
+"""
+Run one episode over ROS 2: the pybullet world and the dpn navigator as separate processes.
+
+Both are started as the installed executables ``ros2 run`` resolves
+(``<prefix>/lib/sim_bridge/pybullet_world`` and ``<prefix>/lib/dpn_navigator/dpn``), in a DDS
+domain of their own on localhost. A monitor node watches the topics until the goal is reached
+or the simulated time limit passes, prints the outcome and writes a Fig. 9-style PNG of the
+final map with the planned and executed paths.
+
+``make demo`` runs ``python -m dpn_navigator.demo`` on back_and_forth with 3 wanderers.
+
+"""
+
+import argparse
+from dataclasses import dataclass, field
+import math
+import os
+from pathlib import Path
+import random
+import signal
+import subprocess
+import sys
+import time
+
+from ament_index_python.packages import get_package_prefix
+from diagnostic_msgs.msg import DiagnosticStatus
+from geometry_msgs.msg import Twist
+from nav_msgs.msg import OccupancyGrid, Odometry
+import numpy as np
+import rclpy
+from rclpy.context import Context
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+from visualization_msgs.msg import MarkerArray
+
+from .conversions import marker_points, occupancy_grid_values, odometry_to_pose
+from .qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS
+
+
+def installed_executable(package, name):
+    """
+    Find an executable where ``ros2 run <package> <name>`` looks for it.
+
+    Raises
+    ------
+    FileNotFoundError
+        When the package is not in the ament index or has no such executable.
+
+    """
+    path = Path(get_package_prefix(package)) / 'lib' / package / name
+    if not (path.is_file() and os.access(path, os.X_OK)):
+        raise FileNotFoundError(f'{package} has no executable {name} at {path}')
+    return path
+
+
+def navigator_arguments(scenario, task):
+    """Return the ``dpn`` parameters for a scenario's task: what the paper's robot knows."""
+    from sim_bridge.husky import LASER_MOUNT     # the navigator's config, not its code
+    goal = scenario.tasks[task].goal
+    parameters = {
+        'map_width': scenario.width, 'map_height': scenario.height,
+        'origin_x': scenario.origin[0], 'origin_y': scenario.origin[1],
+        'goal_x': goal[0], 'goal_y': goal[1],
+        'laser_x': LASER_MOUNT[0], 'laser_y': LASER_MOUNT[1], 'laser_yaw': LASER_MOUNT[2],
+    }
+    args = ['--ros-args', '-p', 'use_sim_time:=true']
+    for name, value in parameters.items():
+        args += ['-p', f'{name}:={float(value)!r}']
+    return args
+
+
+def ros_environment(domain_id):
+    """Return a copy of the environment for child processes in their own local DDS domain."""
+    env = dict(os.environ)
+    env['ROS_DOMAIN_ID'] = str(domain_id)
+    env['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
+    env['PYTHONUNBUFFERED'] = '1'
+    return env
+
+
+def start_nodes(scenario_name, task, wanderers, seed, real_time_factor, domain_id, log_dir):
+    """
+    Start ``pybullet_world`` and ``dpn`` as processes; return them.
+
+    Their output goes to ``log_dir/pybullet_world.log`` and ``log_dir/dpn.log``.
+    """
+    from sim_bridge.scenario import load_scenario
+    scenario = load_scenario(scenario_name)
+    log_dir = Path(log_dir)
+    log_dir.mkdir(parents=True, exist_ok=True)
+    env = ros_environment(domain_id)
+    world_args = ['--ros-args', '-p', f'scenario:={scenario_name}', '-p', f'task:={task}',
+                  '-p', f'wanderers:={wanderers}', '-p', f'seed:={seed}',
+                  '-p', f'real_time_factor:={float(real_time_factor)!r}']
+    commands = {
+        'pybullet_world': [str(installed_executable('sim_bridge', 'pybullet_world'))]
+        + world_args,
+        'dpn': [str(installed_executable('dpn_navigator', 'dpn'))]
+        + navigator_arguments(scenario, task),
+    }
+    processes = {}
+    for name, command in commands.items():
+        log = open(log_dir / f'{name}.log', 'w')
+        processes[name] = subprocess.Popen(command, env=env, stdout=log,
+                                           stderr=subprocess.STDOUT, start_new_session=True)
+        log.close()
+    return scenario, processes
+
+
+def stop_nodes(processes, timeout=5.0):
+    """Stop the processes with SIGINT, then SIGKILL those still running after ``timeout``."""
+    for process in processes.values():
+        if process.poll() is None:
+            process.send_signal(signal.SIGINT)
+    deadline = time.monotonic() + timeout
+    for process in processes.values():
+        try:
+            process.wait(max(0.1, deadline - time.monotonic()))
+        except subprocess.TimeoutExpired:
+            process.kill()
+            process.wait()
+
+
+def _status_values(msg):
+    return {kv.key: kv.value for kv in msg.values}
+
+
+@dataclass
+class Episode:
+    """What the monitor saw of one episode."""
+
+    dpn_status: dict = field(default_factory=dict)
+    sim_status: dict = field(default_factory=dict)
+    executed: list = field(default_factory=list)
+    path_length: float = 0.0
+    map_msg: OccupancyGrid = None
+    map_values_seen: set = field(default_factory=set)
+    planned: np.ndarray = None
+    wanderers: np.ndarray = None
+    max_linear: float = 0.0
+    max_angular: float = 0.0
+    min_linear: float = 0.0
+    commands: int = 0
+
+    @property
+    def sim_time(self):
+        """Return the simulated time of the world's last status [s]."""
+        return float(self.sim_status.get('time', 'nan'))
+
+    @property
+    def reached(self):
+        """Tell whether the navigator reported the goal reached."""
+        return self.dpn_status.get('status') == 'goal_reached'
+
+
+class EpisodeMonitor(Node):
+    """Record the topics of both nodes into an ``Episode``."""
+
+    def __init__(self, context):
+        super().__init__('episode_monitor', context=context,
+                         parameter_overrides=[Parameter('use_sim_time', value=True)])
+        self.episode = Episode()
+        self.create_subscription(DiagnosticStatus, '/compabot/status', self.on_dpn_status,
+                                 LATCHED_QOS)
+        self.create_subscription(DiagnosticStatus, '/sim/status', self.on_sim_status,
+                                 LATCHED_QOS)
+        self.create_subscription(Odometry, '/compabot/odom', self.on_odom, SENSOR_QOS)
+        self.create_subscription(OccupancyGrid, '/compabot/map', self.on_map, LATCHED_QOS)
+        self.create_subscription(MarkerArray, '/compabot/marker', self.on_marker, LATCHED_QOS)
+        self.create_subscription(MarkerArray, '/sim/wanderers', self.on_wanderers, COMMAND_QOS)
+        self.create_subscription(Twist, '/compabot/cmd_vel', self.on_cmd_vel, COMMAND_QOS)
+
+    def on_dpn_status(self, msg):
+        """Keep the navigator's latest status values."""
+        self.episode.dpn_status = _status_values(msg)
+
+    def on_sim_status(self, msg):
+        """Keep the world's latest status values (time, contacts)."""
+        self.episode.sim_status = _status_values(msg)
+
+    def on_odom(self, msg):
+        """Extend the executed path and its length."""
+        x, y, _ = odometry_to_pose(msg)
+        executed = self.episode.executed
+        if executed:
+            step = math.dist(executed[-1], (x, y))
+            if step < 0.02:
+                return
+            self.episode.path_length += step
+        executed.append((x, y))
+
+    def on_map(self, msg):
+        """Keep the latest map and every value it ever held."""
+        self.episode.map_msg = msg
+        self.episode.map_values_seen.update(np.unique(occupancy_grid_values(msg)).tolist())
+
+    def on_marker(self, msg):
+        """Keep the planned path."""
+        for marker in msg.markers:
+            if marker.ns == 'planned_path' and len(marker.points) >= 2:
+                self.episode.planned = marker_points(marker)
+
+    def on_wanderers(self, msg):
+        """Keep the wanderers' latest positions."""
+        self.episode.wanderers = np.array(
+            [(m.pose.position.x, m.pose.position.y) for m in msg.markers]).reshape(-1, 2)
+
+    def on_cmd_vel(self, msg):
+        """Track the extremes of the commands sent to the robot."""
+        episode = self.episode
+        episode.commands += 1
+        episode.max_linear = max(episode.max_linear, msg.linear.x)
+        episode.min_linear = min(episode.min_linear, msg.linear.x)
+        episode.max_angular = max(episode.max_angular, abs(msg.angular.z))
+
+
+def run_episode(scenario_name='back_and_forth', task=0, wanderers=3, seed=0,
+                real_time_factor=10.0, time_limit=300.0, wall_limit=600.0, domain_id=None,
+                log_dir='out/demo', stop=True):
+    """
+    Start both nodes and watch until the goal is reached or a limit passes.
+
+    Parameters
+    ----------
+    scenario_name : str
+        Built-in scenario name or map_server yaml path.
+    task, wanderers, seed : int
+        Which task, how many P3-ATs, and the world's seed.
+    real_time_factor : float
+        Pace of the simulator: simulated seconds per wall second.
+    time_limit : float
+        Simulated time limit [s].
+    wall_limit : float
+        Wall-clock limit [s], a guard against a stalled simulation.
+    domain_id : int, optional
+        DDS domain of the episode; a random one in 1..101 by default.
+    log_dir : str or Path
+        Folder for the two processes' output.
+    stop : bool
+        Stop the processes at the end; otherwise the caller stops them with ``stop_nodes``.
+
+    Returns
+    -------
+    scenario : Scenario
+    episode : Episode
+    monitor_context : Context
+        Still initialised, so a caller can subscribe late; shut it down afterwards.
+    processes : dict
+        The processes, by node name.
+
+    """
+    domain_id = random.randint(1, 101) if domain_id is None else domain_id
+    context = Context()
+    rclpy.init(context=context, domain_id=domain_id)
+    os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
+    monitor = EpisodeMonitor(context)
+    executor = SingleThreadedExecutor(context=context)
+    executor.add_node(monitor)
+    scenario, processes = start_nodes(scenario_name, task, wanderers, seed, real_time_factor,
+                                      domain_id, log_dir)
+    episode = monitor.episode
+    deadline = time.monotonic() + wall_limit
+    try:
+        while time.monotonic() < deadline:
+            executor.spin_once(timeout_sec=0.05)
+            if episode.reached or episode.sim_time > time_limit:
+                break
+            dead = [name for name, p in processes.items() if p.poll() is not None]
+            if dead:
+                raise RuntimeError(f'{", ".join(dead)} exited early; see {log_dir}')
+        # Let the last map and markers arrive.
+        for _ in range(20):
+            executor.spin_once(timeout_sec=0.02)
+    except BaseException:
+        stop_nodes(processes)
+        raise
+    if stop:
+        stop_nodes(processes)
+    monitor.destroy_node()
+    return scenario, episode, context, processes
+
+
+def main(argv=None):
+    """Run the demo episode and report it: ``python -m dpn_navigator.demo``."""
+    parser = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
+    parser.add_argument('--scenario', default='back_and_forth')
+    parser.add_argument('--task', type=int, default=0)
+    parser.add_argument('--wanderers', type=int, default=3)
+    parser.add_argument('--seed', type=int, default=0)
+    parser.add_argument('--real-time-factor', type=float, default=10.0)
+    parser.add_argument('--time-limit', type=float, default=300.0, help='simulated [s]')
+    parser.add_argument('--out', default='out/demo', help='folder for the PNG and the logs')
+    args = parser.parse_args(argv)
+    from .figures import save_map_figure
+    started = time.monotonic()
+    scenario, episode, context, _ = run_episode(
+        args.scenario, args.task, args.wanderers, args.seed, args.real_time_factor,
+        args.time_limit, log_dir=args.out)
+    rclpy.try_shutdown(context=context)
+    wall = time.monotonic() - started
+    print(f'scenario {scenario.name}, task {args.task}, {args.wanderers} wanderers, '
+          f'seed {args.seed}')
+    print(f'goal reached:       {"yes" if episode.reached else "NO"}'
+          f' (navigator status: {episode.dpn_status.get("status")}'
+          f'{", " + episode.dpn_status["reason"] if episode.dpn_status.get("reason") else ""})')
+    print(f'simulated time:     {episode.sim_time:.1f} s ({wall:.1f} s wall)')
+    print(f'path length:        {episode.path_length:.1f} m')
+    print(f'replans:            {episode.dpn_status.get("replans")}')
+    print(f'collisions:         {episode.sim_status.get("wall_contacts")} with walls, '
+          f'{episode.sim_status.get("wanderer_contacts")} with wanderers')
+    figure = Path(args.out) / f'{scenario.name}_task{args.task}.png'
+    if episode.map_msg is not None:
+        info = episode.map_msg.info
+        save_map_figure(
+            figure, occupancy_grid_values(episode.map_msg), info.resolution,
+            (info.origin.position.x, info.origin.position.y), planned=episode.planned,
+            executed=episode.executed, wanderers=episode.wanderers,
+            goal=scenario.tasks[args.task].goal,
+            title=f'{scenario.name}, t = {episode.sim_time:.1f} s')
+        print(f'map figure:         {figure}')
+    return 0 if episode.reached else 1
+
+
+if __name__ == '__main__':
+    sys.exit(main())

@@ -1,0 +1,212 @@
+"""
+The ``pybullet_world`` node: the pybullet world over ROS 2, standing in for Gazebo.
+
+Publishes ``/compabot/scan`` (``sensor_msgs/LaserScan``, frame ``laser``, sensor-data QoS),
+``/compabot/odom`` (``nav_msgs/Odometry``: the Husky's true pose and velocity, frame ``map``,
+child ``base_link``), ``/clock`` (``rosgraph_msgs/Clock``, simulated time, every tick),
+``/sim/status`` (``diagnostic_msgs/DiagnosticStatus``, latched: simulated time, contact counts,
+rejected commands) and ``/sim/wanderers`` (``visualization_msgs/MarkerArray``, one cylinder per
+P3-AT). Subscribes to ``/compabot/cmd_vel`` (``geometry_msgs/Twist``): non-finite commands are
+ignored with a warning and counted, the rest clamped to the Husky's limits; with no command for
+``cmd_timeout`` seconds of simulated time the Husky stops, as its base controller does.
+
+The world advances one physics tick per wall-clock timer period
+``1 / (physics_rate * real_time_factor)``; when the CPU cannot keep up it runs as fast as it
+can.
+
+"""
+
+import math
+
+from builtin_interfaces.msg import Time
+from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
+from dpn_navigator.conversions import make_laser_scan, pose_to_odometry, twist_to_velocity
+from dpn_navigator.qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS
+from geometry_msgs.msg import Twist
+from nav_msgs.msg import Odometry
+from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
+import rclpy
+from rclpy.executors import ExternalShutdownException
+from rclpy.node import Node
+from rosgraph_msgs.msg import Clock
+from sensor_msgs.msg import LaserScan
+from visualization_msgs.msg import Marker, MarkerArray
+
+from .laser import LaserConfig
+from .scenario import load_scenario
+from .world import World, WorldConfig
+
+WARN_THROTTLE = 2.0     # [s]
+P3AT_HEIGHT = 0.277     # [m]
+
+
+def seconds_to_time(seconds):
+    """Return a ``builtin_interfaces/Time`` for a time in seconds."""
+    nanoseconds = int(round(seconds * 1e9))
+    return Time(sec=nanoseconds // 1_000_000_000, nanosec=nanoseconds % 1_000_000_000)
+
+
+def _descriptor(description, float_range=None, int_range=None):
+    descriptor = ParameterDescriptor(description=description, read_only=True)
+    if float_range is not None:
+        descriptor.floating_point_range = [
+            FloatingPointRange(from_value=float_range[0], to_value=float_range[1], step=0.0)]
+    if int_range is not None:
+        descriptor.integer_range = [
+            IntegerRange(from_value=int_range[0], to_value=int_range[1], step=1)]
+    return descriptor
+
+
+class PybulletWorldNode(Node):
+    """Run a pybullet world and exchange its sensors and commands over ROS topics."""
+
+    def __init__(self, **node_kwargs):
+        super().__init__('pybullet_world', **node_kwargs)
+        declare = self.declare_parameter
+        scenario_name = declare('scenario', 'back_and_forth', _descriptor(
+            'Built-in scenario name or a map_server yaml path.')).value
+        task = declare('task', 0, _descriptor('Which start/goal pair of the scenario.',
+                                              int_range=(0, 1000))).value
+        start = [declare(name, math.nan, _descriptor(
+            f"Override the task start {axis} (spawn pose); NaN: the task's.")).value
+            for name, axis in (('start_x', 'x [m]'), ('start_y', 'y [m]'),
+                               ('start_yaw', 'yaw [rad]'))]
+        wanderers = declare('wanderers', 3, _descriptor(
+            'Number of wandering P3-AT robots.', int_range=(0, 10))).value
+        seed = declare('seed', 0, _descriptor('Seed of the wanderers and the laser noise.',
+                                              int_range=(0, 2**31 - 1))).value
+        gui = declare('gui', False, _descriptor('Open the pybullet GUI window.')).value
+        self.real_time_factor = declare('real_time_factor', 1.0, _descriptor(
+            '1.0 = wall-clock pace; higher runs faster.', float_range=(0.01, 1000.0))).value
+        physics_rate = declare('physics_rate', 50.0, _descriptor(
+            'Physics ticks per simulated second [Hz].', float_range=(1.0, 1000.0))).value
+        scan_rate = declare('scan_rate', 10.0, _descriptor(
+            'Scans per simulated second [Hz]; must divide physics_rate.',
+            float_range=(0.1, 1000.0))).value
+        noise = declare('laser_noise', 0.0, _descriptor(
+            'Standard deviation of Gaussian range noise [m].', float_range=(0.0, 1.0))).value
+        self.cmd_timeout = declare('cmd_timeout', 0.5, _descriptor(
+            'Stop when no cmd_vel came for this long [s, simulated].',
+            float_range=(0.01, 60.0))).value
+
+        scenario = load_scenario(scenario_name)
+        if task >= len(scenario.tasks):
+            raise ValueError(f'scenario {scenario.name!r} has {len(scenario.tasks)} tasks; '
+                             f'task {task} does not exist')
+        default_start = scenario.tasks[task].start
+        start = tuple(default_start[k] if math.isnan(start[k]) else start[k] for k in range(3))
+        config = WorldConfig(physics_rate=physics_rate, scan_rate=scan_rate,
+                             n_wanderers=wanderers, seed=seed, gui=gui,
+                             laser=LaserConfig(noise_std=noise))
+        self.world = World(scenario, config, start=start)
+        self.goal = scenario.tasks[task].goal
+        self.command = (0.0, 0.0)
+        self.last_command_time = -math.inf
+        self.scan_pub = self.create_publisher(LaserScan, '/compabot/scan', SENSOR_QOS)
+        self.odom_pub = self.create_publisher(Odometry, '/compabot/odom', SENSOR_QOS)
+        self.clock_pub = self.create_publisher(Clock, '/clock', COMMAND_QOS)
+        self.status_pub = self.create_publisher(DiagnosticStatus, '/sim/status', LATCHED_QOS)
+        self.wanderer_pub = self.create_publisher(MarkerArray, '/sim/wanderers', COMMAND_QOS)
+        self.create_subscription(Twist, '/compabot/cmd_vel', self.on_cmd_vel, COMMAND_QOS)
+        self.create_timer(1.0 / (physics_rate * self.real_time_factor), self.on_tick)
+        self.get_logger().info(
+            f'{scenario.name}: task {task}, start {start}, goal {self.goal}, '
+            f'{wanderers} wanderers, real-time factor {self.real_time_factor}')
+
+    def on_cmd_vel(self, msg):
+        """Keep the latest finite command; ignore and count a non-finite one."""
+        try:
+            self.command = twist_to_velocity(msg)
+        except ValueError as error:
+            self.world.rejected_commands += 1
+            self.get_logger().warning(
+                f'ignored cmd_vel ({self.world.rejected_commands} so far): {error}',
+                throttle_duration_sec=WARN_THROTTLE)
+            return
+        self.last_command_time = self.world.time
+
+    def on_tick(self):
+        """Advance one physics tick and publish what is due."""
+        world = self.world
+        if world.scan_due:
+            self.publish_scan()
+        v, omega = self.command
+        if world.time - self.last_command_time > self.cmd_timeout:
+            v, omega = 0.0, 0.0
+        world.step(v, omega)
+        stamp = seconds_to_time(world.time)
+        self.clock_pub.publish(Clock(clock=stamp))
+        self.odom_pub.publish(pose_to_odometry(world.husky_pose, world.husky_velocity, stamp))
+
+    def publish_scan(self):
+        """Publish the scan of this tick, the wanderers and the status."""
+        world = self.world
+        scan = world.scan()
+        stamp = seconds_to_time(scan.stamp)
+        self.scan_pub.publish(make_laser_scan(
+            scan.ranges, scan.angle_min, scan.angle_increment, scan.range_min, scan.range_max,
+            stamp, frame_id='laser', scan_time=1.0 / world.config.scan_rate))
+        self.publish_wanderers(stamp)
+        self.publish_status()
+
+    def publish_wanderers(self, stamp):
+        """Publish one cylinder marker per wanderer at its true position."""
+        markers = MarkerArray()
+        diameter = 2.0 * self.world.wanderer_radius
+        for index, (x, y) in enumerate(self.world.wanderer_positions.tolist()):
+            marker = Marker()
+            marker.header.stamp = stamp
+            marker.header.frame_id = 'map'
+            marker.ns = 'wanderers'
+            marker.id = index
+            marker.type = Marker.CYLINDER
+            marker.action = Marker.ADD
+            marker.pose.position.x, marker.pose.position.y = x, y
+            marker.pose.position.z = P3AT_HEIGHT / 2.0
+            marker.pose.orientation.w = 1.0
+            marker.scale.x = marker.scale.y = diameter
+            marker.scale.z = P3AT_HEIGHT
+            marker.color.r, marker.color.g, marker.color.b, marker.color.a = 0.9, 0.2, 0.2, 0.9
+            markers.markers.append(marker)
+        self.wanderer_pub.publish(markers)
+
+    def publish_status(self):
+        """Publish simulated time, contacts and counters as a latched ``DiagnosticStatus``."""
+        world = self.world
+        contacts = world.contacts
+        values = {
+            'time': f'{world.time:.3f}',
+            'wall_contacts': contacts.wall_events,
+            'wanderer_contacts': contacts.wanderer_events,
+            'first_contact_time': ('' if contacts.first_contact_time is None
+                                   else f'{contacts.first_contact_time:.3f}'),
+            'rejected_commands': world.rejected_commands,
+            'goal_x': f'{self.goal[0]:.3f}',
+            'goal_y': f'{self.goal[1]:.3f}',
+            'wanderers': len(world.wanderer_positions),
+        }
+        msg = DiagnosticStatus(name='pybullet_world', hardware_id='sim',
+                               level=DiagnosticStatus.OK,
+                               message=f't = {world.time:.1f} s, {contacts.events} contacts')
+        msg.values = [KeyValue(key=k, value=str(v)) for k, v in values.items()]
+        self.status_pub.publish(msg)
+
+    def destroy_node(self):
+        """Close the pybullet client with the node."""
+        self.world.close()
+        return super().destroy_node()
+
+
+def main(args=None):
+    """Run the ``pybullet_world`` node: ``ros2 run sim_bridge pybullet_world``."""
+    rclpy.init(args=args)
+    node = None
+    try:
+        node = PybulletWorldNode()
+        rclpy.spin(node)
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    finally:
+        if node is not None:
+            node.destroy_node()
+        rclpy.try_shutdown()

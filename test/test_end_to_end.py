@@ -1,0 +1,63 @@
+"""
+End to end: the installed executables, as ``ros2 run`` resolves them, in processes of their own.
+
+The pybullet world (back_and_forth, 2 wanderers) and the dpn navigator talk over real DDS in a
+domain of this test's own; a monitor node in the test process watches the topics.
+"""
+
+import math
+
+from dpn_navigator.demo import installed_executable, run_episode, stop_nodes
+from dpn_navigator.qos import LATCHED_QOS
+from nav_msgs.msg import OccupancyGrid
+import numpy as np
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.node import Node
+
+TIME_LIMIT = 150.0      # simulated [s]; the task's shortest path is about 29 m
+
+
+def test_executables_are_where_ros2_run_looks():
+    for package, name in (('dpn_navigator', 'dpn'), ('sim_bridge', 'pybullet_world')):
+        path = installed_executable(package, name)
+        assert path.parts[-3:] == ('lib', package, name)
+
+
+def test_robot_reaches_the_goal_over_ros(ros_domain_id, tmp_path):
+    scenario, episode, context, processes = run_episode(
+        'back_and_forth', task=1, wanderers=2, seed=0, real_time_factor=5.0,
+        time_limit=TIME_LIMIT, wall_limit=240.0, domain_id=ros_domain_id,
+        log_dir=tmp_path, stop=False)
+    try:
+        assert episode.reached, (episode.dpn_status, (tmp_path / 'dpn.log').read_text())
+        assert episode.sim_time <= TIME_LIMIT
+        goal = scenario.tasks[1].goal
+        assert math.dist(episode.executed[-1], goal) <= 0.3 + 0.1   # tolerance + one odom step
+        # The map carries only the four documented values, and reaches a late subscriber.
+        assert episode.map_values_seen <= {-1, 0, 70, 100}
+        assert {-1, 0, 100} <= episode.map_values_seen
+        late = Node('late_subscriber', context=context)
+        maps = []
+        late.create_subscription(OccupancyGrid, '/compabot/map', maps.append, LATCHED_QOS)
+        executor = SingleThreadedExecutor(context=context)
+        executor.add_node(late)
+        for _ in range(200):
+            executor.spin_once(timeout_sec=0.05)
+            if maps:
+                break
+        assert maps, 'a late subscriber must get the latched map'
+        info = maps[0].info
+        assert (info.width, info.height) == (math.ceil(scenario.width / 0.5),
+                                             math.ceil(scenario.height / 0.5))
+        assert set(np.unique(np.frombuffer(maps[0].data, np.int8)).tolist()) <= {-1, 0, 70, 100}
+        # The marker holds the planned path, ending at the goal.
+        assert episode.planned is not None and episode.planned.shape[0] >= 2
+        assert np.allclose(episode.planned[-1], goal)
+        # Commands stay within the Husky's limits.
+        assert episode.commands > 100
+        assert 0.0 <= episode.min_linear and episode.max_linear <= 1.0
+        assert episode.max_angular <= 1.5
+        late.destroy_node()
+    finally:
+        stop_nodes(processes)
+        context.try_shutdown()
