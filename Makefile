@@ -5,6 +5,9 @@
 #   make build   colcon build into build/ install/ log/
 #   make test    build, then colcon test (pytest output on the console) and colcon test-result;
 #                fails if any test fails or errors
+#   make demo    build, then one episode over ROS 2: the pybullet world (back_and_forth, 3
+#                wanderers, headless) and the dpn navigator as separate processes; prints the
+#                outcome and writes out/demo/*.png (DEMO_ARGS: see --help of dpn_navigator.demo)
 #   make bench   build, then python benchmarks/bench_core.py $(BENCH_ARGS) with the package
 #                importable
 #   make clean   remove build/ install/ log/;  make distclean  also removes .venv/
@@ -42,10 +45,11 @@ export ROS_DOMAIN_ID ?= 42
 COLCON := $(VENV_BIN)/colcon
 COLCON_BUILD_ARGS ?=
 BENCH_ARGS ?=
+DEMO_ARGS ?=
 # Sets AMENT_PREFIX_PATH, PYTHONPATH and the rest for the installed package.
 SOURCE_INSTALL := source $(ROOT)/install/setup.bash
 
-.PHONY: setup build test bench clean distclean help
+.PHONY: setup build test demo bench clean distclean help
 
 help:
 	@sed -n '1,/^$$/s/^# \{0,1\}//p' $(ROOT)/Makefile
@@ -89,6 +93,9 @@ test: build
 	  echo "make test: FAILED (colcon test exit $$test_rc, colcon test-result exit $$result_rc)" >&2; \
 	  exit 1; \
 	fi
+
+demo: build
+	cd $(ROOT) && $(SOURCE_INSTALL) && python -m dpn_navigator.demo $(DEMO_ARGS)
 
 bench: build
 	cd $(ROOT) && $(SOURCE_INSTALL) && python benchmarks/bench_core.py $(BENCH_ARGS)

@@ -234,7 +234,7 @@ def run_episode(scenario_name='back_and_forth', task=0, wanderers=3, seed=0,
     wall_limit : float
         Wall-clock limit [s], a guard against a stalled simulation.
     domain_id : int, optional
-        DDS domain of the episode; a random one in 1..101 by default.
+        DDS domain of the episode; by default ``ROS_DOMAIN_ID`` if set, else a random one.
     log_dir : str or Path
         Folder for the two processes' output.
     stop : bool
@@ -250,7 +250,8 @@ def run_episode(scenario_name='back_and_forth', task=0, wanderers=3, seed=0,
         The processes, by node name.
 
     """
-    domain_id = random.randint(1, 101) if domain_id is None else domain_id
+    if domain_id is None:
+        domain_id = int(os.environ.get('ROS_DOMAIN_ID') or random.randint(1, 101))
     context = Context()
     rclpy.init(context=context, domain_id=domain_id)
     os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
