@@ -10,6 +10,8 @@
 #                outcome and writes out/demo/*.png (DEMO_ARGS: see --help of dpn_navigator.demo)
 #   make bench   build, then python benchmarks/bench_core.py $(BENCH_ARGS) with the package
 #                importable
+#   make bench-ros  build, then python benchmarks/bench_ros.py: simulator real-time factor and
+#                the dpn node's scan-to-map latency over ROS 2
 #   make clean   remove build/ install/ log/;  make distclean  also removes .venv/
 #
 # Needs only python3.11 with its venv module (Debian/Ubuntu: apt-get install python3-venv; a
@@ -49,7 +51,7 @@ DEMO_ARGS ?=
 # Sets AMENT_PREFIX_PATH, PYTHONPATH and the rest for the installed package.
 SOURCE_INSTALL := source $(ROOT)/install/setup.bash
 
-.PHONY: setup build test demo bench clean distclean help
+.PHONY: setup build test demo bench bench-ros clean distclean help
 
 help:
 	@sed -n '1,/^$$/s/^# \{0,1\}//p' $(ROOT)/Makefile
@@ -99,6 +101,9 @@ demo: build
 
 bench: build
 	cd $(ROOT) && $(SOURCE_INSTALL) && python benchmarks/bench_core.py $(BENCH_ARGS)
+
+bench-ros: build
+	cd $(ROOT) && $(SOURCE_INSTALL) && python benchmarks/bench_ros.py
 
 clean:
 	rm -rf $(ROOT)/build $(ROOT)/install $(ROOT)/log

@@ -20,8 +20,6 @@ from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
 from geometry_msgs.msg import PoseStamped, Twist
 from nav_msgs.msg import OccupancyGrid, Odometry
 import numpy as np
-import rclpy
-from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from sensor_msgs.msg import LaserScan
 from visualization_msgs.msg import MarkerArray
@@ -33,11 +31,13 @@ from .core import Navigator, NavigatorStatus
 from .core.scan_polygon import check_scan
 from .dpn_params import declare_parameters
 from .qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS
+from .spin import run_node
 
 WATCHDOG_PERIOD = 0.05          # [s]
 WARN_THROTTLE = 2.0             # [s]
 TRAIL_STEP = 0.05               # executed-path points at least this far apart [m]
 TRAIL_MAX_POINTS = 20000
+MARKER_PERIOD = 0.5             # markers at most this often, besides replans [s]
 RED, YELLOW, GREEN = (1.0, 0.0, 0.0, 1.0), (1.0, 0.85, 0.0, 1.0), (0.0, 0.8, 0.0, 1.0)
 
 
@@ -54,6 +54,7 @@ class DpnNode(Node):
         self.last_scan_time = None
         self.last_odom_time = None
         self.last_map_time = None
+        self.last_marker_time = -math.inf
         self.stale = False
         self.last_status = None
         self.trail = []
@@ -132,25 +133,29 @@ class DpnNode(Node):
                 self.get_logger().info('waiting for odometry',
                                        throttle_duration_sec=WARN_THROTTLE)
                 return
-            out = self.navigator.step(now, self.pose, **fields)
+            self.navigator.observe(self.pose, **fields)
         except ValueError as error:
             self.reject('scan', error)
             return
         self.last_scan_time = now
-        if not self.sensors_stale(now):
-            self.cmd_pub.publish(velocity_to_twist(out.command.linear, out.command.angular))
         stamp = msg.header.stamp
+        # The map first: it is ready now, and planning can take longer.
         if (self.last_map_time is None
                 or now - self.last_map_time >= self.params.map_publish_period
                 or now < self.last_map_time):
             self.publish_map(stamp)
             self.last_map_time = now
+        out = self.navigator.decide(now, self.pose)
+        if not self.sensors_stale(now):
+            self.cmd_pub.publish(velocity_to_twist(out.command.linear, out.command.angular))
         self.odom_real_pub.publish(pose_to_odometry(self.pose, self.velocity, stamp))
-        if out.replanned or out.status is not self.last_status:
-            self.publish_markers(stamp)
+        status_changed = out.status is not self.last_status
+        if status_changed:
             self.publish_status()
-        elif len(self.trail) % 20 == 0:
+        if (out.replanned or status_changed
+                or abs(now - self.last_marker_time) >= MARKER_PERIOD):
             self.publish_markers(stamp)
+            self.last_marker_time = now
 
     def publish_map(self, stamp):
         """Publish the labelled grid as an ``OccupancyGrid``."""
@@ -216,14 +221,4 @@ class DpnNode(Node):
 
 def main(args=None):
     """Run the ``dpn`` node: ``ros2 run dpn_navigator dpn``."""
-    rclpy.init(args=args)
-    node = None
-    try:
-        node = DpnNode()
-        rclpy.spin(node)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        if node is not None:
-            node.destroy_node()
-        rclpy.try_shutdown()
+    run_node(DpnNode, args)

@@ -22,11 +22,10 @@ from builtin_interfaces.msg import Time
 from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
 from dpn_navigator.conversions import make_laser_scan, pose_to_odometry, twist_to_velocity
 from dpn_navigator.qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS
+from dpn_navigator.spin import run_node
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
-import rclpy
-from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import LaserScan
@@ -199,14 +198,4 @@ class PybulletWorldNode(Node):
 
 def main(args=None):
     """Run the ``pybullet_world`` node: ``ros2 run sim_bridge pybullet_world``."""
-    rclpy.init(args=args)
-    node = None
-    try:
-        node = PybulletWorldNode()
-        rclpy.spin(node)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        if node is not None:
-            node.destroy_node()
-        rclpy.try_shutdown()
+    run_node(PybulletWorldNode, args)

@@ -148,3 +148,24 @@ def test_bad_scan_raises_and_leaves_the_navigator_unchanged():
 def test_bad_config_raises(kwargs, message):
     with pytest.raises(ValueError, match=message):
         config(**kwargs)
+
+
+def test_observe_then_decide_is_the_same_as_step():
+    occupied = walled_room()
+    add_box(occupied, 5.0, 4.0, 6.0, 8.0)
+    stepped, split = Navigator(config()), Navigator(config())
+    for navigator in (stepped, split):
+        navigator.set_goal(10.0, 6.0)
+    pose = (2.0, 6.0, 0.0)
+    for step in range(60):
+        ranges = ray_cast(occupied, pose, TRUTH_RES, RANGE_MAX)
+        scan = (ranges, ANGLE_MIN, ANGLE_INCREMENT, RANGE_MIN, RANGE_MAX)
+        expected = stepped.step(step * DT, pose, *scan)
+        split.observe(pose, *scan)
+        got = split.decide(step * DT, pose)
+        assert got == expected
+        np.testing.assert_array_equal(split.grid.labels, stepped.grid.labels)
+        v, w = got.command.linear, got.command.angular
+        pose = (pose[0] + v * math.cos(pose[2]) * DT, pose[1] + v * math.sin(pose[2]) * DT,
+                pose[2] + w * DT)
+    assert stepped.replans >= 2 and split.replans == stepped.replans

@@ -137,6 +137,7 @@ class Navigator:
         self.replans = 0
         self._path_xy = None
         self._next_retry = -math.inf
+        self._replan_requested = False
 
     def set_goal(self, x, y):
         """
@@ -176,6 +177,8 @@ class Navigator:
         """
         Fold one scan into the map and decide the next velocity command.
 
+        The same as ``observe`` followed by ``decide``.
+
         Parameters
         ----------
         stamp : float
@@ -195,11 +198,52 @@ class Navigator:
             For a malformed scan or pose; the navigator's state is then unchanged.
 
         """
+        self.observe(pose, ranges, angle_min, angle_increment, range_min, range_max, angle_max)
+        return self.decide(stamp, pose)
+
+    def observe(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
+                angle_max=None):
+        """
+        Fold one scan into the map; the next ``decide`` replans if the scan asks for it.
+
+        Split from ``decide`` so that a caller can publish the map before planning.
+
+        Parameters
+        ----------
+        pose, ranges, angle_min, angle_increment, range_min, range_max, angle_max
+            As for ``step``.
+
+        Raises
+        ------
+        ValueError
+            For a malformed scan or pose; the navigator's state is then unchanged.
+
+        """
         pose = check_pose(pose)
         laser_pose = compose(pose, self.config.laser_offset)
         replan = self.grid.update(laser_pose, ranges, angle_min, angle_increment, range_min,
                                   range_max, self.config.safety_radius, path=self.path,
                                   angle_max=angle_max)
+        self._replan_requested |= replan
+
+    def decide(self, stamp, pose):
+        """
+        Plan if needed and compute the velocity command for the robot at ``pose``.
+
+        Parameters
+        ----------
+        stamp : float
+            Current time [s].
+        pose : (float, float, float)
+            Robot base ``(x, y, yaw)`` in the map frame [m, m, rad].
+
+        Returns
+        -------
+        NavigatorOutput
+
+        """
+        pose = check_pose(pose)
+        replan, self._replan_requested = self._replan_requested, False
         return self._decide(stamp, pose, replan)
 
     def _decide(self, stamp, pose, replan_flag):

@@ -1,0 +1,182 @@
+"""
+Benchmark of the two nodes over ROS 2: simulator speed and scan-to-map latency.
+
+1. The simulator's real-time factor: the world alone in-process (``World.advance``, no ROS),
+   and the ``pybullet_world`` node as a process running as fast as it can
+   (``real_time_factor`` 1000), headless, back_and_forth, 640-beam scans at 10 Hz, pinned to
+   one core. Simulated seconds per wall second, from ``/sim/status``.
+2. The dpn node's scan-to-map latency: a probe publishes odometry and a ray-cast 640-beam scan
+   to the ``dpn`` process (200x200 cells of 0.5 m) and times the ``/compabot/map`` that answers,
+   wall clock, both ends in this machine's loopback DDS.
+
+Not a test: it prints a Markdown table. Run with ``make bench-ros``.
+
+"""
+
+import argparse
+import os
+from pathlib import Path
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent / 'test'))
+
+from diagnostic_msgs.msg import DiagnosticStatus  # noqa: E402, I100
+from dpn_navigator.conversions import make_laser_scan, pose_to_odometry  # noqa: E402
+from dpn_navigator.demo import installed_executable, ros_environment, stop_nodes  # noqa: E402
+from dpn_navigator.qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS  # noqa: E402
+from nav_msgs.msg import OccupancyGrid, Odometry  # noqa: E402
+import numpy as np  # noqa: E402
+import rclpy  # noqa: E402
+from rclpy.context import Context  # noqa: E402
+from rclpy.executors import SingleThreadedExecutor  # noqa: E402
+from rclpy.node import Node  # noqa: E402
+from scan_scenes import (ANGLE_INCREMENT, ANGLE_MIN, free_pose, hall, RANGE_MAX,  # noqa: E402
+                         RANGE_MIN, ray_cast)
+from sensor_msgs.msg import LaserScan  # noqa: E402
+from sim_bridge.scenario import load_scenario  # noqa: E402
+from sim_bridge.world import World, WorldConfig  # noqa: E402
+
+CORE = 0
+
+
+def pin_to_one_core():
+    """Run the calling (child) process on one core only."""
+    os.sched_setaffinity(0, {CORE})
+
+
+def world_rtf(wanderers, simulated=60.0):
+    """Return simulated seconds per wall second of ``World.advance`` alone, no ROS."""
+    with World(load_scenario('back_and_forth'), WorldConfig(n_wanderers=wanderers)) as world:
+        world.scan()
+        start = time.perf_counter()
+        while world.time < simulated:
+            world.advance(0.3, 0.2)
+        return world.time / (time.perf_counter() - start)
+
+
+def node_rtf(wanderers, domain_id, log_dir, seconds=15.0):
+    """Return the real-time factor of the ``pybullet_world`` process, run flat out."""
+    context = Context()
+    rclpy.init(context=context, domain_id=domain_id)
+    node = Node('rtf_probe', context=context)
+    samples = []
+    node.create_subscription(
+        DiagnosticStatus, '/sim/status',
+        lambda msg: samples.append((time.monotonic(), float(
+            {kv.key: kv.value for kv in msg.values}['time']))), LATCHED_QOS)
+    executor = SingleThreadedExecutor(context=context)
+    executor.add_node(node)
+    command = [str(installed_executable('sim_bridge', 'pybullet_world')), '--ros-args',
+               '-p', f'wanderers:={wanderers}', '-p', 'real_time_factor:=1000.0']
+    with open(Path(log_dir) / f'pybullet_world_{wanderers}.log', 'w') as log:
+        process = subprocess.Popen(command, env=ros_environment(domain_id), stdout=log,
+                                   stderr=subprocess.STDOUT, preexec_fn=pin_to_one_core)
+    try:
+        deadline = time.monotonic() + seconds + 20.0
+        while time.monotonic() < deadline:
+            executor.spin_once(timeout_sec=0.05)
+            # Skip start-up: measure over the last `seconds` once the stream runs.
+            if samples and samples[-1][0] - samples[0][0] > seconds:
+                break
+    finally:
+        stop_nodes({'pybullet_world': process})
+        node.destroy_node()
+        rclpy.try_shutdown(context=context)
+    first = next(s for s in samples if s[0] - samples[0][0] > 2.0)
+    last = samples[-1]
+    return (last[1] - first[1]) / (last[0] - first[0])
+
+
+class LatencyProbe(Node):
+    """Send scans to the dpn node and time the maps that answer."""
+
+    def __init__(self, context):
+        super().__init__('latency_probe', context=context)
+        self.scan_pub = self.create_publisher(LaserScan, '/compabot/scan', SENSOR_QOS)
+        self.odom_pub = self.create_publisher(Odometry, '/compabot/odom', SENSOR_QOS)
+        self.create_subscription(OccupancyGrid, '/compabot/map', self.on_map, LATCHED_QOS)
+        self.create_subscription(DiagnosticStatus, '/compabot/status', lambda msg: None,
+                                 COMMAND_QOS)
+        self.sent = {}
+        self.latencies = []
+
+    def on_map(self, msg):
+        """Match the map to its scan by stamp and record the latency [s]."""
+        key = (msg.header.stamp.sec, msg.header.stamp.nanosec)
+        if key in self.sent:
+            self.latencies.append(time.perf_counter() - self.sent.pop(key))
+
+
+def scan_to_map_latency(domain_id, log_dir, scans=300, rate=10.0):
+    """Return the scan-to-map latencies [ms] of the dpn process at 200x200 cells."""
+    rng = np.random.default_rng(0)
+    truth = hall(100.0, 160, rng)
+    poses = [free_pose(truth, rng) for _ in range(50)]
+    ranges = [ray_cast(truth, pose) for pose in poses]
+    context = Context()
+    rclpy.init(context=context, domain_id=domain_id)
+    probe = LatencyProbe(context)
+    executor = SingleThreadedExecutor(context=context)
+    executor.add_node(probe)
+    command = [str(installed_executable('dpn_navigator', 'dpn')), '--ros-args',
+               '-p', 'map_width:=100.0', '-p', 'map_height:=100.0']
+    with open(Path(log_dir) / 'dpn.log', 'w') as log:
+        process = subprocess.Popen(command, env=ros_environment(domain_id), stdout=log,
+                                   stderr=subprocess.STDOUT)
+    try:
+        deadline = time.monotonic() + 20.0
+        while probe.scan_pub.get_subscription_count() == 0 and time.monotonic() < deadline:
+            executor.spin_once(timeout_sec=0.05)
+        for k in range(scans):
+            stamp = probe.get_clock().now().to_msg()
+            pose = poses[k % len(poses)]
+            probe.odom_pub.publish(pose_to_odometry(pose, (0.0, 0.0), stamp))
+            executor.spin_once(timeout_sec=0.01)       # let odometry land first
+            scan = make_laser_scan(ranges[k % len(poses)], ANGLE_MIN, ANGLE_INCREMENT,
+                                   RANGE_MIN, RANGE_MAX, stamp)
+            probe.sent[(stamp.sec, stamp.nanosec)] = time.perf_counter()
+            probe.scan_pub.publish(scan)
+            next_scan = time.monotonic() + 1.0 / rate
+            while time.monotonic() < next_scan:
+                executor.spin_once(timeout_sec=max(0.0, next_scan - time.monotonic()))
+    finally:
+        stop_nodes({'dpn': process})
+        probe.destroy_node()
+        rclpy.try_shutdown(context=context)
+    return [1e3 * latency for latency in probe.latencies[5:]]    # skip the warm-up
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[1])
+    parser.add_argument('--domain-id', type=int,
+                        default=int(os.environ.get('ROS_DOMAIN_ID') or 77))
+    args = parser.parse_args(argv)
+    os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
+    log_dir = tempfile.mkdtemp(prefix='dpn_bench_ros_')
+    os.sched_setaffinity(0, {CORE})
+    print('| simulator, back_and_forth, 640 beams at 10 Hz, 50 Hz physics, one core '
+          '| 0 wanderers | 10 wanderers |')
+    print('|---|---|---|')
+    print(f'| World.advance in-process (no ROS) | {world_rtf(0):.1f}x | {world_rtf(10):.1f}x |')
+    os.sched_setaffinity(0, set(range(os.cpu_count())))
+    print(f'| pybullet_world node, publishing scan, odom, /clock | '
+          f'{node_rtf(0, args.domain_id, log_dir):.1f}x '
+          f'| {node_rtf(10, args.domain_id, log_dir):.1f}x |')
+    print()
+    latencies = scan_to_map_latency(args.domain_id, log_dir)
+    quantiles = np.percentile(latencies, [50, 90, 99])
+    print('| dpn scan-to-map latency over ROS, 200x200 cells, 640 beams | scans '
+          '| median [ms] | 90 % [ms] | 99 % [ms] |')
+    print('|---|---|---|---|---|')
+    print(f'| scan published -> OccupancyGrid received | {len(latencies)} '
+          f'| {quantiles[0]:.2f} | {quantiles[1]:.2f} | {quantiles[2]:.2f} |')
+    print(f'\n(process logs: {log_dir}; median of all: {statistics.median(latencies):.2f} ms)')
+
+
+if __name__ == '__main__':
+    main()
