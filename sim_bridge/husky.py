@@ -10,6 +10,8 @@ frame is ``base_footprint``: on the ground under the robot's centre, x forward, 
 from dataclasses import dataclass
 import math
 
+from dpn_navigator.core.pose2d import wrap_angle
+
 #: The Husky model in ``pybullet_data``.
 HUSKY_URDF = 'husky/husky.urdf'
 #: Overall footprint with bumpers, length x width [m].
@@ -146,8 +148,3 @@ def integrate_pose(pose, v, omega, dt):
         x += radius * (math.sin(yaw + turn) - math.sin(yaw))
         y -= radius * (math.cos(yaw + turn) - math.cos(yaw))
     return x, y, wrap_angle(yaw + turn)
-
-
-def wrap_angle(angle):
-    """Wrap an angle [rad] to ``[-pi, pi)``."""
-    return (angle + math.pi) % (2.0 * math.pi) - math.pi

@@ -6,6 +6,13 @@ physics engine and asks it for contacts; it never steps the dynamics. Collision 
 decide which pairs are checked at all: the Husky against walls and wanderers, and rays against
 walls and wanderers; walls, and wanderers among themselves, are never paired.
 
+**Two shapes per obstacle.** The Husky meets the walls' boxes and the wanderers' URDF shapes;
+the laser's rays meet triangle-mesh twins of the same geometry (`sim_bridge.ray_meshes`): one
+static mesh body for all walls and one per wanderer, moved with it. Each body's mask names
+only the side it serves, so Bullet drops the other pairs before any narrow-phase test (the
+rays' own ``collisionFilterMask`` is applied by pybullet only after it), and a scan costs a
+fast analytic ray-triangle test per body a beam crosses instead of an iterative convex cast.
+
 """
 
 from contextlib import contextmanager
@@ -17,17 +24,24 @@ import pybullet
 import pybullet_data
 
 from .husky import HUSKY_URDF
-from .walls import build_walls, merge_cells
+from .ray_meshes import box_mesh, urdf_collision_mesh
+from .walls import build_walls, merge_cells, wall_boxes
 from .wanderers import P3AT_URDF
 
 #: Collision filter groups. pybullet's ray tests carry group 1, so bodies the laser must see
-#: have bit 1 in their mask; the Husky's mask lacks it, so its own laser never sees it.
+#: have bit 1 in their mask; no other body has, so the rays skip them (the Husky included)
+#: before any narrow-phase test. pybullet pairs two bodies when either one's group is in the
+#: other's mask, so the ray twins have groups of their own, in no mask but the rays'.
 RAY_GROUP = 1
 WALL_GROUP = 2
 HUSKY_GROUP = 4
 WANDERER_GROUP = 8
+WALL_RAY_GROUP = 16
+WANDERER_RAY_GROUP = 32
 #: Collision filter mask for the laser's rays.
-RAY_MASK = WALL_GROUP | WANDERER_GROUP
+RAY_MASK = WALL_RAY_GROUP | WANDERER_RAY_GROUP
+#: Most boxes in one wall mesh (pybullet takes at most 131072 vertices per shape).
+MAX_MESH_BOXES = 8192
 
 
 class Scene:
@@ -54,7 +68,9 @@ class Scene:
     husky : int
         The Husky's body id.
     wall_bodies, wanderer_bodies : list of int
-        Body ids.
+        Body ids of the walls' boxes and the wanderers' URDF models (what the Husky meets).
+    wall_ray_bodies, wanderer_ray_bodies : list of int
+        Body ids of their mesh twins (what the rays meet); one per wanderer.
 
     """
 
@@ -81,9 +97,15 @@ class Scene:
             plane = pybullet.loadURDF(os.path.join(pybullet_data.getDataPath(), 'plane.urdf'),
                                       physicsClientId=client)
             pybullet.setCollisionFilterGroupMask(plane, -1, 0, 0, physicsClientId=client)
-        self.wall_bodies = build_walls(client, merge_cells(scenario.occupied),
-                                       scenario.geometry, wall_height, WALL_GROUP,
-                                       HUSKY_GROUP | RAY_GROUP, visual=gui)
+        rects = merge_cells(scenario.occupied)
+        self.wall_bodies = build_walls(client, rects, scenario.geometry, wall_height,
+                                       WALL_GROUP, HUSKY_GROUP, visual=gui)
+        centres, half_extents = wall_boxes(rects, scenario.geometry, wall_height)
+        self.wall_ray_bodies = [
+            self._ray_body(self._mesh_shape(*box_mesh(centres[k:k + MAX_MESH_BOXES],
+                                                      half_extents[k:k + MAX_MESH_BOXES])),
+                           WALL_RAY_GROUP, gui)
+            for k in range(0, len(centres), MAX_MESH_BOXES)]
         with _quiet_native_output():
             self.husky = pybullet.loadURDF(
                 os.path.join(pybullet_data.getDataPath(), HUSKY_URDF),
@@ -95,13 +117,16 @@ class Scene:
                                                  WALL_GROUP | WANDERER_GROUP,
                                                  physicsClientId=client)
         for body in self.wanderer_bodies:
-            pybullet.setCollisionFilterGroupMask(body, -1, WANDERER_GROUP,
-                                                 HUSKY_GROUP | RAY_GROUP, physicsClientId=client)
+            pybullet.setCollisionFilterGroupMask(body, -1, WANDERER_GROUP, HUSKY_GROUP,
+                                                 physicsClientId=client)
+        shape = self._mesh_shape(*urdf_collision_mesh(P3AT_URDF)) if n_wanderers else None
+        self.wanderer_ray_bodies = [self._ray_body(shape, WANDERER_RAY_GROUP, gui)
+                                    for _ in range(n_wanderers)]
         self._walls = frozenset(self.wall_bodies)
         self._wanderer_index = {body: i for i, body in enumerate(self.wanderer_bodies)}
         # pybullet places a body by its base's centre of mass; keep each one's offset.
         self._offsets = {}
-        for body in [self.husky] + self.wanderer_bodies:
+        for body in [self.husky] + self.wanderer_bodies + self.wanderer_ray_bodies:
             info = pybullet.getDynamicsInfo(body, -1, physicsClientId=client)
             self._offsets[body] = (info[3], info[4])
         if gui:
@@ -120,16 +145,40 @@ class Scene:
         Parameters
         ----------
         body : int
-            The body (the Husky or a wanderer).
+            The body; for a wanderer use `place_wanderer`, which moves its ray twin too.
         pose : (float, float, float)
             ``(x, y, yaw)`` of the URDF base frame in the map frame [m, m, rad].
 
         """
         x, y, yaw = pose
-        frame = ([x, y, 0.0], [0.0, 0.0, math.sin(0.5 * yaw), math.cos(0.5 * yaw)])
-        position, orientation = pybullet.multiplyTransforms(*frame, *self._offsets[body])
-        pybullet.resetBasePositionAndOrientation(body, position, orientation,
-                                                 physicsClientId=self.client)
+        self._place(body, x, y, math.cos(yaw), math.sin(yaw), math.cos(0.5 * yaw),
+                    math.sin(0.5 * yaw))
+
+    def place_wanderer(self, i, x, y, yaw):
+        """
+        Put wanderer ``i`` and its ray twin at a planar pose (see `place`).
+
+        Parameters
+        ----------
+        i : int
+            Index of the wanderer.
+        x, y, yaw : float
+            Pose of its base frame in the map frame [m, m, rad].
+
+        """
+        frame = (x, y, math.cos(yaw), math.sin(yaw), math.cos(0.5 * yaw), math.sin(0.5 * yaw))
+        self._place(self.wanderer_bodies[i], *frame)
+        self._place(self.wanderer_ray_bodies[i], *frame)
+
+    def _place(self, body, x, y, cos_yaw, sin_yaw, cos_half, sin_half):
+        # The base frame turned by yaw about z, composed with the centre-of-mass offset
+        # (pybullet places a body by its centre of mass).
+        (ox, oy, oz), (qx, qy, qz, qw) = self._offsets[body]
+        pybullet.resetBasePositionAndOrientation(
+            body, (x + cos_yaw * ox - sin_yaw * oy, y + sin_yaw * ox + cos_yaw * oy, oz),
+            (cos_half * qx - sin_half * qy, cos_half * qy + sin_half * qx,
+             cos_half * qz + sin_half * qw, cos_half * qw - sin_half * qz),
+            physicsClientId=self.client)
 
     def husky_contacts(self):
         """
@@ -160,6 +209,22 @@ class Scene:
                 wanderers.add(self._wanderer_index[other])
             depth = max(depth, -distance)
         return wall, wanderers, depth
+
+    def _mesh_shape(self, vertices, triangles):
+        return pybullet.createCollisionShape(
+            pybullet.GEOM_MESH, vertices=vertices.tolist(), indices=triangles.ravel().tolist(),
+            flags=pybullet.GEOM_FORCE_CONCAVE_TRIMESH, physicsClientId=self.client)
+
+    def _ray_body(self, shape, group, gui):
+        """Create a static body of a mesh shape that only the rays meet, unseen in the GUI."""
+        body = pybullet.createMultiBody(baseMass=0.0, baseCollisionShapeIndex=shape,
+                                        physicsClientId=self.client)
+        pybullet.setCollisionFilterGroupMask(body, -1, group, RAY_GROUP,
+                                             physicsClientId=self.client)
+        if gui:
+            pybullet.changeVisualShape(body, -1, rgbaColor=[0.0, 0.0, 0.0, 0.0],
+                                       physicsClientId=self.client)
+        return body
 
     def close(self):
         """Disconnect the client (again is harmless)."""

@@ -55,6 +55,37 @@ def merge_cells(occupied):
     return np.asarray(rects, dtype=np.int64).reshape(-1, 4)
 
 
+def wall_boxes(rects, geometry, height):
+    """
+    Return the boxes of wall rectangles, standing on the ground.
+
+    Parameters
+    ----------
+    rects : (K, 4) array_like of int
+        Rectangles ``(row, col, n_rows, n_cols)`` from `merge_cells`.
+    geometry : GridGeometry
+        The grid the rectangles index.
+    height : float
+        Wall height [m].
+
+    Returns
+    -------
+    centres, half_extents : (K, 3) ndarray of float64
+        Centre and half size of each box [m].
+
+    """
+    rects = np.asarray(rects, dtype=np.int64).reshape(-1, 4)
+    res = geometry.resolution
+    x_lo, y_lo = geometry.cell_to_world(rects[:, 0], rects[:, 1])
+    x_hi, y_hi = geometry.cell_to_world(rects[:, 0] + rects[:, 2] - 1,
+                                        rects[:, 1] + rects[:, 3] - 1)
+    centres = np.column_stack([0.5 * (x_lo + x_hi), 0.5 * (y_lo + y_hi),
+                               np.full(len(rects), 0.5 * height)])
+    half_extents = np.column_stack([0.5 * res * rects[:, 3], 0.5 * res * rects[:, 2],
+                                    np.full(len(rects), 0.5 * height)])
+    return centres, half_extents
+
+
 def build_walls(client, rects, geometry, height, group, mask, visual=False):
     """
     Create one static box body per rectangle.
@@ -82,26 +113,21 @@ def build_walls(client, rects, geometry, height, group, mask, visual=False):
         The body ids, one per rectangle.
 
     """
-    res = geometry.resolution
     shapes = {}
     bodies = []
-    for r0, c0, n_rows, n_cols in np.asarray(rects, dtype=np.int64).tolist():
-        x_lo, y_lo = geometry.cell_to_world(r0, c0)
-        x_hi, y_hi = geometry.cell_to_world(r0 + n_rows - 1, c0 + n_cols - 1)
-        size = (n_cols, n_rows)
-        if size not in shapes:
-            half = [0.5 * n_cols * res, 0.5 * n_rows * res, 0.5 * height]
+    centres, half_extents = wall_boxes(rects, geometry, height)
+    for centre, half in zip(centres.tolist(), half_extents.tolist()):
+        if tuple(half) not in shapes:
             collision = pybullet.createCollisionShape(
                 pybullet.GEOM_BOX, halfExtents=half, physicsClientId=client)
             look = pybullet.createVisualShape(
                 pybullet.GEOM_BOX, halfExtents=half, rgbaColor=WALL_COLOUR,
                 physicsClientId=client) if visual else -1
-            shapes[size] = (collision, look)
-        collision, look = shapes[size]
+            shapes[tuple(half)] = (collision, look)
+        collision, look = shapes[tuple(half)]
         body = pybullet.createMultiBody(
             baseMass=0.0, baseCollisionShapeIndex=collision, baseVisualShapeIndex=look,
-            basePosition=[0.5 * float(x_lo + x_hi), 0.5 * float(y_lo + y_hi), 0.5 * height],
-            physicsClientId=client)
+            basePosition=centre, physicsClientId=client)
         pybullet.setCollisionFilterGroupMask(body, -1, group, mask, physicsClientId=client)
         bodies.append(body)
     return bodies

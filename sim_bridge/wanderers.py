@@ -21,10 +21,11 @@ from dataclasses import dataclass
 import math
 from pathlib import Path
 
+from dpn_navigator.core.pose2d import wrap_angle
 import numpy as np
 
 from .clear_paths import block_disc, plan_path, turning_points
-from .husky import HUSKY_RADIUS, wrap_angle
+from .husky import HUSKY_RADIUS
 
 #: The Pioneer 3-AT model.
 P3AT_URDF = Path(__file__).resolve().parent / 'urdf' / 'p3at.urdf'
@@ -115,7 +116,18 @@ class Wanderers:
         self.goals_reached = 0
         self.replans = 0
         self._blocked = ~grid.clear
-        self._xy = []  # positions as lists of floats during a step
+        # During a step the state lives in plain floats, much cheaper than numpy scalars; the
+        # arrays are brought up to date at its end.
+        self._xy = []
+        self._yaw = []
+        self._speeds = self.speeds.tolist()
+        # A circle blocks while its centre is ahead by at most `reach` and beside the line of
+        # travel by less than `side`: Husky first, then other wanderers [m].
+        r = self.radius
+        self._husky_reach = config.husky_look_ahead + HUSKY_RADIUS + r
+        self._husky_side = HUSKY_RADIUS + r + 0.1
+        self._wanderer_reach = config.wanderer_look_ahead + r + r
+        self._wanderer_side = r + r + 0.1
         self._paths = [[] for _ in range(count)]
         # Last waypoint reached, a clear cell (where a new path starts if need be).
         self._anchors = [None] * count
@@ -166,8 +178,9 @@ class Wanderers:
 
         """
         moved = []
-        self._xy = self.positions.tolist()  # plain floats: cheaper to scan than the array
-        for i in range(len(self.yaws)):
+        self._xy = self.positions.tolist()
+        self._yaw = self.yaws.tolist()
+        for i in range(len(self._yaw)):
             if not self._paths[i]:
                 # Without a path (at a goal, or after a failed plan) wait out the patience.
                 self._stopped[i] += dt
@@ -176,22 +189,26 @@ class Wanderers:
                     continue
             if self._advance(i, dt, husky_xy):
                 moved.append(i)
+        if self._yaw:
+            self.positions[:] = self._xy
+            self.yaws[:] = self._yaw
         return moved
 
     def _advance(self, i, dt, husky_xy):
         """Turn and move wanderer ``i`` along its path; return True when it moved."""
-        cfg = self.config
-        x, y = self.positions[i]
+        x, y = self._xy[i]
         tx, ty = self._paths[i][0]
         dx, dy = tx - x, ty - y
         dist = math.hypot(dx, dy)
         if dist < 1e-9:
             self._reach_waypoint(i)
             return False
-        err = wrap_angle(math.atan2(dy, dx) - self.yaws[i])
-        turn = min(max(err, -cfg.max_turn_rate * dt), cfg.max_turn_rate * dt)
-        self.yaws[i] = wrap_angle(self.yaws[i] + turn)
-        if abs(err - turn) > cfg.heading_tolerance:
+        yaw = self._yaw[i]
+        max_turn = self.config.max_turn_rate * dt
+        err = wrap_angle(math.atan2(dy, dx) - yaw)
+        turn = min(max(err, -max_turn), max_turn)
+        self._yaw[i] = wrap_angle(yaw + turn)
+        if abs(err - turn) > self.config.heading_tolerance:
             return turn != 0.0
         ux, uy = dx / dist, dy / dist
         blocker = None if self._centring[i] else self._blocker(i, ux, uy, husky_xy)
@@ -201,32 +218,29 @@ class Wanderers:
                 self._new_goal(i, husky_xy, blocker)
             return turn != 0.0
         self._stopped[i] = 0.0
-        step = min(self.speeds[i] * dt, dist)
+        step = min(self._speeds[i] * dt, dist)
         if step >= dist:
-            self._move_to(i, tx, ty)
+            self._xy[i] = [tx, ty]
             self._reach_waypoint(i)
         else:
-            self._move_to(i, x + step * ux, y + step * uy)
+            self._xy[i] = [x + step * ux, y + step * uy]
         return True
 
     def _blocker(self, i, ux, uy, husky_xy):
         """Return the circle ``(x, y, r)`` ahead that stops wanderer ``i``, or None."""
-        cfg = self.config
         x, y = self._xy[i]
-        circles = [(husky_xy[0], husky_xy[1], HUSKY_RADIUS, cfg.husky_look_ahead)]
-        circles += [(ox, oy, self.radius, cfg.wanderer_look_ahead)
-                    for j, (ox, oy) in enumerate(self._xy) if j != i]
-        for cx, cy, radius, look in circles:
-            rx, ry = cx - x, cy - y
-            along = rx * ux + ry * uy
-            if 0.0 < along <= look + radius + self.radius and \
-                    abs(rx * uy - ry * ux) < radius + self.radius + 0.1:
-                return cx, cy, radius
+        hx, hy = husky_xy
+        rx, ry = hx - x, hy - y
+        along = rx * ux + ry * uy
+        if 0.0 < along <= self._husky_reach and abs(rx * uy - ry * ux) < self._husky_side:
+            return hx, hy, HUSKY_RADIUS
+        reach, side = self._wanderer_reach, self._wanderer_side
+        for j, (ox, oy) in enumerate(self._xy):
+            rx, ry = ox - x, oy - y
+            along = rx * ux + ry * uy  # 0 for wanderer i itself
+            if 0.0 < along <= reach and abs(rx * uy - ry * ux) < side and j != i:
+                return ox, oy, self.radius
         return None
-
-    def _move_to(self, i, x, y):
-        self.positions[i] = x, y
-        self._xy[i] = [x, y]
 
     def _reach_waypoint(self, i):
         tx, ty = self._paths[i].pop(0)
@@ -251,7 +265,7 @@ class Wanderers:
         cfg = self.config
         self._stopped[i] = 0.0
         self._patience[i] = self.rng.uniform(*cfg.patience_range)
-        anchor = self.grid.cell_of(*self.positions[i])
+        anchor = self.grid.cell_of(*self._xy[i])
         own_cell = anchor is not None and bool(self.grid.clear[anchor])
         if not own_cell:
             anchor = self._anchors[i]

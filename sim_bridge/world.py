@@ -33,11 +33,12 @@ possible; a ROS node can instead call `step` from a timer at a real-time factor 
 
 import math
 
+from dpn_navigator.core.pose2d import compose, wrap_angle
 import numpy as np
 
 from .contacts import ContactLog
 from .free_space import clearance_grid
-from .husky import clamp_command, HUSKY_LENGTH, HUSKY_WIDTH, integrate_pose, ramp, wrap_angle
+from .husky import clamp_command, HUSKY_LENGTH, HUSKY_WIDTH, integrate_pose, ramp
 from .laser import Laser
 from .scene import RAY_MASK, Scene
 from .wanderers import Wanderers
@@ -164,10 +165,7 @@ class World:
     @property
     def laser_pose(self):
         """Return the laser's true pose ``(x, y, yaw)`` in the map frame [m, m, rad]."""
-        x, y, yaw = self._pose
-        mx, my, myaw = self.config.laser.mount
-        c, s = math.cos(yaw), math.sin(yaw)
-        return (x + c * mx - s * my, y + s * mx + c * my, wrap_angle(yaw + myaw))
+        return compose(self._pose, self.config.laser.mount)
 
     @property
     def wanderer_positions(self):
@@ -312,5 +310,5 @@ class World:
         self.close()
 
     def _place_wanderer(self, i):
-        x, y = self._wanderers.positions[i]
-        self.scene.place(self.scene.wanderer_bodies[i], (x, y, self._wanderers.yaws[i]))
+        x, y = self._wanderers.positions[i].tolist()
+        self.scene.place_wanderer(i, x, y, float(self._wanderers.yaws[i]))
