@@ -14,7 +14,10 @@ keeps running. When scans or odometry are older than ``sensor_timeout`` the robo
 
 """
 
+from collections import deque
 import math
+import statistics
+import time
 
 from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
 from geometry_msgs.msg import PoseStamped, Twist
@@ -38,6 +41,8 @@ WARN_THROTTLE = 2.0             # [s]
 TRAIL_STEP = 0.05               # executed-path points at least this far apart [m]
 TRAIL_MAX_POINTS = 20000
 MARKER_PERIOD = 0.5             # markers at most this often, besides replans [s]
+STATUS_PERIOD = 1.0             # status refreshed at least this often [s]
+LATENCY_WINDOW = 100            # scans in the reported scan-to-map processing time
 RED, YELLOW, GREEN = (1.0, 0.0, 0.0, 1.0), (1.0, 0.85, 0.0, 1.0), (0.0, 0.8, 0.0, 1.0)
 
 
@@ -55,6 +60,7 @@ class DpnNode(Node):
         self.last_odom_time = None
         self.last_map_time = None
         self.last_marker_time = -math.inf
+        self.scan_to_map_ms = deque(maxlen=LATENCY_WINDOW)
         self.stale = False
         self.last_status = None
         self.trail = []
@@ -68,6 +74,7 @@ class DpnNode(Node):
         self.create_subscription(Odometry, '/compabot/odom', self.on_odom, SENSOR_QOS)
         self.create_subscription(PoseStamped, '/compabot/goal_pose', self.on_goal, COMMAND_QOS)
         self.create_timer(WATCHDOG_PERIOD, self.on_watchdog)
+        self.create_timer(STATUS_PERIOD, self.publish_status)
         if self.params.goal is not None:
             self.set_goal(*self.params.goal)
         self.publish_status()
@@ -124,6 +131,7 @@ class DpnNode(Node):
 
     def on_scan(self, msg):
         """Fold the scan into the map, decide the command, publish."""
+        received = time.perf_counter()
         now = self.now_seconds()
         fields = laser_scan_fields(msg)
         try:
@@ -145,6 +153,7 @@ class DpnNode(Node):
                 or now < self.last_map_time):
             self.publish_map(stamp)
             self.last_map_time = now
+            self.scan_to_map_ms.append(1e3 * (time.perf_counter() - received))
         out = self.navigator.decide(now, self.pose)
         if not self.sensors_stale(now):
             self.cmd_pub.publish(velocity_to_twist(out.command.linear, out.command.angular))
@@ -196,6 +205,9 @@ class DpnNode(Node):
             'rejected_odometry': self.rejected['odometry'],
             'rejected_goals': self.rejected['goal'],
             'sensors_stale': self.stale,
+            # Wall time from the scan callback's start to the map's publication [ms].
+            'scan_to_map_ms_median': (f'{statistics.median(self.scan_to_map_ms):.3f}'
+                                      if self.scan_to_map_ms else ''),
         }
         msg.values = [KeyValue(key=k, value=str(v)) for k, v in values.items()]
         self.status_pub.publish(msg)
