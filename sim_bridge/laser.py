@@ -16,7 +16,7 @@ import pybullet
 
 from .husky import LASER_HEIGHT, LASER_MOUNT
 
-#: pybullet answers a batch of 16384 or more rays with nothing.
+#: pybullet answers a batch of exactly 16384 rays with nothing, and raises beyond that.
 MAX_BEAMS = 16383
 
 

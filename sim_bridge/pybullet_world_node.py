@@ -10,6 +10,10 @@ P3-AT). Subscribes to ``/compabot/cmd_vel`` (``geometry_msgs/Twist``): non-finit
 ignored with a warning and counted, the rest clamped to the Husky's limits; with no command for
 ``cmd_timeout`` seconds of simulated time the Husky stops, as its base controller does.
 
+No TF is published (tf2 is not available from PyPI): the map, markers and odometry are all in
+frame ``map``; a consumer that needs ``laser`` in ``map`` composes the odometry pose with
+``sim_bridge.husky.LASER_MOUNT``.
+
 The world advances one physics tick per wall-clock timer period
 ``1 / (physics_rate * real_time_factor)``; when the CPU cannot keep up it runs as fast as it
 can.

@@ -203,4 +203,5 @@ def merge_meshes(parts):
 
 
 def _floats(element, name):
-    return [float(v) for v in element.get(name).split()]
+    # URDF: a missing xyz or rpy of an <origin> means zeros.
+    return [float(v) for v in element.get(name, '0 0 0').split()]

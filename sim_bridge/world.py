@@ -255,19 +255,27 @@ class World:
         self._scan = None
         self.contacts.update(self.time, wall, touched)
         if depth > self._depth:
-            # Pushed deeper into an obstacle: the Husky is held where it was.
+            # Deeper than at the last accepted pose; but a wanderer may have moved into the
+            # Husky since, so compare with the penetration where the Husky stands now.
             self.scene.place(self.scene.husky, self._pose)
-            self._velocity = (0.0, 0.0)
-            self.blocked_ticks += 1
-        else:
-            self._pose = proposed
-            self._velocity = (lin, ang)
-            self._depth = depth
+            self._depth = self.scene.husky_contacts()[2]
+            if depth > self._depth:
+                # Pushed deeper into an obstacle: the Husky is held where it was.
+                self._velocity = (0.0, 0.0)
+                self.blocked_ticks += 1
+                return accepted
+            self.scene.place(self.scene.husky, proposed)
+        self._pose = proposed
+        self._velocity = (lin, ang)
+        self._depth = depth
         return accepted
 
     def scan(self):
         """
         Return the laser scan at the current tick (taken once per tick, then reused).
+
+        Range noise is drawn at each new scan, so with noise an episode repeats from its seed
+        when scans are taken at the same ticks (as ``advance`` and the node do).
 
         Returns
         -------

@@ -431,3 +431,20 @@ def test_scans_on_the_ray_meshes_match_the_collision_bodies(back_and_forth):
                 hy = y + on_meshes[both] * np.sin(angles[both])
                 near_wanderers += int(np.count_nonzero(np.hypot(hx - wx, hy - wy) < 0.5))
         assert compared > 10000 and near_wanderers > 20
+
+
+def test_husky_can_back_away_from_a_wanderer_that_moved_into_it(back_and_forth):
+    # A wanderer turning in place can sweep into the Husky; the Husky must still be free to
+    # move away (only moves deeper into an obstacle are held).
+    with World(back_and_forth, WorldConfig(n_wanderers=1, seed=0)) as world:
+        x, y, yaw = world.husky_pose
+        # Husky collision box half-length 0.504 m, P3-AT half-length 0.254 m: 5 cm overlap,
+        # the wanderer facing the Husky (so it waits instead of walking off).
+        front = 0.504 + 0.254 - 0.05
+        world._wanderers.positions[0] = (x + front * math.cos(yaw), y + front * math.sin(yaw))
+        world._wanderers.yaws[0] = yaw + math.pi
+        world._place_wanderer(0)
+        assert world.scene.husky_contacts()[1] == {0}
+        for _ in range(50):                              # 1 s backwards at 0.5 m/s
+            world.step(-0.5, 0.0)
+        assert math.dist(world.husky_pose[:2], (x, y)) > 0.2

@@ -2,11 +2,11 @@
 Generate the built-in synthetic maps: ``python -m sim_bridge.scenarios.generate [DIR]``.
 
 ``back_and_forth`` stands in for scenario 3 of the paper's benchmark set (its Fig. 9): a
-25 m x 20 m rectangle closed by walls, split into five 3.8 m lanes by four long parallel walls
-that leave a 5.8 m gap alternately at the right and at the left end, so that a robot going from
-the bottom lane to the top one must zig-zag through all of them. Walls are 0.2 m thick; the map
-has 0.1 m cells. The lanes and gaps leave a Husky (0.99 m x 0.67 m) with a 0.6 m safety radius
-plenty of room, and ten Pioneer 3-ATs room to pass it.
+25 m x 20 m rectangle closed by walls, split into five lanes (3.7 to 3.8 m wide) by four long
+parallel walls that leave a 5.8 m gap alternately at the right and at the left end, so that a
+robot going from the bottom lane to the top one must zig-zag through all of them. Walls are
+0.2 m thick; the map has 0.1 m cells. The lanes and gaps leave a Husky (0.99 m x 0.67 m) with
+a 0.6 m safety radius plenty of room, and ten Pioneer 3-ATs room to pass it.
 
 The generated files are committed under ``sim_bridge/scenarios/``; a test checks that this
 module still writes them byte for byte.
