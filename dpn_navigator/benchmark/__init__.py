@@ -1,0 +1,1 @@
+"""The benchmark of the paper's test protocol, run without ROS, in-process and in lockstep."""

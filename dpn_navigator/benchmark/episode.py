@@ -1,0 +1,237 @@
+"""
+One benchmark episode without ROS: the navigator and the pybullet world in lockstep.
+
+The same ``Navigator`` the ``dpn`` node wraps drives the same ``World`` the ``pybullet_world``
+node wraps, scan by scan, as fast as the CPU allows and deterministically for a seed.
+
+Episode rules:
+
+- The time limit is ``30 s + 3 * L / v_max``. ``L`` is the task's shortest path on the true
+  map, for a robot that keeps 0.35 m (the Husky's half width) from walls, and ``v_max`` is the
+  navigator's top speed.
+- The episode ends when the navigator reports the goal reached (within its goal tolerance) or
+  at the time limit.
+- **Success**: the goal is reached with no contact. Otherwise the failure reason is:
+  - ``collision`` when the Husky touched a wall or a wanderer, even if it then arrived;
+  - ``no_path`` when the navigator ended with no path;
+  - ``timeout`` when the time ran out.
+
+"""
+
+from dataclasses import asdict, dataclass
+import math
+
+import numpy as np
+
+from ..core import astar, CellLabel, Navigator, NavigatorConfig, NavigatorStatus, path_cost
+
+#: The Husky's half width [m]: the clearance of the reference shortest path.
+HUSKY_HALF_WIDTH = 0.35
+#: Cell side of the grid the reference shortest path is planned on [m].
+REFERENCE_CELL = 0.25
+
+
+@dataclass(frozen=True)
+class EpisodeResult:
+    """
+    What one episode measured.
+
+    Attributes
+    ----------
+    scenario, task, wanderers, seed
+        What was run.
+    success : bool
+        Goal reached with no contact.
+    failure : str
+        ``''``, ``'collision'``, ``'no_path'`` or ``'timeout'``.
+    time : float
+        Simulated time at the end [s].
+    time_limit : float
+        [s]
+    path_length : float
+        Distance the Husky travelled [m].
+    shortest_path : float
+        The reference shortest path ``L`` [m].
+    replans : int
+        Paths planned by the navigator.
+    wall_contacts, wanderer_contacts : int
+        Contact events of the Husky (``ContactLog``).
+    walls_labelled_mobile : int
+        Cells labelled mobile obstacle at the end within a wall's f1 belt (the paper's
+        classification errors; see ``map_quality``).
+    ghost_obstacles : int
+        Cells labelled mobile obstacle at the end that no wall or wanderer explains.
+
+    """
+
+    scenario: str
+    task: int
+    wanderers: int
+    seed: int
+    success: bool
+    failure: str
+    time: float
+    time_limit: float
+    path_length: float
+    shortest_path: float
+    replans: int
+    wall_contacts: int
+    wanderer_contacts: int
+    walls_labelled_mobile: int
+    ghost_obstacles: int
+
+    def as_row(self):
+        """Return the result as a flat dict, for CSV writing."""
+        return asdict(self)
+
+
+def shortest_path_length(scenario, task):
+    """
+    Return the task's shortest path [m] for a robot keeping ``HUSKY_HALF_WIDTH`` from walls.
+
+    Planned with the core's A* on a ``REFERENCE_CELL`` grid; ``inf`` when there is none.
+    """
+    from sim_bridge.free_space import clearance_grid
+    grid = clearance_grid(scenario.free, scenario.geometry, HUSKY_HALF_WIDTH,
+                          cell_size=REFERENCE_CELL)
+    start = tuple(int(v) for v in grid.geometry.world_to_cell(*task.start[:2]))
+    goal = tuple(int(v) for v in grid.geometry.world_to_cell(*task.goal))
+    if not (grid.geometry.contains_cell(*start) and grid.geometry.contains_cell(*goal)):
+        return math.inf
+    path = astar(~grid.clear, start, goal)
+    return math.inf if path is None else path_cost(path) * grid.geometry.resolution
+
+
+def map_quality(labels, geometry, truth_occupied, truth_geometry, wanderer_xy, wanderer_radius,
+                safety_radius):
+    """
+    Count the map's mobile-obstacle labels that ground truth does not explain.
+
+    f1 marks cells within the safety radius ``r`` of a hit, so a wall or a robot makes a belt
+    of obstacle cells ``r`` wide around itself; both counts allow for it.
+
+    Parameters
+    ----------
+    labels : (H, W) ndarray of uint8
+        The navigator's labels on ``geometry``.
+    geometry : GridGeometry
+        The navigator's grid.
+    truth_occupied : (h, w) ndarray of bool
+        The true walls on ``truth_geometry`` (usually finer).
+    truth_geometry : GridGeometry
+        The ground-truth grid.
+    wanderer_xy : (K, 2) ndarray of float
+        Wanderer positions at the end [m].
+    wanderer_radius : float
+        Their circumscribed radius [m].
+    safety_radius : float
+        The navigator's f1 radius ``r`` [m].
+
+    Returns
+    -------
+    walls_labelled_mobile : int
+        Cells labelled mobile obstacle within ``ceil(r / res)`` cells (Chebyshev) of a cell
+        that holds a wall pixel: the paper's classification errors.
+    ghost_obstacles : int
+        The other cells labelled mobile obstacle whose centre is farther than
+        ``wanderer_radius + r`` from every wanderer: obstacles left where no robot is.
+
+    """
+    rr, cc = np.nonzero(truth_occupied)
+    x, y = truth_geometry.cell_to_world(rr, cc)
+    wall_rr, wall_cc = geometry.world_to_cell(x, y)
+    on_grid = geometry.contains_cell(wall_rr, wall_cc)
+    has_wall = np.zeros(geometry.shape, dtype=bool)
+    has_wall[wall_rr[on_grid], wall_cc[on_grid]] = True
+    # Dilate by k cells: a wall's f1 belt.
+    k = math.ceil(safety_radius / geometry.resolution)
+    padded = np.pad(has_wall, k)
+    near_wall = np.zeros_like(has_wall)
+    for dr in range(2 * k + 1):
+        for dc in range(2 * k + 1):
+            near_wall |= padded[dr:dr + has_wall.shape[0], dc:dc + has_wall.shape[1]]
+    mobile = labels == CellLabel.MOBILE_OBSTACLE
+    mobile_rr, mobile_cc = np.nonzero(mobile & ~near_wall)
+    centre_x, centre_y = geometry.cell_to_world(mobile_rr, mobile_cc)
+    wanderer_xy = np.asarray(wanderer_xy, dtype=np.float64).reshape(-1, 2)
+    if wanderer_xy.shape[0]:
+        distance = np.hypot(centre_x[:, None] - wanderer_xy[None, :, 0],
+                            centre_y[:, None] - wanderer_xy[None, :, 1]).min(axis=1)
+        ghosts = int(np.count_nonzero(distance > wanderer_radius + safety_radius))
+    else:
+        ghosts = int(mobile_rr.shape[0])
+    return int(np.count_nonzero(mobile & near_wall)), ghosts
+
+
+def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
+                time_limit=None):
+    """
+    Run one episode in lockstep and measure it.
+
+    Parameters
+    ----------
+    scenario : sim_bridge.scenario.Scenario
+        The map and its tasks.
+    task_index : int
+        Which of the scenario's tasks.
+    wanderers : int
+        Number of wandering P3-ATs, 0 to 10.
+    seed : int
+        Seed of the world (wanderers).
+    navigator_config : NavigatorConfig, optional
+        Default: the scenario's size and origin, the laser mount, and default limits.
+    time_limit : float, optional
+        Overrides the rule's limit [s].
+
+    Returns
+    -------
+    EpisodeResult
+
+    """
+    from sim_bridge.husky import LASER_MOUNT
+    from sim_bridge.world import World, WorldConfig
+    task = scenario.tasks[task_index]
+    if navigator_config is None:
+        navigator_config = NavigatorConfig(width=scenario.width, height=scenario.height,
+                                           origin=scenario.origin, laser_offset=LASER_MOUNT)
+    shortest = shortest_path_length(scenario, task)
+    if time_limit is None:
+        time_limit = 30.0 + 3.0 * shortest / navigator_config.follower.max_linear_speed
+    navigator = Navigator(navigator_config)
+    navigator.set_goal(*task.goal)
+    travelled = 0.0
+    with World(scenario, WorldConfig(n_wanderers=wanderers, seed=seed),
+               start=task.start) as world:
+        scan = world.scan()
+        last_xy = world.husky_pose[:2]
+        while world.time < time_limit:
+            out = navigator.step(world.time, world.husky_pose, scan.ranges, scan.angle_min,
+                                 scan.angle_increment, scan.range_min, scan.range_max)
+            if out.status is NavigatorStatus.GOAL_REACHED:
+                break
+            scan = world.advance(out.command.linear, out.command.angular)
+            travelled += math.dist(last_xy, world.husky_pose[:2])
+            last_xy = world.husky_pose[:2]
+        contacts = world.contacts
+        walls_mobile, ghosts = map_quality(
+            navigator.grid.labels, navigator.grid.geometry, scenario.occupied,
+            scenario.geometry, world.wanderer_positions, world.wanderer_radius,
+            navigator_config.safety_radius)
+        end_time = world.time
+    reached = navigator.status is NavigatorStatus.GOAL_REACHED
+    if contacts.events:
+        failure = 'collision'
+    elif reached:
+        failure = ''
+    elif navigator.status is NavigatorStatus.NO_PATH:
+        failure = 'no_path'
+    else:
+        failure = 'timeout'
+    return EpisodeResult(
+        scenario=scenario.name, task=task_index, wanderers=wanderers, seed=seed,
+        success=reached and not contacts.events, failure=failure, time=round(end_time, 3),
+        time_limit=round(time_limit, 3), path_length=round(travelled, 3),
+        shortest_path=round(shortest, 3), replans=navigator.replans,
+        wall_contacts=contacts.wall_events, wanderer_contacts=contacts.wanderer_events,
+        walls_labelled_mobile=walls_mobile, ghost_obstacles=ghosts)
+

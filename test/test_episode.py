@@ -1,0 +1,60 @@
+"""Tests of the lockstep benchmark episode: rules, determinism and the map-quality counts."""
+
+import math
+
+from dpn_navigator.benchmark.episode import map_quality, run_episode, shortest_path_length
+from dpn_navigator.core import CellLabel, GridGeometry
+import numpy as np
+import pytest
+from sim_bridge.scenario import load_scenario
+from sim_bridge.tasks import Task
+
+N, E, S, M = (CellLabel.NON_EXPLORED, CellLabel.EXPLORED, CellLabel.STEADY_OBSTACLE,
+              CellLabel.MOBILE_OBSTACLE)
+
+
+@pytest.fixture(scope='module')
+def back_and_forth():
+    return load_scenario('back_and_forth')
+
+
+def test_map_quality_counts_walls_labelled_mobile_and_ghosts():
+    geometry = GridGeometry(3.0, 1.0, 0.5)                 # 2 rows x 6 columns
+    truth_geometry = GridGeometry(3.0, 1.0, 0.25)          # 4 rows x 12 columns
+    truth = np.zeros((4, 12), dtype=bool)
+    truth[0, 0] = True                                     # a wall pixel in cell (0, 0)
+    labels = np.array([[M, M, S, M, E, M],
+                       [N, E, E, M, M, M]], dtype=np.uint8)
+    # r = 0.4 m: the wall's belt is 1 cell, so (0, 0) and (0, 1) are wall errors. A wanderer
+    # at the centre of cell (1, 5) explains centres within 0.1 + 0.4 m of it: (0, 5), (1, 4)
+    # and (1, 5), the first two exactly 0.5 m away.
+    walls, ghosts = map_quality(labels, geometry, truth, truth_geometry,
+                                np.array([[2.75, 0.75]]), 0.1, 0.4)
+    assert (walls, ghosts) == (2, 2)                       # ghosts (0, 3) and (1, 3)
+    walls, ghosts = map_quality(labels, geometry, truth, truth_geometry, np.zeros((0, 2)),
+                                0.1, 0.4)
+    assert (walls, ghosts) == (2, 5)
+
+
+def test_shortest_path_of_the_tasks(back_and_forth):
+    lengths = [shortest_path_length(back_and_forth, task) for task in back_and_forth.tasks]
+    assert 65.0 < lengths[0] < 80.0 and 25.0 < lengths[1] < 35.0 and 50.0 < lengths[2] < 65.0
+    walled_in = Task(start=back_and_forth.tasks[0].start, goal=(12.5, 3.95))   # in a wall
+    assert shortest_path_length(back_and_forth, walled_in) == math.inf
+
+
+def test_an_episode_succeeds_and_repeats_exactly(back_and_forth):
+    first = run_episode(back_and_forth, 1, wanderers=2, seed=3)
+    assert first.success and first.failure == ''
+    assert first.time < first.time_limit
+    assert first.wall_contacts == first.wanderer_contacts == 0
+    assert first.replans >= 2
+    assert first.path_length >= 0.9 * first.shortest_path
+    assert first == run_episode(back_and_forth, 1, wanderers=2, seed=3)
+
+
+def test_running_out_of_time_is_a_timeout(back_and_forth):
+    result = run_episode(back_and_forth, 0, wanderers=0, seed=0, time_limit=5.0)
+    assert not result.success and result.failure == 'timeout'
+    assert result.time == pytest.approx(5.0, abs=0.11)
+    assert set(result.as_row()) >= {'scenario', 'success', 'failure', 'ghost_obstacles'}
