@@ -234,4 +234,3 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
         shortest_path=round(shortest, 3), replans=navigator.replans,
         wall_contacts=contacts.wall_events, wanderer_contacts=contacts.wanderer_events,
         walls_labelled_mobile=walls_mobile, ghost_obstacles=ghosts)
-
