@@ -1,7 +1,8 @@
 # dpn: one-command setup, build and test.
 #
-#   make setup   .venv (python3 -m venv) with every pin of requirements.txt; re-runs only when
-#                requirements.txt changes
+#   make setup   .venv (python3 -m venv) with every pin of requirements.txt and of the optional
+#                requirements-ray.txt (so the Ray backend's test runs); re-runs only when they
+#                change
 #   make build   colcon build into build/ install/ log/
 #   make test    build, then colcon test (pytest output on the console) and colcon test-result;
 #                fails if any test fails or errors
@@ -66,8 +67,9 @@ $(VENV_BIN)/python:
 	  echo "make: '$(PYTHON) -m venv' failed; on Debian/Ubuntu: apt-get install python3-venv" >&2; \
 	  exit 1; }
 
-$(REQUIREMENTS_STAMP): $(ROOT)/requirements.txt | $(VENV_BIN)/python
-	$(VENV_BIN)/python -m pip install --progress-bar off -r $(ROOT)/requirements.txt
+$(REQUIREMENTS_STAMP): $(ROOT)/requirements.txt $(ROOT)/requirements-ray.txt | $(VENV_BIN)/python
+	$(VENV_BIN)/python -m pip install --progress-bar off -r $(ROOT)/requirements.txt \
+	  -r $(ROOT)/requirements-ray.txt
 	touch $@
 
 build: setup

@@ -28,6 +28,7 @@ PACKAGE_NAME = 'dpn_navigator'
 #: Console scripts of ``dpn_navigator``; setup.cfg installs them to ``lib/dpn_navigator``.
 CONSOLE_SCRIPTS = [
     'dpn = dpn_navigator.dpn_node:main',
+    'dpn-benchmark = dpn_navigator.benchmark.cli:main',
 ]
 
 #: Console scripts of the other ROS packages this distribution registers in the ament index,

@@ -164,7 +164,7 @@ def map_quality(labels, geometry, truth_occupied, truth_geometry, wanderer_xy, w
 
 
 def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
-                time_limit=None):
+                time_limit=None, recorder=None):
     """
     Run one episode in lockstep and measure it.
 
@@ -182,6 +182,9 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
         Default: the scenario's size and origin, the laser mount, and default limits.
     time_limit : float, optional
         Overrides the rule's limit [s].
+    recorder : callable, optional
+        Called as ``recorder(world, navigator)`` once per scan, after the navigator has
+        processed it (e.g. an `EpisodeRecorder`); must not change either.
 
     Returns
     -------
@@ -207,6 +210,8 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
         while world.time < time_limit:
             out = navigator.step(world.time, world.husky_pose, scan.ranges, scan.angle_min,
                                  scan.angle_increment, scan.range_min, scan.range_max)
+            if recorder is not None:
+                recorder(world, navigator)
             if out.status is NavigatorStatus.GOAL_REACHED:
                 break
             scan = world.advance(out.command.linear, out.command.angular)

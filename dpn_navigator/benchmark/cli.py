@@ -1,0 +1,149 @@
+"""
+``dpn-benchmark``: run the paper's test protocol without ROS and report it.
+
+Examples::
+
+    dpn-benchmark --profile smoke --out out/smoke
+    dpn-benchmark --maps 3 maze /path/to/map.yaml --tasks 0 1 --wanderers 0 5 10 --repeats 2
+    dpn-benchmark --profile paper --ray-address auto --out out/paper
+
+Episodes are appended to ``OUT/episodes.csv`` as they finish; running the same command again
+skips the episodes already there. At the end ``OUT/summary.md`` and ``OUT/success_rate.png``
+are written from the whole log, and with ``--strip`` a Fig. 9-style strip of one episode.
+
+"""
+
+import argparse
+from pathlib import Path
+import sys
+import time
+
+from .episode_log import read_log
+from .protocol import plan_episodes, PROFILES, resolve_maps
+from .report import save_success_figure, summary_markdown
+from .runner import default_workers, run_protocol
+
+
+def build_parser():
+    """Return the argument parser of ``dpn-benchmark``."""
+    parser = argparse.ArgumentParser(
+        prog='dpn-benchmark', description=__doc__.strip().splitlines()[0],
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog="Options left out take the profile's value: "
+               + '; '.join(f'{name}: maps {" ".join(p.maps) if p.maps else "all"}, tasks '
+                           f'{" ".join(map_str(p.tasks))}, wanderers '
+                           f'{" ".join(map_str(p.wanderers))}, repeats {p.repeats}'
+                           for name, p in PROFILES.items()) + '.')
+    parser.add_argument('--profile', choices=sorted(PROFILES), default='smoke',
+                        help='preset selection (default: %(default)s)')
+    parser.add_argument('--maps', nargs='+', metavar='MAP',
+                        help='index numbers, names or map_server yaml paths')
+    parser.add_argument('--tasks', nargs='+', type=int, metavar='K', help='task indices')
+    parser.add_argument('--wanderers', nargs='+', type=int, metavar='N',
+                        help='wanderer counts, 0 to 10')
+    parser.add_argument('--repeats', type=int, help='repetitions of each configuration')
+    parser.add_argument('--seed', type=int, default=0,
+                        help='base seed of the episode seeds (default: %(default)s)')
+    parser.add_argument('--out', default='benchmark_out', type=Path,
+                        help='output folder; episodes.csv in it is resumed (default: '
+                             '%(default)s)')
+    parser.add_argument('--workers', type=int,
+                        help=f'local worker processes (default: the CPUs, {default_workers()} '
+                             'here)')
+    parser.add_argument('--ray-address', metavar='ADDRESS',
+                        help="run on Ray: 'local' starts an instance here, else an address "
+                             "for ray.init, e.g. 'auto' (needs requirements-ray.txt)")
+    parser.add_argument('--index', type=Path,
+                        help='scenario index yaml (default: the one sim_bridge ships)')
+    parser.add_argument('--strip', action='store_true',
+                        help="also rerun the first map's first task with the most wanderers and "
+                             'draw strip.png, a Fig. 9-style strip of map snapshots')
+    parser.add_argument('--no-progress', action='store_true', help='no progress bar')
+    return parser
+
+
+def map_str(values):
+    """Return the values as strings (for help texts)."""
+    return [str(value) for value in values]
+
+
+def main(argv=None):
+    """Run ``dpn-benchmark``; return the exit status."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    from sim_bridge.scenario import load_index
+    profile = PROFILES[args.profile]
+    try:
+        entries = load_index(args.index)
+        map_keys = resolve_maps(args.maps if args.maps else profile.maps, entries)
+        specs = plan_episodes(map_keys, args.tasks or profile.tasks,
+                              args.wanderers if args.wanderers is not None else
+                              profile.wanderers, args.repeats or profile.repeats, args.seed)
+        args.out.mkdir(parents=True, exist_ok=True)
+        log_path = args.out / 'episodes.csv'
+        print(f'dpn-benchmark: {len(specs)} episodes ({len(map_keys)} maps) into {log_path}',
+              flush=True)
+        stats = run_protocol(specs, log_path, workers=args.workers,
+                             ray_address=args.ray_address, index=args.index,
+                             progress=not args.no_progress)
+    except ValueError as exc:
+        parser.exit(2, f'dpn-benchmark: error: {exc}\n')
+    except KeyboardInterrupt:
+        print('dpn-benchmark: interrupted; finished episodes are in the log, run the same '
+              'command again to resume', file=sys.stderr)
+        return 130
+    print(f'ran {stats.ran} episodes ({stats.skipped} already logged) in '
+          f'{stats.wall_time:.1f} s on {stats.workers} workers: '
+          f'{stats.simulated_time:.0f} s simulated, {stats.speed_per_core:.1f}x real time per '
+          f'worker, {stats.episodes_per_hour:.0f} episodes per hour')
+    rows = read_log(log_path)
+    (args.out / 'summary.md').write_text(summary_markdown(rows))
+    if rows:
+        save_success_figure(args.out / 'success_rate.png', rows)
+    print(f'wrote {args.out / "summary.md"} and {args.out / "success_rate.png"}')
+    if args.strip and specs:
+        strip = args.out / 'strip.png'
+        write_strip(strip, specs, args.index)
+        print(f'wrote {strip}')
+    return 0
+
+
+def write_strip(path, specs, index=None, panels=4):
+    """
+    Rerun one episode with a recorder and draw its Fig. 9-style strip.
+
+    The episode is the first spec's map and task with the largest wanderer count of ``specs``,
+    repetition 0.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The PNG to write.
+    specs : sequence of EpisodeSpec
+        The protocol; at least one.
+    index : str or os.PathLike, optional
+        The scenario index.
+    panels : int
+        Snapshots in the strip.
+
+    """
+    from sim_bridge.scenario import load_scenario
+    from .episode import run_episode
+    from .snapshots import EpisodeRecorder, pick_snapshots, save_strip_figure
+    first = specs[0]
+    spec = max((s for s in specs if (s.map_key, s.task, s.repetition) ==
+                (first.map_key, first.task, 0)), key=lambda s: s.wanderers)
+    scenario = load_scenario(spec.map_key, index=index)
+    recorder = EpisodeRecorder(period=1.0)
+    started = time.perf_counter()
+    result = run_episode(scenario, spec.task, spec.wanderers, spec.seed, recorder=recorder)
+    recorder.finish()
+    outcome = 'success' if result.success else result.failure
+    save_strip_figure(
+        path, pick_snapshots(recorder.snapshots, panels), recorder.geometry.resolution,
+        recorder.geometry.origin,
+        goal=scenario.tasks[spec.task].goal,
+        title=f'{scenario.name}, task {spec.task}, {spec.wanderers} wanderers, seed '
+              f'{spec.seed}: {outcome} at t = {result.time:.0f} s '
+              f'({time.perf_counter() - started:.0f} s wall)')
+    return result

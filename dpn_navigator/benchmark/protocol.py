@@ -1,0 +1,212 @@
+"""
+The benchmark protocol: which episodes to run, each with a seed of its own.
+
+The paper's protocol (section 3.2) runs every map of the benchmark set with 3 navigation tasks,
+0 to 10 wandering robots and 30 repetitions of each: 34 x 3 x 11 x 30 = 33,660 episodes. A
+protocol here is the cross product of maps, task indices, wanderer counts and repetitions; each
+episode's world seed is derived from a base seed and the episode's key alone, so an episode
+gives the same result whichever worker runs it, in whatever order, and a resumed run continues
+the same experiment.
+
+"""
+
+from dataclasses import dataclass
+import itertools
+from pathlib import Path
+import zlib
+
+import numpy as np
+
+#: Largest number of wandering robots an episode may have (the paper's protocol goes to 10).
+MAX_WANDERERS = 10
+
+
+@dataclass(frozen=True)
+class Profile:
+    """
+    A named selection of maps, tasks, wanderer counts and repetitions.
+
+    Attributes
+    ----------
+    maps : tuple of str or None
+        Map selectors (numbers, names or yaml paths); None for every map of the index.
+    tasks : tuple of int
+        Task indices.
+    wanderers : tuple of int
+        Wanderer counts.
+    repeats : int
+        Repetitions of each (map, task, wanderers).
+
+    """
+
+    maps: tuple
+    tasks: tuple
+    wanderers: tuple
+    repeats: int
+
+
+#: ``--profile`` choices. ``smoke`` runs in minutes on a laptop; ``paper`` is the paper's full
+#: protocol.
+PROFILES = {
+    'smoke': Profile(maps=('3', '15', '27'), tasks=(0,), wanderers=(0, 5, 10), repeats=1),
+    'paper': Profile(maps=None, tasks=(0, 1, 2), wanderers=tuple(range(MAX_WANDERERS + 1)),
+                     repeats=30),
+}
+
+
+@dataclass(frozen=True)
+class EpisodeSpec:
+    """
+    One episode of a protocol.
+
+    Attributes
+    ----------
+    map_key : str
+        A scenario name of the index, or the absolute path of a map_server yaml.
+    task : int
+        Index of the map's task.
+    wanderers : int
+        Number of wandering robots.
+    repetition : int
+        Repetition number, from 0.
+    seed : int
+        The world's seed, from `episode_seed`.
+
+    """
+
+    map_key: str
+    task: int
+    wanderers: int
+    repetition: int
+    seed: int
+
+    @property
+    def key(self):
+        """Return ``(map_key, task, wanderers, repetition, seed)``: what identifies a result."""
+        return (self.map_key, self.task, self.wanderers, self.repetition, self.seed)
+
+
+def episode_seed(base_seed, map_key, task, wanderers, repetition):
+    """
+    Derive an episode's world seed from the base seed and the episode's key.
+
+    Parameters
+    ----------
+    base_seed : int
+        The run's ``--seed``, non-negative.
+    map_key : str
+        The map's name or yaml path.
+    task, wanderers, repetition : int
+        The rest of the episode's key.
+
+    Returns
+    -------
+    seed : int
+        In ``[0, 2**31)``; the same for the same arguments on every machine and Python run
+        (``numpy.random.SeedSequence`` over the key, with a CRC-32 of the map key).
+
+    """
+    sequence = np.random.SeedSequence(
+        [base_seed, zlib.crc32(map_key.encode('utf-8')), task, wanderers, repetition])
+    return int(sequence.generate_state(1, np.uint32)[0] & 0x7FFFFFFF)
+
+
+def resolve_maps(selectors, entries):
+    """
+    Turn map selectors into map keys.
+
+    Parameters
+    ----------
+    selectors : sequence of str, or None
+        Map numbers (``'15'``), names (``'maze'``) or paths of map_server yaml files (ending in
+        ``.yaml``/``.yml`` or holding a ``/``). None selects every map of the index.
+    entries : sequence of sim_bridge.scenario.IndexEntry
+        The scenario index.
+
+    Returns
+    -------
+    map_keys : tuple of str
+        Index names, and absolute paths for yaml files, in the order given, without repeats.
+
+    Raises
+    ------
+    ValueError
+        For an unknown number or name, or a yaml path that does not exist.
+
+    """
+    if selectors is None:
+        return tuple(entry.name for entry in entries)
+    by_number = {str(entry.number): entry.name for entry in entries}
+    names = {entry.name for entry in entries}
+    keys = []
+    for selector in selectors:
+        text = str(selector).strip()
+        if text.endswith(('.yaml', '.yml')) or '/' in text:
+            path = Path(text).expanduser().resolve()
+            if not path.is_file():
+                raise ValueError(f'map yaml {text!r} does not exist')
+            key = str(path)
+        elif text in by_number:
+            key = by_number[text]
+        elif text in names:
+            key = text
+        else:
+            known = ', '.join(f'{entry.number} {entry.name}' for entry in entries)
+            raise ValueError(f'unknown map {text!r}: give a number or name of the index '
+                             f'({known}) or the path of a map_server yaml')
+        if key not in keys:
+            keys.append(key)
+    return tuple(keys)
+
+
+def plan_episodes(map_keys, tasks, wanderers, repeats, base_seed):
+    """
+    List a protocol's episodes.
+
+    Parameters
+    ----------
+    map_keys : sequence of str
+        From `resolve_maps`.
+    tasks : sequence of int
+        Task indices, non-negative.
+    wanderers : sequence of int
+        Wanderer counts in ``[0, MAX_WANDERERS]``.
+    repeats : int
+        Repetitions, positive.
+    base_seed : int
+        Non-negative.
+
+    Returns
+    -------
+    specs : list of EpisodeSpec
+        Map by map, then task, wanderers and repetition, without repeats.
+
+    Raises
+    ------
+    ValueError
+        For a negative task, a wanderer count out of range, ``repeats < 1`` or a negative seed.
+
+    """
+    tasks = _unique_ints(tasks, 'task', 0, None)
+    wanderers = _unique_ints(wanderers, 'wanderer count', 0, MAX_WANDERERS)
+    if isinstance(repeats, bool) or not isinstance(repeats, int) or repeats < 1:
+        raise ValueError(f'repeats must be a positive integer, got {repeats!r}')
+    if isinstance(base_seed, bool) or not isinstance(base_seed, int) or base_seed < 0:
+        raise ValueError(f'the seed must be a non-negative integer, got {base_seed!r}')
+    return [EpisodeSpec(map_key, task, count, repetition,
+                        episode_seed(base_seed, map_key, task, count, repetition))
+            for map_key, task, count, repetition in itertools.product(
+                map_keys, tasks, wanderers, range(repeats))]
+
+
+def _unique_ints(values, what, low, high):
+    """Check a list of integers against ``[low, high]`` and drop repeats, keeping order."""
+    checked = []
+    for value in values:
+        if isinstance(value, bool) or not isinstance(value, int) or value < low or (
+                high is not None and value > high):
+            bound = f'from {low}' if high is None else f'in [{low}, {high}]'
+            raise ValueError(f'each {what} must be an integer {bound}, got {value!r}')
+        if value not in checked:
+            checked.append(value)
+    return tuple(checked)

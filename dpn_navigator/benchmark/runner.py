@@ -1,0 +1,210 @@
+"""
+Run a protocol's episodes in parallel, on local cores or a Ray cluster, into an episode log.
+
+Every episode runs in a worker process (`run_spec`): the lockstep episode of
+``dpn_navigator.benchmark.episode``, with no ROS. Results come back to this process, which
+appends each to ``episodes.csv`` as it arrives (see `EpisodeLog`) and shows progress and the
+time left with tqdm.
+
+Ray is optional (``requirements-ray.txt``): `run_protocol` imports it only when given a
+``ray_address``. On a cluster every node needs this package and its dependencies installed, and
+map yaml paths must exist on every node.
+
+"""
+
+from dataclasses import dataclass
+import functools
+import multiprocessing
+import os
+import time
+
+from .episode import run_episode
+from .episode_log import EpisodeLog
+
+
+@dataclass(frozen=True)
+class RunStats:
+    """
+    What one call of `run_protocol` did.
+
+    Attributes
+    ----------
+    planned : int
+        Episodes in the protocol.
+    skipped : int
+        Episodes already in the log.
+    ran : int
+        Episodes run and logged now.
+    wall_time : float
+        Wall-clock time of the call [s].
+    simulated_time : float
+        Simulated time of the episodes run now, summed [s].
+    episode_wall_time : float
+        Wall-clock time the workers spent on them, summed [s]: CPU-seconds of work, as each
+        worker is one single-threaded process.
+    workers : int
+        Parallel workers (local processes, or Ray's CPU count).
+
+    """
+
+    planned: int
+    skipped: int
+    ran: int
+    wall_time: float
+    simulated_time: float
+    episode_wall_time: float
+    workers: int
+
+    @property
+    def speed_per_core(self):
+        """Return simulated seconds per worker wall second (real-time factor per core)."""
+        return self.simulated_time / self.episode_wall_time if self.episode_wall_time else 0.0
+
+    @property
+    def episodes_per_hour(self):
+        """Return episodes finished per wall-clock hour by all workers together."""
+        return 3600.0 * self.ran / self.wall_time if self.wall_time else 0.0
+
+
+@functools.lru_cache(maxsize=8)
+def _scenario(map_key, index):
+    """Load a scenario once per worker process."""
+    from sim_bridge.scenario import load_scenario
+    return load_scenario(map_key, index=index)
+
+
+def run_spec(spec, index=None):
+    """
+    Run one episode and return its log row.
+
+    Parameters
+    ----------
+    spec : EpisodeSpec
+        The episode.
+    index : str, optional
+        The scenario index (the built-in one by default).
+
+    Returns
+    -------
+    row : dict
+        Every column of ``episode_log.COLUMNS``.
+
+    """
+    started = time.perf_counter()
+    scenario = _scenario(spec.map_key, index)
+    if not 0 <= spec.task < len(scenario.tasks):
+        raise ValueError(f'map {spec.map_key!r} has {len(scenario.tasks)} tasks; there is no '
+                         f'task {spec.task}')
+    result = run_episode(scenario, spec.task, spec.wanderers, spec.seed)
+    row = result.as_row()
+    del row['scenario']
+    row.update(map=spec.map_key, number=scenario.number, family=scenario.family or '',
+               repetition=spec.repetition, wall_time=round(time.perf_counter() - started, 3))
+    return row
+
+
+def _run_spec_star(args):
+    """Run `run_spec` on an ``(spec, index)`` pair (for ``Pool.imap_unordered``)."""
+    return run_spec(*args)
+
+
+def default_workers():
+    """Return the number of CPUs this process may use."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not Linux
+        return os.cpu_count() or 1
+
+
+def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, progress=True):
+    """
+    Run the episodes a log does not hold yet and append their rows to it.
+
+    Parameters
+    ----------
+    specs : sequence of EpisodeSpec
+        The protocol (`plan_episodes`).
+    log_path : str or os.PathLike
+        ``episodes.csv``; created when missing, resumed when present.
+    workers : int, optional
+        Local worker processes (default: the CPUs available); 1 runs in this process. Ignored
+        with ``ray_address``.
+    ray_address : str, optional
+        Run on Ray instead: ``'local'`` starts a Ray instance on this machine, anything else is
+        passed to ``ray.init(address=...)`` (e.g. ``'auto'`` or ``'ray://head:10001'``).
+    index : str, optional
+        Scenario index for map names (the built-in one by default).
+    progress : bool
+        Show a tqdm progress bar with the time left on stderr.
+
+    Returns
+    -------
+    RunStats
+
+    Raises
+    ------
+    ValueError
+        If ``workers`` is not positive or the log belongs to another version.
+    ImportError
+        If ``ray_address`` is given and Ray is not installed.
+
+    """
+    from tqdm import tqdm
+    if workers is None:
+        workers = default_workers()
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+        raise ValueError(f'workers must be a positive integer, got {workers!r}')
+    started = time.perf_counter()
+    index = None if index is None else os.fspath(index)
+    with EpisodeLog(log_path) as log:
+        done = log.done_keys()
+        pending = [spec for spec in specs if spec.key not in done]
+        skipped = len(specs) - len(pending)
+        simulated = spent = 0.0
+        ran = 0
+        with tqdm(total=len(specs), initial=skipped, unit='episode', disable=not progress,
+                  dynamic_ncols=True, smoothing=0.05) as bar:
+            if ray_address is not None:
+                results, workers = _ray_results(pending, ray_address, index)
+            else:
+                results = _local_results(pending, workers, index)
+            for row in results:
+                log.append(row)
+                ran += 1
+                simulated += row['time']
+                spent += row['wall_time']
+                bar.set_postfix_str(f'{simulated / spent:.0f}x real time per worker',
+                                    refresh=False)
+                bar.update(1)
+    return RunStats(planned=len(specs), skipped=skipped, ran=ran,
+                    wall_time=time.perf_counter() - started, simulated_time=simulated,
+                    episode_wall_time=spent, workers=workers)
+
+
+def _local_results(pending, workers, index):
+    """Yield the rows of pending episodes from local worker processes, as they finish."""
+    if workers == 1 or len(pending) <= 1:
+        for spec in pending:
+            yield run_spec(spec, index)
+        return
+    # spawn: each worker starts clean (its own pybullet client, no forked state).
+    context = multiprocessing.get_context('spawn')
+    with context.Pool(min(workers, len(pending))) as pool:
+        yield from pool.imap_unordered(_run_spec_star, [(spec, index) for spec in pending])
+
+
+def _ray_results(pending, address, index):
+    """Start the pending episodes on Ray; return a generator of rows and Ray's CPU count."""
+    import ray
+    if not ray.is_initialized():
+        ray.init(address=None if address == 'local' else address, include_dashboard=False,
+                 log_to_driver=False)
+    cpus = max(1, int(ray.cluster_resources().get('CPU', 1)))
+    remote = ray.remote(num_cpus=1)(run_spec)
+
+    def rows():
+        waiting = [remote.remote(spec, index) for spec in pending]
+        while waiting:
+            finished, waiting = ray.wait(waiting, num_returns=1)
+            yield ray.get(finished[0])
+    return rows(), cpus
