@@ -28,6 +28,8 @@ FLOAT_PARAMETERS = {
                       (0.0, 5.0), True),
     'footprint_radius': (0.35, 'Cells this close to the robot are planned through [m].',
                          (0.0, 2.0), True),
+    'obstacle_proximity_cost': (1.0, 'Extra A* cost of a free cell next to an obstacle cell '
+                                '[cells]; 0 plans plain shortest paths.', (0.0, 100.0), True),
     'goal_x': (math.nan, 'Goal x in the map frame [m]; NaN: wait for /compabot/goal_pose.',
                None, True),
     'goal_y': (math.nan, 'Goal y in the map frame [m]; NaN: wait for /compabot/goal_pose.',
@@ -88,6 +90,7 @@ def declare_parameters(node):
         width=values['map_width'], height=values['map_height'],
         origin=(values['origin_x'], values['origin_y']), resolution=values['resolution'],
         safety_radius=values['safety_radius'], footprint_radius=values['footprint_radius'],
+        obstacle_proximity_cost=values['obstacle_proximity_cost'],
         laser_offset=(values['laser_x'], values['laser_y'], values['laser_yaw']),
         follower=follower)
     goal = None

@@ -60,8 +60,12 @@ def legal_moves(blocked, cell):
             yield (nrow, ncol), (SQRT2 if drow and dcol else 1.0)
 
 
-def dijkstra_cost(blocked, start, goal):
-    """Least path cost from ``start`` to ``goal`` by plain Dijkstra, or None if unreachable."""
+def dijkstra_cost(blocked, start, goal, cell_cost=None):
+    """
+    Least path cost from ``start`` to ``goal`` by plain Dijkstra, or None if unreachable.
+
+    With ``cell_cost``, entering a cell costs its value on top of the step.
+    """
     dist = {start: 0.0}
     done = set()
     heap = [(0.0, start)]
@@ -73,6 +77,8 @@ def dijkstra_cost(blocked, start, goal):
             return cost
         done.add(cell)
         for nxt, step in legal_moves(blocked, cell):
+            if cell_cost is not None:
+                step += float(cell_cost[nxt])
             if cost + step < dist.get(nxt, math.inf):
                 dist[nxt] = cost + step
                 heapq.heappush(heap, (cost + step, nxt))
@@ -426,7 +432,8 @@ def test_matches_dijkstra_on_random_small_grids(problem):
 
 @pytest.mark.parametrize('rows, cols', [(1, 1), (3, 7), (200, 200), (999, 999), (4096, 4096)])
 def test_fixed_point_diagonal_cost_keeps_every_path_cost_exact(rows, cols):
-    diag = astar_module._fixed_point_diagonal_cost(rows, cols)
+    diag, bits = astar_module._fixed_point_diagonal_cost(rows, cols)
+    assert diag.as_integer_ratio()[1] <= 2 ** bits
     numerator, denominator = diag.as_integer_ratio()
     assert denominator & (denominator - 1) == 0  # a power of two
     assert abs(diag - SQRT2) <= 0.5 / denominator
@@ -457,3 +464,42 @@ def test_core_does_not_import_rclpy():
                              capture_output=True, text=True).stdout
     assert 'dpn_navigator.core.navigator' in modules
     assert 'rclpy' not in modules
+
+
+@settings(max_examples=300, deadline=None)
+@given(planning_problems(), st.data())
+def test_matches_dijkstra_with_cell_costs(problem, data):
+    blocked, start, goal = problem
+    # Costs in quarter cells, as a proximity penalty would be, and some arbitrary fractions.
+    cell_cost = data.draw(hnp.arrays(np.float64, blocked.shape, elements=st.sampled_from(
+        [0.0, 0.25, 1.0, 2.0, 0.3, 1.7]), fill=st.nothing()))
+    expected = dijkstra_cost(blocked, start, goal, cell_cost)
+    path = astar(blocked, start, goal, cell_cost=cell_cost)
+    if expected is None:
+        assert path is None
+        return
+    assert_legal_path(blocked, start, goal, path)
+    paid = path_cost(path) + float(sum(cell_cost[cell] for cell in path[1:]))
+    assert paid == pytest.approx(expected, rel=1e-9)
+
+
+def test_cell_cost_steers_the_path_away_from_costly_cells():
+    blocked = np.zeros((3, 5), dtype=bool)
+    cost = np.zeros((3, 5))
+    cost[1, 1:4] = 5.0                       # the straight row 1 is expensive
+    path = astar(blocked, (1, 0), (1, 4), cell_cost=cost)
+    assert all(cell[0] != 1 for cell in path[1:-1])
+    assert astar(blocked, (1, 0), (1, 4)) == [(1, c) for c in range(5)]
+    assert astar(blocked, (1, 0), (1, 4), cell_cost=np.zeros((3, 5))) == \
+        [(1, c) for c in range(5)]
+
+
+@pytest.mark.parametrize(('cell_cost', 'match'), [
+    (np.zeros((2, 2)), "grid's shape"),
+    (np.full((3, 5), -1.0), 'non-negative'),
+    (np.full((3, 5), np.nan), 'finite'),
+    ([['a'] * 5] * 3, 'array of numbers'),
+])
+def test_bad_cell_costs_raise(cell_cost, match):
+    with pytest.raises(ValueError, match=match):
+        astar(np.zeros((3, 5), dtype=bool), (0, 0), (2, 4), cell_cost=cell_cost)

@@ -35,7 +35,7 @@ _FLOAT_BITS = 53
 _CLOSED = -1.0
 
 
-def astar(blocked, start, goal):
+def astar(blocked, start, goal, cell_cost=None):
     """
     Find a least-cost 8-connected path between two cells of an occupancy grid.
 
@@ -48,20 +48,26 @@ def astar(blocked, start, goal):
         Cells ``(row, col)`` to plan from and to. ``start`` may be blocked (say by the
         inflated footprint of the robot that stands there): the path may leave it, but no
         other cell of the path is blocked.
+    cell_cost : (rows, cols) array_like of float, optional
+        Extra cost of entering each cell [cells], finite and non-negative, e.g. a penalty
+        for cells next to obstacles. A move then costs its step cost plus the extra cost of
+        the cell it enters. None (the default) is the same as all zeros, only faster.
 
     Returns
     -------
     path : list of (int, int) or None
         Cells from ``start`` to ``goal`` inclusive, each an 8-neighbour of the one before,
         with least total cost (1 per orthogonal move, sqrt(2) per diagonal move, see
-        `path_cost`). ``[start]`` when ``start == goal`` (blocked or not); otherwise None when
-        ``goal`` is blocked or cannot be reached.
+        `path_cost`, plus the ``cell_cost`` of every cell entered). ``[start]`` when
+        ``start == goal`` (blocked or not); otherwise None when ``goal`` is blocked or cannot
+        be reached.
 
     Raises
     ------
     ValueError
-        If ``blocked`` is not a non-empty 2-D array of bool or numbers, or if ``start`` or
-        ``goal`` is not a pair of integers inside the grid.
+        If ``blocked`` is not a non-empty 2-D array of bool or numbers, if ``start`` or
+        ``goal`` is not a pair of integers inside the grid, or if ``cell_cost`` is not a
+        finite, non-negative array of the grid's shape.
 
     Notes
     -----
@@ -97,6 +103,7 @@ def astar(blocked, start, goal):
     grid = _as_blocked_grid(blocked)
     start = _as_cell(start, grid.shape, 'start')
     goal = _as_cell(goal, grid.shape, 'goal')
+    extra_cost = None if cell_cost is None else _as_cell_cost(cell_cost, grid.shape)
     if start == goal:
         return [start]
     if grid[goal]:
@@ -105,8 +112,14 @@ def astar(blocked, start, goal):
     ortho_mask, diag_mask = _move_masks(grid)
     ortho_moves = _move_offsets(_ORTHOGONAL_MOVES, cols)
     diag_moves = _move_offsets(_DIAGONAL_MOVES, cols)
-    diag_cost = _fixed_point_diagonal_cost(rows, cols)
+    max_extra = 0.0 if extra_cost is None else float(extra_cost.max())
+    diag_cost, bits = _fixed_point_diagonal_cost(rows, cols, max_extra)
     heuristic = _octile_distance(rows, cols, goal, diag_cost)
+    if extra_cost is not None:
+        # The same fixed point as the diagonal cost, so that sums stay exact.
+        extra = memoryview(np.ldexp(np.round(np.ldexp(extra_cost, bits)), -bits).ravel())
+        return _search_with_cell_cost(start, goal, cols, ortho_mask, diag_mask, ortho_moves,
+                                      diag_moves, diag_cost, heuristic, extra)
 
     source = start[0] * cols + start[1]
     target = goal[0] * cols + goal[1]
@@ -140,6 +153,39 @@ def astar(blocked, start, goal):
                 parent[nxt] = cur
                 h_next = heuristic[nxt]
                 push(open_heap, (g_next + h_next, h_next, nxt))
+    return None
+
+
+def _search_with_cell_cost(start, goal, cols, ortho_mask, diag_mask, ortho_moves, diag_moves,
+                           diag_cost, heuristic, extra):
+    """Run the A* loop of `astar` with an extra cost per cell entered (see its notes)."""
+    source = start[0] * cols + start[1]
+    target = goal[0] * cols + goal[1]
+    g_score = [math.inf] * len(heuristic)
+    parent = array('l', [0]) * len(heuristic)
+    g_score[source] = 0.0
+    push = heapq.heappush
+    pop = heapq.heappop
+    open_heap = [(heuristic[source], heuristic[source], source)]
+    while open_heap:
+        cur = pop(open_heap)[2]
+        g_cur = g_score[cur]
+        if g_cur < 0.0:  # closed already: a stale entry
+            continue
+        if cur == target:
+            return _trace_back(parent, source, target, cols)
+        g_score[cur] = _CLOSED
+        for moves, step in ((ortho_moves[ortho_mask[cur]], ORTHOGONAL_STEP_COST),
+                            (diag_moves[diag_mask[cur]], diag_cost)):
+            g_step = g_cur + step
+            for offset in moves:
+                nxt = cur + offset
+                g_next = g_step + extra[nxt]
+                if g_next < g_score[nxt]:
+                    g_score[nxt] = g_next
+                    parent[nxt] = cur
+                    h_next = heuristic[nxt]
+                    push(open_heap, (g_next + h_next, h_next, nxt))
     return None
 
 
@@ -217,6 +263,19 @@ def _as_blocked_grid(blocked):
     raise ValueError(f'blocked must be an array of bool (or numbers), got dtype {grid.dtype}')
 
 
+def _as_cell_cost(cell_cost, shape):
+    """Check ``cell_cost`` against the grid's shape; return it as float64."""
+    try:
+        cost = np.asarray(cell_cost, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f'cell_cost must be an array of numbers: {exc}') from exc
+    if cost.shape != shape:
+        raise ValueError(f"cell_cost must have the grid's shape {shape}, got {cost.shape}")
+    if not (np.isfinite(cost).all() and (cost >= 0.0).all()):
+        raise ValueError('cell_cost must be finite and non-negative')
+    return cost
+
+
 def _as_cell(cell, shape, name):
     """Check that ``cell`` is an integer pair inside a grid of ``shape``; return it as ints."""
     try:
@@ -279,19 +338,27 @@ def _move_offsets(moves, cols):
             for mask in range(1 << len(moves))]
 
 
-def _fixed_point_diagonal_cost(rows, cols):
+def _fixed_point_diagonal_cost(rows, cols, max_extra=0.0):
     """
     Sqrt(2) rounded so that path costs on a (rows, cols) grid add exactly in float64.
 
-    Every g, h and f of the search is a whole number of moves along each axis, at most
-    ``max_cost`` below. With the diagonal cost a multiple of ``2**-m`` and
+    Every g, h and f of the search is a sum of at most ``rows * cols + rows + cols`` moves,
+    each costing at most ``sqrt(2) + max_extra``, so at most ``max_cost`` below. With the
+    diagonal cost (and every extra cell cost) a multiple of ``2**-m`` and
     ``max_cost * 2**m <= 2**52``, all of them are multiples of ``2**-m`` that float64 holds
     exactly, so their sums are exact too.
 
+    Returns
+    -------
+    diag_cost : float
+        The rounded sqrt(2).
+    m : int
+        The number of fraction bits.
+
     """
-    max_cost = DIAGONAL_STEP_COST * (rows * cols + rows + cols)
+    max_cost = (DIAGONAL_STEP_COST + max_extra) * (rows * cols + rows + cols)
     m = _FLOAT_BITS - 1 - math.ceil(math.log2(max_cost))
-    return math.ldexp(round(math.ldexp(DIAGONAL_STEP_COST, m)), -m)
+    return math.ldexp(round(math.ldexp(DIAGONAL_STEP_COST, m)), -m), m
 
 
 def _octile_distance(rows, cols, goal, diag_cost):

@@ -22,6 +22,31 @@ from .pose2d import compose
 from .scan_polygon import check_pose
 
 
+def touches_blocked(blocked):
+    """
+    Mark the free cells that have a blocked cell among their 8 neighbours.
+
+    Parameters
+    ----------
+    blocked : (H, W) ndarray of bool
+        Cells A* may not enter.
+
+    Returns
+    -------
+    touching : (H, W) ndarray of bool
+        False on blocked cells themselves.
+
+    """
+    padded = np.pad(blocked, 1)
+    rows, cols = blocked.shape
+    near = np.zeros_like(blocked)
+    for dr in (0, 1, 2):
+        for dc in (0, 1, 2):
+            if dr != 1 or dc != 1:
+                near |= padded[dr:dr + rows, dc:dc + cols]
+    return near & ~blocked
+
+
 class NavigatorStatus(enum.Enum):
     """What the navigator is doing."""
 
@@ -53,6 +78,12 @@ class NavigatorConfig:
         Laser pose on the robot base ``(x, y, yaw)`` [m, m, rad].
     max_path_deviation : float
         Replan when the robot is farther than this from its path [m].
+    obstacle_proximity_cost : float
+        Extra A* cost of entering a free cell that touches an obstacle cell (8-neighbourhood)
+        [cells]. It keeps the path a cell off obstacles where there is room, so that corner
+        cutting and turning in place do not bring the Husky's corners to a wall; narrow
+        corridors, where every cell touches one, are planned as before. 0 plans the paper's
+        plain shortest paths.
     no_path_retry_period : float
         While there is no path, plan again at most this often [s].
     follower : FollowerConfig
@@ -68,11 +99,13 @@ class NavigatorConfig:
     footprint_radius: float = 0.35
     laser_offset: tuple = (0.0, 0.0, 0.0)
     max_path_deviation: float = 1.0
+    obstacle_proximity_cost: float = 1.0
     no_path_retry_period: float = 0.5
     follower: FollowerConfig = field(default_factory=FollowerConfig)
 
     def __post_init__(self):
-        for name in ('safety_radius', 'footprint_radius', 'no_path_retry_period'):
+        for name in ('safety_radius', 'footprint_radius', 'no_path_retry_period',
+                     'obstacle_proximity_cost'):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0.0):
                 raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
@@ -289,7 +322,10 @@ class Navigator:
         if blocked[goal]:
             return self._no_path('the goal cell is an obstacle')
         self._clear_footprint(blocked, pose)
-        cells = astar(blocked, start, goal)
+        cell_cost = None
+        if self.config.obstacle_proximity_cost > 0.0:
+            cell_cost = self.config.obstacle_proximity_cost * touches_blocked(blocked)
+        cells = astar(blocked, start, goal, cell_cost=cell_cost)
         if cells is None:
             return self._no_path('no path to the goal on the current map')
         self.path = np.array(cells, dtype=np.int64)

@@ -128,7 +128,9 @@ def follow_path(pose, path_xy, config):
                             -config.max_angular_speed, config.max_angular_speed))
     if abs(heading_error) > config.turn_in_place_angle:
         return VelocityCommand(0.0, angular)
-    # Slow down as the heading error grows (cos) and inside the slow-down distance.
-    linear = config.max_linear_speed * math.cos(heading_error)
+    # Slow down as the heading error grows, to nearly a stop close to the turn-in-place angle
+    # (a sharp corner is turned tightly, not cut), and inside the slow-down distance.
+    turn_share = abs(heading_error) / config.turn_in_place_angle
+    linear = config.max_linear_speed * math.cos(heading_error) * (1.0 - turn_share ** 2)
     linear *= min(1.0, to_goal / config.slowdown_distance)
     return VelocityCommand(float(np.clip(linear, 0.0, config.max_linear_speed)), angular)
