@@ -20,7 +20,7 @@ from sim_bridge.free_space import clearance_grid, label_components, near_cells
 from sim_bridge.map_io import classify_pixels, load_map_yaml
 from sim_bridge.pgm import read_pgm, write_pgm
 from sim_bridge.scenario import INDEX_PATH, load_index, load_scenario, scenario_names
-from sim_bridge.scenarios.generate import write_back_and_forth
+from sim_bridge.scenarios.generate import write_scenarios
 from sim_bridge.tasks import DEFAULT_TASK_CLEARANCE, draw_tasks
 
 SHARED_MAPS = Path('/work/shared/maps')
@@ -173,7 +173,13 @@ def test_map_yaml_missing_file(tmp_path):
 
 
 def test_generator_reproduces_the_shipped_files(tmp_path):
-    for path in write_back_and_forth(tmp_path):
+    written = write_scenarios(tmp_path)
+    names = sorted(path.name for path in written)
+    assert names == sorted(path.name for path in tmp_path.iterdir())
+    # Every map (34 yaml + pgm pairs) and the index, byte for byte, and nothing else shipped.
+    shipped = sorted(path.name for path in SCENARIOS.iterdir() if path.suffix in ('.pgm', '.yaml'))
+    assert names == shipped and len(shipped) == 69
+    for path in written:
         assert path.read_bytes() == (SCENARIOS / path.name).read_bytes(), path.name
 
 
