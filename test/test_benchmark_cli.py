@@ -1,0 +1,123 @@
+"""
+The installed ``dpn-benchmark`` on the smoke profile, 2 maps: CSV schema, determinism, resume.
+
+Each run is a process of its own, started from the executable ``ros2 run dpn_navigator
+dpn-benchmark`` resolves. Episodes are deterministic for a seed, so two runs of the same
+protocol must log the same rows, whatever the number of workers or the backend (local processes
+or Ray); only ``wall_time`` may differ.
+
+"""
+
+import math
+import os
+import shutil
+import subprocess
+
+from dpn_navigator.benchmark.episode_log import COLUMNS, FAILURES, read_log, row_key
+from dpn_navigator.benchmark.protocol import plan_episodes, PROFILES
+from dpn_navigator.demo import installed_executable
+import pytest
+
+#: The smoke profile on two maps: 1 task, 0/5/10 wanderers, 1 repetition, so 6 episodes.
+SMOKE_MAPS = ('back_and_forth', 'tunnel')
+SMOKE = ['--profile', 'smoke', '--maps', *SMOKE_MAPS, '--no-progress']
+
+
+def benchmark(*args, timeout=600):
+    """Run the installed dpn-benchmark; return the finished process (output captured)."""
+    executable = installed_executable('dpn_navigator', 'dpn-benchmark')
+    env = dict(os.environ, RAY_USAGE_STATS_ENABLED='0')
+    return subprocess.run([str(executable), *args], capture_output=True, text=True,
+                          timeout=timeout, env=env, check=False)
+
+
+def without_wall_time(rows):
+    """Return the rows sorted by key, without the one column that may differ between runs."""
+    return sorted(({k: v for k, v in row.items() if k != 'wall_time'} for row in rows),
+                  key=lambda row: tuple(map(str, row_key(row))))
+
+
+@pytest.fixture(scope='module')
+def smoke_run(tmp_path_factory):
+    """Run the smoke profile on two workers; return the output folder and the process."""
+    out = tmp_path_factory.mktemp('smoke')
+    done = benchmark(*SMOKE, '--workers', '2', '--out', str(out))
+    assert done.returncode == 0, done.stderr
+    return out, done
+
+
+def test_smoke_run_logs_every_episode_with_the_schema(smoke_run):
+    out, done = smoke_run
+    smoke = PROFILES['smoke']
+    specs = plan_episodes(SMOKE_MAPS, smoke.tasks, smoke.wanderers, smoke.repeats, 0)
+    header = (out / 'episodes.csv').read_text().splitlines()[0]
+    assert header == ','.join(COLUMNS)
+    rows = read_log(out / 'episodes.csv')
+    assert sorted(row_key(row) for row in rows) == sorted(spec.key for spec in specs)
+    for row in rows:
+        assert row['failure'] in FAILURES
+        assert row['success'] == (row['failure'] == '')
+        assert row['family'] and row['number'] in (3, 27)
+        assert 0.0 < row['time'] <= row['time_limit'] + 0.11
+        assert math.isfinite(row['shortest_path']) and row['shortest_path'] > 5.0
+        assert row['time_limit'] == pytest.approx(30.0 + 3.0 * row['shortest_path'], abs=0.01)
+        assert row['replans'] >= 1 and row['wall_time'] > 0.0
+        assert min(row['wall_contacts'], row['wanderer_contacts'], row['path_length'],
+                   row['walls_labelled_mobile'], row['ghost_obstacles']) >= 0
+    # Without wanderers, nothing can stop the robot on these maps.
+    assert all(row['success'] for row in rows if row['wanderers'] == 0)
+    assert 'ran 6 episodes (0 already logged)' in done.stdout
+    assert 'episodes per hour' in done.stdout
+    summary = (out / 'summary.md').read_text()
+    assert '| 3 back_and_forth |' in summary and '| 27 tunnel |' in summary
+    assert (out / 'success_rate.png').read_bytes()[:4] == b'\x89PNG'
+
+
+def test_same_seed_same_rows_on_one_worker(smoke_run, tmp_path):
+    out, _ = smoke_run
+    done = benchmark(*SMOKE, '--workers', '1', '--out', str(tmp_path))
+    assert done.returncode == 0, done.stderr
+    assert without_wall_time(read_log(tmp_path / 'episodes.csv')) == \
+        without_wall_time(read_log(out / 'episodes.csv'))
+
+
+def test_a_rerun_resumes_where_the_log_ends(smoke_run, tmp_path):
+    out, _ = smoke_run
+    shutil.copy(out / 'episodes.csv', tmp_path / 'episodes.csv')
+    lines = (tmp_path / 'episodes.csv').read_text().splitlines(keepends=True)
+    # Two episodes lost, and a third cut short in the middle of its line, as by a kill.
+    (tmp_path / 'episodes.csv').write_text(''.join(lines[:-2]) + lines[-2][:20])
+    done = benchmark(*SMOKE, '--workers', '2', '--out', str(tmp_path))
+    assert done.returncode == 0, done.stderr
+    assert 'ran 2 episodes (4 already logged)' in done.stdout
+    resumed = read_log(tmp_path / 'episodes.csv')
+    assert resumed[:4] == read_log(out / 'episodes.csv')[:4]     # untouched, wall_time too
+    assert without_wall_time(resumed) == without_wall_time(read_log(out / 'episodes.csv'))
+    again = benchmark(*SMOKE, '--out', str(tmp_path))
+    assert again.returncode == 0 and 'ran 0 episodes (6 already logged)' in again.stdout
+
+
+def test_ray_backend_logs_the_same_rows(smoke_run, tmp_path):
+    pytest.importorskip('ray', reason='the Ray backend is optional: requirements-ray.txt')
+    out, _ = smoke_run
+    done = benchmark('--profile', 'smoke', '--maps', 'back_and_forth', '--wanderers', '0', '5',
+                     '--ray-address', 'local', '--no-progress', '--out', str(tmp_path))
+    assert done.returncode == 0, done.stderr
+    expected = [row for row in read_log(out / 'episodes.csv')
+                if row['map'] == 'back_and_forth' and row['wanderers'] in (0, 5)]
+    assert without_wall_time(read_log(tmp_path / 'episodes.csv')) == \
+        without_wall_time(expected)
+
+
+@pytest.mark.parametrize(('args', 'message'), [
+    (['--maps', 'no_such_map'], "unknown map 'no_such_map'"),
+    (['--wanderers', '11'], 'wanderer count must be an integer in'),
+    (['--maps', '/nowhere/map.yaml'], 'does not exist'),
+    (['--workers', '0'], 'workers must be a positive integer'),
+])
+def test_bad_selections_are_refused_before_running(tmp_path, args, message):
+    done = benchmark(*args, '--out', str(tmp_path / 'out'), timeout=120)
+    assert done.returncode == 2
+    assert message in done.stderr
+    assert not (tmp_path / 'out' / 'episodes.csv').exists() or \
+        read_log(tmp_path / 'out' / 'episodes.csv') == []
