@@ -199,6 +199,7 @@ class DpnNode(Node):
         values = {
             'status': status.value, 'reason': self.navigator.reason,
             'replans': self.navigator.replans,
+            'forgets': self.navigator.forgets,
             'goal_x': '' if goal is None else f'{goal[0]:.3f}',
             'goal_y': '' if goal is None else f'{goal[1]:.3f}',
             'rejected_scans': self.rejected['scan'],

@@ -30,6 +30,9 @@ FLOAT_PARAMETERS = {
                          (0.0, 2.0), True),
     'obstacle_proximity_cost': (1.0, 'Extra A* cost of a free cell next to an obstacle cell '
                                 '[cells]; 0 plans plain shortest paths.', (0.0, 100.0), True),
+    'forget_obstacles_after': (10.0, 'With no path for this long, forget the obstacle cells '
+                               'out of view and plan again [s]; 0: never (the paper).',
+                               (0.0, 3600.0), True),
     'goal_x': (math.nan, 'Goal x in the map frame [m]; NaN: wait for /compabot/goal_pose.',
                None, True),
     'goal_y': (math.nan, 'Goal y in the map frame [m]; NaN: wait for /compabot/goal_pose.',
@@ -91,6 +94,7 @@ def declare_parameters(node):
         origin=(values['origin_x'], values['origin_y']), resolution=values['resolution'],
         safety_radius=values['safety_radius'], footprint_radius=values['footprint_radius'],
         obstacle_proximity_cost=values['obstacle_proximity_cost'],
+        forget_obstacles_after=values['forget_obstacles_after'],
         laser_offset=(values['laser_x'], values['laser_y'], values['laser_yaw']),
         follower=follower)
     goal = None

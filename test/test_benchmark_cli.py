@@ -109,6 +109,14 @@ def test_ray_backend_logs_the_same_rows(smoke_run, tmp_path):
         without_wall_time(expected)
 
 
+def test_a_log_is_not_resumed_with_another_navigator(smoke_run):
+    out, _ = smoke_run
+    done = benchmark(*SMOKE, '--navigator', 'paper', '--out', str(out), timeout=120)
+    assert done.returncode == 2
+    assert "holds a run with {'navigator': 'dpn'}" in done.stderr
+    assert len(read_log(out / 'episodes.csv')) == 6
+
+
 @pytest.mark.parametrize(('args', 'message'), [
     (['--maps', 'no_such_map'], "unknown map 'no_such_map'"),
     (['--wanderers', '11'], 'wanderer count must be an integer in'),

@@ -3,11 +3,12 @@
 import csv
 
 from dpn_navigator.benchmark.episode_log import COLUMNS, EpisodeLog, read_log, row_key
-from dpn_navigator.benchmark.protocol import (episode_seed, MAX_WANDERERS, plan_episodes,
-                                              PROFILES, resolve_maps)
+from dpn_navigator.benchmark.protocol import (episode_seed, MAX_WANDERERS, NAVIGATORS,
+                                              plan_episodes, PROFILES, resolve_maps)
 from dpn_navigator.benchmark.report import (cell_stats, map_order, save_success_figure,
                                             success_matrix, summary_markdown)
 from dpn_navigator.benchmark.snapshots import EpisodeRecorder, pick_snapshots, Snapshot
+from dpn_navigator.core import NavigatorConfig
 import numpy as np
 import pytest
 from sim_bridge.scenario import IndexEntry
@@ -52,6 +53,12 @@ def test_paper_profile_is_the_papers_protocol():
     assert len(specs) == 33660
     assert len({spec.key for spec in specs}) == 33660
     assert paper.wanderers == tuple(range(MAX_WANDERERS + 1))
+
+
+def test_navigator_variants_are_valid_configs():
+    assert NAVIGATORS['dpn'] == {}
+    paper = NavigatorConfig(width=10.0, height=10.0, **NAVIGATORS['paper'])
+    assert paper.obstacle_proximity_cost == 0.0 and paper.forget_obstacles_after == 0.0
 
 
 def test_plan_is_the_cross_product_without_repeats():

@@ -97,6 +97,44 @@ def test_proximity_cost_keeps_the_robot_farther_from_a_wall_end():
     assert clearances[1] > clearances[0] + 0.2, clearances
 
 
+def block_behind(navigator, x0, x1):
+    """Label the columns between x0 and x1 [m] mobile obstacle: a wanderer seen, since gone."""
+    geometry = navigator.grid.geometry
+    _, c0 = geometry.world_to_cell(x0, 0.0)
+    _, c1 = geometry.world_to_cell(x1, 0.0)
+    navigator.grid.labels[:, c0:c1 + 1] = CellLabel.MOBILE_OBSTACLE
+
+
+@pytest.mark.parametrize('forget_after', [0.0, 2.0])
+def test_obstacles_out_of_view_are_forgotten_when_stuck(forget_after):
+    occupied = walled_room()
+    navigator = Navigator(config(forget_obstacles_after=forget_after))
+    navigator.set_goal(2.0, 6.0)                     # behind the robot, which looks east
+    block_behind(navigator, 3.5, 4.5)
+    outputs = []
+    for step in range(30):                           # 3 s, standing still
+        ranges = ray_cast(occupied, (6.0, 6.0, 0.0), TRUTH_RES, RANGE_MAX)
+        outputs.append(navigator.step(step * DT, (6.0, 6.0, 0.0), ranges, ANGLE_MIN,
+                                      ANGLE_INCREMENT, RANGE_MIN, RANGE_MAX))
+    assert outputs[0].status is NavigatorStatus.NO_PATH
+    if forget_after == 0.0:                          # the paper's navigator waits for ever
+        assert all(out.status is NavigatorStatus.NO_PATH for out in outputs)
+        assert navigator.forgets == 0
+        return
+    first_active = next(k for k, out in enumerate(outputs)
+                        if out.status is NavigatorStatus.ACTIVE)
+    assert first_active * DT == pytest.approx(forget_after, abs=0.55)  # within a retry period
+    assert navigator.forgets == 1
+    labels = navigator.grid.labels
+    geometry = navigator.grid.geometry
+    # Out of view, the band is forgotten; in view, the east wall is labelled again at once.
+    assert labels[geometry.world_to_cell(4.0, 6.0)] == CellLabel.NON_EXPLORED
+    assert labels[geometry.world_to_cell(11.75, 6.0)] == CellLabel.STEADY_OBSTACLE
+    pose, outputs, _ = drive(navigator, occupied, (6.0, 6.0, 0.0), 400,
+                             stop_when=lambda out: out.status is NavigatorStatus.GOAL_REACHED)
+    assert outputs[-1].status is NavigatorStatus.GOAL_REACHED
+
+
 def test_unreachable_goal_stops_the_robot_and_recovers_when_the_way_opens():
     occupied = walled_room()
     add_box(occupied, 7.0, 0.0, 7.5, 12.0)           # a wall right across the room
@@ -172,6 +210,7 @@ def test_bad_scan_raises_and_leaves_the_navigator_unchanged():
     ({'max_path_deviation': 0.0}, 'max_path_deviation'),
     ({'obstacle_proximity_cost': -1.0}, 'obstacle_proximity_cost'),
     ({'obstacle_proximity_cost': math.nan}, 'obstacle_proximity_cost'),
+    ({'forget_obstacles_after': -1.0}, 'forget_obstacles_after'),
     ({'laser_offset': (0.0, math.inf, 0.0)}, 'laser_offset must be finite'),
 ])
 def test_bad_config_raises(kwargs, message):

@@ -14,12 +14,13 @@ are written from the whole log, and with ``--strip`` a Fig. 9-style strip of one
 """
 
 import argparse
+import json
 from pathlib import Path
 import sys
 import time
 
 from .episode_log import read_log
-from .protocol import plan_episodes, PROFILES, resolve_maps
+from .protocol import NAVIGATORS, plan_episodes, PROFILES, resolve_maps
 from .report import save_success_figure, summary_markdown
 from .runner import default_workers, run_protocol
 
@@ -42,6 +43,10 @@ def build_parser():
     parser.add_argument('--wanderers', nargs='+', type=int, metavar='N',
                         help='wanderer counts, 0 to 10')
     parser.add_argument('--repeats', type=int, help='repetitions of each configuration')
+    parser.add_argument('--navigator', choices=sorted(NAVIGATORS), default='dpn',
+                        help="dpn: as shipped; paper: without this project's additions (A* "
+                             'proximity cost, forgetting unseen obstacles when stuck) '
+                             '(default: %(default)s)')
     parser.add_argument('--seed', type=int, default=0,
                         help='base seed of the episode seeds (default: %(default)s)')
     parser.add_argument('--out', default='benchmark_out', type=Path,
@@ -80,12 +85,14 @@ def main(argv=None):
                               args.wanderers if args.wanderers is not None else
                               profile.wanderers, args.repeats or profile.repeats, args.seed)
         args.out.mkdir(parents=True, exist_ok=True)
+        check_run_settings(args.out / 'run.json', {'navigator': args.navigator})
         log_path = args.out / 'episodes.csv'
         print(f'dpn-benchmark: {len(specs)} episodes ({len(map_keys)} maps) into {log_path}',
               flush=True)
         stats = run_protocol(specs, log_path, workers=args.workers,
                              ray_address=args.ray_address, index=args.index,
-                             progress=not args.no_progress)
+                             progress=not args.no_progress,
+                             navigator_options=NAVIGATORS[args.navigator])
     except ValueError as exc:
         parser.exit(2, f'dpn-benchmark: error: {exc}\n')
     except KeyboardInterrupt:
@@ -97,18 +104,50 @@ def main(argv=None):
           f'{stats.simulated_time:.0f} s simulated, {stats.speed_per_core:.1f}x real time per '
           f'worker, {stats.episodes_per_hour:.0f} episodes per hour')
     rows = read_log(log_path)
-    (args.out / 'summary.md').write_text(summary_markdown(rows))
+    title = f'dpn benchmark, {args.navigator} navigator'
+    (args.out / 'summary.md').write_text(summary_markdown(rows, title=title))
     if rows:
-        save_success_figure(args.out / 'success_rate.png', rows)
+        save_success_figure(args.out / 'success_rate.png', rows,
+                            title=f'Success rate per map, {args.navigator} navigator')
     print(f'wrote {args.out / "summary.md"} and {args.out / "success_rate.png"}')
     if args.strip and specs:
         strip = args.out / 'strip.png'
-        write_strip(strip, specs, args.index)
+        write_strip(strip, specs, args.index, navigator_options=NAVIGATORS[args.navigator])
         print(f'wrote {strip}')
     return 0
 
 
-def write_strip(path, specs, index=None, panels=4):
+def check_run_settings(path, settings):
+    """
+    Record a run's settings next to its log, or check them against the recorded ones.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        ``run.json`` in the output folder.
+    settings : dict
+        What must be the same for every episode of one log (the navigator variant).
+
+    Raises
+    ------
+    ValueError
+        If the folder's log was written with other settings.
+
+    """
+    if path.is_file():
+        try:
+            recorded = json.loads(path.read_text())
+        except ValueError as exc:
+            raise ValueError(f'{path} is not valid JSON ({exc}); remove it or use another '
+                             '--out') from exc
+        if recorded != settings:
+            raise ValueError(f'{path.parent} holds a run with {recorded}, not {settings}: '
+                             'use another --out')
+    else:
+        path.write_text(json.dumps(settings, sort_keys=True) + '\n')
+
+
+def write_strip(path, specs, index=None, panels=4, navigator_options=None):
     """
     Rerun one episode with a recorder and draw its Fig. 9-style strip.
 
@@ -125,6 +164,8 @@ def write_strip(path, specs, index=None, panels=4):
         The scenario index.
     panels : int
         Snapshots in the strip.
+    navigator_options : dict, optional
+        ``NavigatorConfig`` overrides (see ``protocol.NAVIGATORS``).
 
     """
     from sim_bridge.scenario import load_scenario
@@ -136,7 +177,8 @@ def write_strip(path, specs, index=None, panels=4):
     scenario = load_scenario(spec.map_key, index=index)
     recorder = EpisodeRecorder(period=1.0)
     started = time.perf_counter()
-    result = run_episode(scenario, spec.task, spec.wanderers, spec.seed, recorder=recorder)
+    result = run_episode(scenario, spec.task, spec.wanderers, spec.seed, recorder=recorder,
+                         navigator_options=navigator_options)
     recorder.finish()
     outcome = 'success' if result.success else result.failure
     save_strip_figure(

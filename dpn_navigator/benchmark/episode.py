@@ -54,6 +54,9 @@ class EpisodeResult:
         The reference shortest path ``L`` [m].
     replans : int
         Paths planned by the navigator.
+    forgets : int
+        Times the navigator, stuck with no path, forgot the obstacles out of view
+        (``NavigatorConfig.forget_obstacles_after``).
     wall_contacts, wanderer_contacts : int
         Contact events of the Husky (``ContactLog``).
     walls_labelled_mobile : int
@@ -75,6 +78,7 @@ class EpisodeResult:
     path_length: float
     shortest_path: float
     replans: int
+    forgets: int
     wall_contacts: int
     wanderer_contacts: int
     walls_labelled_mobile: int
@@ -164,7 +168,7 @@ def map_quality(labels, geometry, truth_occupied, truth_geometry, wanderer_xy, w
 
 
 def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
-                time_limit=None, recorder=None):
+                time_limit=None, recorder=None, navigator_options=None):
     """
     Run one episode in lockstep and measure it.
 
@@ -182,6 +186,9 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
         Default: the scenario's size and origin, the laser mount, and default limits.
     time_limit : float, optional
         Overrides the rule's limit [s].
+    navigator_options : dict, optional
+        ``NavigatorConfig`` fields to override in the default configuration (e.g.
+        ``protocol.NAVIGATORS['paper']``); not with ``navigator_config``.
     recorder : callable, optional
         Called as ``recorder(world, navigator)`` once per scan, after the navigator has
         processed it (e.g. an `EpisodeRecorder`); must not change either.
@@ -196,7 +203,10 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
     task = scenario.tasks[task_index]
     if navigator_config is None:
         navigator_config = NavigatorConfig(width=scenario.width, height=scenario.height,
-                                           origin=scenario.origin, laser_offset=LASER_MOUNT)
+                                           origin=scenario.origin, laser_offset=LASER_MOUNT,
+                                           **(navigator_options or {}))
+    elif navigator_options:
+        raise ValueError('give navigator_config or navigator_options, not both')
     shortest = shortest_path_length(scenario, task)
     if time_limit is None:
         time_limit = 30.0 + 3.0 * shortest / navigator_config.follower.max_linear_speed
@@ -237,5 +247,6 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
         success=reached and not contacts.events, failure=failure, time=round(end_time, 3),
         time_limit=round(time_limit, 3), path_length=round(travelled, 3),
         shortest_path=round(shortest, 3), replans=navigator.replans,
+        forgets=navigator.forgets,
         wall_contacts=contacts.wall_events, wanderer_contacts=contacts.wanderer_events,
         walls_labelled_mobile=walls_mobile, ghost_obstacles=ghosts)

@@ -13,8 +13,8 @@ Columns (`COLUMNS`), per episode:
 - ``task``, ``wanderers``, ``repetition``, ``seed``: the episode's key;
 - ``success`` (1 or 0), ``failure`` (empty, ``collision``, ``no_path`` or ``timeout``);
 - ``time`` and ``time_limit`` [s, simulated], ``path_length`` and ``shortest_path`` [m],
-  ``replans``, ``wall_contacts``, ``wanderer_contacts``, ``walls_labelled_mobile``,
-  ``ghost_obstacles``: see ``dpn_navigator.benchmark.episode``;
+  ``replans``, ``forgets``, ``wall_contacts``, ``wanderer_contacts``,
+  ``walls_labelled_mobile``, ``ghost_obstacles``: see ``dpn_navigator.benchmark.episode``;
 - ``wall_time``: wall-clock seconds the episode took in its worker (the one column that differs
   between two runs of the same episode).
 
@@ -27,12 +27,12 @@ import os
 #: The log's columns, in file order.
 COLUMNS = ('map', 'number', 'family', 'task', 'wanderers', 'repetition', 'seed', 'success',
            'failure', 'time', 'time_limit', 'path_length', 'shortest_path', 'replans',
-           'wall_contacts', 'wanderer_contacts', 'walls_labelled_mobile', 'ghost_obstacles',
-           'wall_time')
+           'forgets', 'wall_contacts', 'wanderer_contacts', 'walls_labelled_mobile',
+           'ghost_obstacles', 'wall_time')
 #: Columns that identify an episode.
 KEY_COLUMNS = ('map', 'task', 'wanderers', 'repetition', 'seed')
 #: Integer columns (parsed by `read_log`).
-INT_COLUMNS = ('task', 'wanderers', 'repetition', 'seed', 'success', 'replans',
+INT_COLUMNS = ('task', 'wanderers', 'repetition', 'seed', 'success', 'replans', 'forgets',
                'wall_contacts', 'wanderer_contacts', 'walls_labelled_mobile', 'ghost_obstacles')
 #: Float columns (parsed by `read_log`).
 FLOAT_COLUMNS = ('time', 'time_limit', 'path_length', 'shortest_path', 'wall_time')

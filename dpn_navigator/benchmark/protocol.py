@@ -17,6 +17,14 @@ import zlib
 
 import numpy as np
 
+#: ``--navigator`` choices: overrides of ``NavigatorConfig``'s defaults. ``dpn`` is the
+#: navigator as shipped; ``paper`` turns off what this project added to the paper's method (the
+#: obstacle proximity cost of A* and forgetting unseen obstacles when stuck).
+NAVIGATORS = {
+    'dpn': {},
+    'paper': {'obstacle_proximity_cost': 0.0, 'forget_obstacles_after': 0.0},
+}
+
 #: Largest number of wandering robots an episode may have (the paper's protocol goes to 10).
 MAX_WANDERERS = 10
 

@@ -73,7 +73,7 @@ def _scenario(map_key, index):
     return load_scenario(map_key, index=index)
 
 
-def run_spec(spec, index=None):
+def run_spec(spec, index=None, navigator_options=None):
     """
     Run one episode and return its log row.
 
@@ -83,6 +83,8 @@ def run_spec(spec, index=None):
         The episode.
     index : str, optional
         The scenario index (the built-in one by default).
+    navigator_options : dict, optional
+        ``NavigatorConfig`` overrides (see ``protocol.NAVIGATORS``).
 
     Returns
     -------
@@ -95,7 +97,8 @@ def run_spec(spec, index=None):
     if not 0 <= spec.task < len(scenario.tasks):
         raise ValueError(f'map {spec.map_key!r} has {len(scenario.tasks)} tasks; there is no '
                          f'task {spec.task}')
-    result = run_episode(scenario, spec.task, spec.wanderers, spec.seed)
+    result = run_episode(scenario, spec.task, spec.wanderers, spec.seed,
+                         navigator_options=navigator_options)
     row = result.as_row()
     del row['scenario']
     row.update(map=spec.map_key, number=scenario.number, family=scenario.family or '',
@@ -104,7 +107,7 @@ def run_spec(spec, index=None):
 
 
 def _run_spec_star(args):
-    """Run `run_spec` on an ``(spec, index)`` pair (for ``Pool.imap_unordered``)."""
+    """Run `run_spec` on a tuple of its arguments (for ``Pool.imap_unordered``)."""
     return run_spec(*args)
 
 
@@ -116,7 +119,8 @@ def default_workers():
         return os.cpu_count() or 1
 
 
-def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, progress=True):
+def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, progress=True,
+                 navigator_options=None):
     """
     Run the episodes a log does not hold yet and append their rows to it.
 
@@ -136,6 +140,8 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
         Scenario index for map names (the built-in one by default).
     progress : bool
         Show a tqdm progress bar with the time left on stderr.
+    navigator_options : dict, optional
+        ``NavigatorConfig`` overrides for every episode (see ``protocol.NAVIGATORS``).
 
     Returns
     -------
@@ -165,9 +171,10 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
         with tqdm(total=len(specs), initial=skipped, unit='episode', disable=not progress,
                   dynamic_ncols=True, smoothing=0.05) as bar:
             if ray_address is not None:
-                results, workers = _ray_results(pending, ray_address, index)
+                results, workers = _ray_results(pending, ray_address, index,
+                                                navigator_options)
             else:
-                results = _local_results(pending, workers, index)
+                results = _local_results(pending, workers, index, navigator_options)
             for row in results:
                 log.append(row)
                 ran += 1
@@ -181,19 +188,20 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
                     episode_wall_time=spent, workers=workers)
 
 
-def _local_results(pending, workers, index):
+def _local_results(pending, workers, index, navigator_options):
     """Yield the rows of pending episodes from local worker processes, as they finish."""
     if workers == 1 or len(pending) <= 1:
         for spec in pending:
-            yield run_spec(spec, index)
+            yield run_spec(spec, index, navigator_options)
         return
     # spawn: each worker starts clean (its own pybullet client, no forked state).
     context = multiprocessing.get_context('spawn')
     with context.Pool(min(workers, len(pending))) as pool:
-        yield from pool.imap_unordered(_run_spec_star, [(spec, index) for spec in pending])
+        yield from pool.imap_unordered(
+            _run_spec_star, [(spec, index, navigator_options) for spec in pending])
 
 
-def _ray_results(pending, address, index):
+def _ray_results(pending, address, index, navigator_options):
     """Start the pending episodes on Ray; return a generator of rows and Ray's CPU count."""
     import ray
     if not ray.is_initialized():
@@ -203,7 +211,7 @@ def _ray_results(pending, address, index):
     remote = ray.remote(num_cpus=1)(run_spec)
 
     def rows():
-        waiting = [remote.remote(spec, index) for spec in pending]
+        waiting = [remote.remote(spec, index, navigator_options) for spec in pending]
         while waiting:
             finished, waiting = ray.wait(waiting, num_returns=1)
             yield ray.get(finished[0])

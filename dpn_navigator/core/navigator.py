@@ -15,7 +15,7 @@ import math
 import numpy as np
 
 from .astar_search import astar
-from .cell_label import blocked_mask
+from .cell_label import blocked_mask, CellLabel
 from .label_grid import LabelGrid
 from .path_follower import follow_path, FollowerConfig, STOP, VelocityCommand
 from .pose2d import compose
@@ -86,6 +86,12 @@ class NavigatorConfig:
         plain shortest paths.
     no_path_retry_period : float
         While there is no path, plan again at most this often [s].
+    forget_obstacles_after : float
+        After this long with no path [s], the obstacle cells (steady and mobile) that the
+        latest scan does not see are forgotten, set back to non-explored, and the robot plans
+        again; the cells the scan sees are labelled again at once. Without it, a wanderer
+        that blocked a corridor and then left it out of the laser's view (behind the robot,
+        round a corner) would block it for good. 0 turns it off: the paper's navigator.
     follower : FollowerConfig
         Speed limits and gains of the path follower.
 
@@ -101,11 +107,12 @@ class NavigatorConfig:
     max_path_deviation: float = 1.0
     obstacle_proximity_cost: float = 1.0
     no_path_retry_period: float = 0.5
+    forget_obstacles_after: float = 10.0
     follower: FollowerConfig = field(default_factory=FollowerConfig)
 
     def __post_init__(self):
         for name in ('safety_radius', 'footprint_radius', 'no_path_retry_period',
-                     'obstacle_proximity_cost'):
+                     'obstacle_proximity_cost', 'forget_obstacles_after'):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0.0):
                 raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
@@ -157,6 +164,9 @@ class Navigator:
     status : NavigatorStatus
     replans : int
         How many paths have been planned since the goal was set.
+    forgets : int
+        How many times unseen obstacles were forgotten since the goal was set (see
+        ``NavigatorConfig.forget_obstacles_after``).
 
     """
 
@@ -168,9 +178,12 @@ class Navigator:
         self.status = NavigatorStatus.IDLE
         self.reason = 'no goal'
         self.replans = 0
+        self.forgets = 0
         self._path_xy = None
         self._next_retry = -math.inf
         self._replan_requested = False
+        self._no_path_since = None
+        self._last_scan = None
 
     def set_goal(self, x, y):
         """
@@ -195,7 +208,9 @@ class Navigator:
         self.status = NavigatorStatus.ACTIVE
         self.reason = ''
         self.replans = 0
+        self.forgets = 0
         self._next_retry = -math.inf
+        self._no_path_since = None
 
     def clear_goal(self):
         """Drop the goal; the robot stops."""
@@ -258,6 +273,8 @@ class Navigator:
                                   range_max, self.config.safety_radius, path=self.path,
                                   angle_max=angle_max)
         self._replan_requested |= replan
+        self._last_scan = (laser_pose, np.array(ranges, dtype=np.float64), angle_min,
+                           angle_increment, range_min, range_max, angle_max)
 
     def decide(self, stamp, pose):
         """
@@ -288,10 +305,16 @@ class Navigator:
         if replan_flag or self._path_is_stale(pose):
             if self.path is None and stamp < self._next_retry:
                 return NavigatorOutput(STOP, self.status, self.reason)
+            if self.path is None and self._forget_is_due(stamp):
+                self._forget_unseen_obstacles()
+                self._no_path_since = stamp
             replanned = self._plan(pose)
             if self.path is None:
                 self._next_retry = stamp + self.config.no_path_retry_period
+                if self._no_path_since is None:
+                    self._no_path_since = stamp
                 return NavigatorOutput(STOP, self.status, self.reason, replanned)
+            self._no_path_since = None
         command = follow_path(pose, self._path_xy, self.config.follower)
         if command.goal_reached:
             self.status = NavigatorStatus.GOAL_REACHED
@@ -335,6 +358,22 @@ class Navigator:
         self.status = NavigatorStatus.ACTIVE
         self.reason = ''
         return True
+
+    def _forget_is_due(self, stamp):
+        """Tell whether there has been no path for ``forget_obstacles_after`` seconds."""
+        after = self.config.forget_obstacles_after
+        return (after > 0.0 and self._no_path_since is not None
+                and stamp - self._no_path_since >= after and self._last_scan is not None)
+
+    def _forget_unseen_obstacles(self):
+        """Set every obstacle cell back to non-explored, then fold the latest scan in again."""
+        labels = self.grid.labels
+        labels[blocked_mask(labels)] = CellLabel.NON_EXPLORED
+        laser_pose, ranges, angle_min, angle_increment, range_min, range_max, angle_max = \
+            self._last_scan
+        self.grid.update(laser_pose, ranges, angle_min, angle_increment, range_min, range_max,
+                         self.config.safety_radius, angle_max=angle_max)
+        self.forgets += 1
 
     def _no_path(self, reason):
         self.path = None
