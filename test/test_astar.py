@@ -38,7 +38,7 @@ def grid_from_text(text):
     return np.array([[char == '#' for char in line] for line in lines], dtype=bool)
 
 
-def legal_moves(blocked, cell):
+def legal_moves(blocked, cell, cut_corners=True):
     """
     Yield ``(next_cell, step_cost)`` for every move the planner may make from ``cell``.
 
@@ -57,10 +57,12 @@ def legal_moves(blocked, cell):
                 continue
             if drow and dcol and blocked[nrow, col] and blocked[row, ncol]:
                 continue
+            if drow and dcol and not cut_corners and (blocked[nrow, col] or blocked[row, ncol]):
+                continue
             yield (nrow, ncol), (SQRT2 if drow and dcol else 1.0)
 
 
-def dijkstra_cost(blocked, start, goal, cell_cost=None):
+def dijkstra_cost(blocked, start, goal, cell_cost=None, cut_corners=True):
     """
     Least path cost from ``start`` to ``goal`` by plain Dijkstra, or None if unreachable.
 
@@ -76,7 +78,7 @@ def dijkstra_cost(blocked, start, goal, cell_cost=None):
         if cell == goal:
             return cost
         done.add(cell)
-        for nxt, step in legal_moves(blocked, cell):
+        for nxt, step in legal_moves(blocked, cell, cut_corners):
             if cell_cost is not None:
                 step += float(cell_cost[nxt])
             if cost + step < dist.get(nxt, math.inf):
@@ -467,18 +469,22 @@ def test_core_does_not_import_rclpy():
 
 
 @settings(max_examples=300, deadline=None)
-@given(planning_problems(), st.data())
-def test_matches_dijkstra_with_cell_costs(problem, data):
+@given(planning_problems(), st.data(), st.booleans())
+def test_matches_dijkstra_with_cell_costs(problem, data, cut_corners):
     blocked, start, goal = problem
     # Costs in quarter cells, as a proximity penalty would be, and some arbitrary fractions.
     cell_cost = data.draw(hnp.arrays(np.float64, blocked.shape, elements=st.sampled_from(
         [0.0, 0.25, 1.0, 2.0, 0.3, 1.7]), fill=st.nothing()))
-    expected = dijkstra_cost(blocked, start, goal, cell_cost)
-    path = astar(blocked, start, goal, cell_cost=cell_cost)
+    expected = dijkstra_cost(blocked, start, goal, cell_cost, cut_corners)
+    path = astar(blocked, start, goal, cell_cost=cell_cost, cut_corners=cut_corners)
     if expected is None:
         assert path is None
         return
     assert_legal_path(blocked, start, goal, path)
+    if not cut_corners:
+        for (r0, c0), (r1, c1) in zip(path, path[1:]):
+            if r0 != r1 and c0 != c1:                # a diagonal: both side cells free
+                assert not blocked[r1, c0] and not blocked[r0, c1]
     paid = path_cost(path) + float(sum(cell_cost[cell] for cell in path[1:]))
     assert paid == pytest.approx(expected, rel=1e-9)
 
@@ -503,3 +509,12 @@ def test_cell_cost_steers_the_path_away_from_costly_cells():
 def test_bad_cell_costs_raise(cell_cost, match):
     with pytest.raises(ValueError, match=match):
         astar(np.zeros((3, 5), dtype=bool), (0, 0), (2, 4), cell_cost=cell_cost)
+
+
+def test_without_corner_cutting_a_diagonal_needs_both_side_cells_free():
+    blocked = grid_from_text("""
+        ..
+        #.
+    """)
+    assert astar(blocked, (0, 0), (1, 1)) == [(0, 0), (1, 1)]
+    assert astar(blocked, (0, 0), (1, 1), cut_corners=False) == [(0, 0), (0, 1), (1, 1)]

@@ -64,8 +64,7 @@ def test_reaches_a_goal_behind_a_wall_without_touching_it(proximity_cost):
     assert outputs[-1].status is NavigatorStatus.GOAL_REACHED
     assert math.hypot(pose[0] - 9.0, pose[1] - 2.0) <= 0.3
     assert clearance > 0.35                          # the Husky's half width is 0.335 m
-    # Shortest paths hug the wall's f1 belt, so the belt's growth blocks them again and again.
-    assert navigator.replans >= (2 if proximity_cost == 0.0 else 1)
+    assert navigator.replans >= 1
     labels = navigator.grid.labels
     assert np.count_nonzero(labels == CellLabel.STEADY_OBSTACLE) > 20
     assert np.count_nonzero(labels == CellLabel.EXPLORED) > 100
@@ -111,6 +110,8 @@ def test_obstacles_out_of_view_are_forgotten_when_stuck(forget_after):
     navigator = Navigator(config(forget_obstacles_after=forget_after))
     navigator.set_goal(2.0, 6.0)                     # behind the robot, which looks east
     block_behind(navigator, 3.5, 4.5)
+    navigator.grid.labels[navigator.grid.geometry.world_to_cell(5.25, 6.25)] = \
+        CellLabel.MOBILE_OBSTACLE                    # 0.8 m behind the robot, out of view
     outputs = []
     for step in range(30):                           # 3 s, standing still
         ranges = ray_cast(occupied, (6.0, 6.0, 0.0), TRUTH_RES, RANGE_MAX)
@@ -129,6 +130,8 @@ def test_obstacles_out_of_view_are_forgotten_when_stuck(forget_after):
     geometry = navigator.grid.geometry
     # Out of view, the band is forgotten; in view, the east wall is labelled again at once.
     assert labels[geometry.world_to_cell(4.0, 6.0)] == CellLabel.NON_EXPLORED
+    # Within 2 r of the robot, obstacles are kept: it may turn beside them before it sees them.
+    assert labels[geometry.world_to_cell(5.25, 6.25)] == CellLabel.MOBILE_OBSTACLE
     assert labels[geometry.world_to_cell(11.75, 6.0)] == CellLabel.STEADY_OBSTACLE
     pose, outputs, _ = drive(navigator, occupied, (6.0, 6.0, 0.0), 400,
                              stop_when=lambda out: out.status is NavigatorStatus.GOAL_REACHED)

@@ -84,3 +84,30 @@ def test_bad_input_raises(path, pose, message):
 def test_bad_config_raises(kwargs, message):
     with pytest.raises(ValueError, match=message):
         FollowerConfig(**kwargs)
+
+
+# A corridor path on 0.5 m cells: east to (2, 0), then north; the robot 0.3 m before the corner.
+CORNER_PATH = np.array([[0.0, 0.0], [0.5, 0.0], [1.0, 0.0], [1.5, 0.0], [2.0, 0.0],
+                        [2.0, 0.5], [2.0, 1.0], [2.0, 1.5], [2.0, 2.0]])
+
+
+def test_the_lookahead_point_stops_at_a_sharp_corner():
+    # With a 0.6 m look-ahead the point would be (2.0, 0.5), round the corner: the robot would
+    # steer inside it. It aims at the corner instead, straight ahead, at speed.
+    command = follow_path((1.7, 0.0, 0.0), CORNER_PATH, CONFIG)
+    assert command.angular == pytest.approx(0.0)
+    assert command.linear > 0.5
+    cutting = follow_path((1.7, 0.0, 0.0), CORNER_PATH, FollowerConfig(corner_angle=math.pi))
+    assert cutting.angular > 0.5                     # the old behaviour: turning in early
+    # At the corner, the path ahead turns 90 degrees: the robot turns in place.
+    at_corner = follow_path((2.0, 0.0, 0.0), CORNER_PATH, CONFIG)
+    assert at_corner.linear == 0.0 and at_corner.angular > 0.0
+
+
+def test_grid_steps_of_45_degrees_are_not_corners():
+    staircase = np.array([[0.0, 0.0], [0.5, 0.0], [1.0, 0.5], [1.5, 0.5], [2.0, 1.0],
+                          [2.5, 1.0]])
+    command = follow_path((0.0, 0.0, 0.0), staircase, CONFIG)
+    default_target = follow_path((0.0, 0.0, 0.0), staircase,
+                                 FollowerConfig(corner_angle=math.pi))
+    assert command == default_target

@@ -5,6 +5,8 @@ Cells are ``(row, col)``, row-major like ``nav_msgs/OccupancyGrid``. A move goes
 eight neighbours of a cell; it costs 1 along a row or column and sqrt(2) along a diagonal. A
 diagonal move from ``(r, c)`` to ``(r + dr, c + dc)`` may cut past one blocked cell but not
 squeeze between two: it is forbidden when both ``(r + dr, c)`` and ``(r, c + dc)`` are blocked.
+With ``cut_corners=False`` it is forbidden when either is blocked, so that a robot following
+the path centre to centre never passes a blocked cell closer than half a cell's diagonal.
 The target of every move must be free.
 
 The search is plain Python over flat cell indices; numpy does the whole-grid work up front
@@ -35,7 +37,7 @@ _FLOAT_BITS = 53
 _CLOSED = -1.0
 
 
-def astar(blocked, start, goal, cell_cost=None):
+def astar(blocked, start, goal, cell_cost=None, cut_corners=True):
     """
     Find a least-cost 8-connected path between two cells of an occupancy grid.
 
@@ -52,6 +54,9 @@ def astar(blocked, start, goal, cell_cost=None):
         Extra cost of entering each cell [cells], finite and non-negative, e.g. a penalty
         for cells next to obstacles. A move then costs its step cost plus the extra cost of
         the cell it enters. None (the default) is the same as all zeros, only faster.
+    cut_corners : bool
+        Whether a diagonal move may pass one blocked cell (True, the default) or needs both
+        cells beside it free.
 
     Returns
     -------
@@ -109,7 +114,7 @@ def astar(blocked, start, goal, cell_cost=None):
     if grid[goal]:
         return None
     rows, cols = grid.shape
-    ortho_mask, diag_mask = _move_masks(grid)
+    ortho_mask, diag_mask = _move_masks(grid, cut_corners)
     ortho_moves = _move_offsets(_ORTHOGONAL_MOVES, cols)
     diag_moves = _move_offsets(_DIAGONAL_MOVES, cols)
     max_extra = 0.0 if extra_cost is None else float(extra_cost.max())
@@ -297,7 +302,7 @@ def _as_cell(cell, shape, name):
     return (row, col)
 
 
-def _move_masks(grid):
+def _move_masks(grid, cut_corners=True):
     """
     Which moves are legal from each cell, as two flat bit masks.
 
@@ -305,13 +310,16 @@ def _move_masks(grid):
     ----------
     grid : (rows, cols) ndarray of bool
         True where blocked.
+    cut_corners : bool
+        Whether a diagonal move needs one (True) or both (False) of the cells beside it free.
 
     Returns
     -------
     ortho_mask, diag_mask : bytes of length rows * cols
         Bit k of byte ``r * cols + c`` is set when move k of ``_ORTHOGONAL_MOVES``
         (``_DIAGONAL_MOVES``) from ``(r, c)`` stays in the grid, ends on a free cell and, for a
-        diagonal move, does not pass between two blocked cells. The state of ``(r, c)`` itself
+        diagonal move, does not pass between two blocked cells (with ``cut_corners=False``: beside
+        any blocked cell). The state of ``(r, c)`` itself
         does not matter.
 
     """
@@ -327,7 +335,9 @@ def _move_masks(grid):
         ortho_mask |= shifted(dr, dc) << bit
     diag_mask = np.zeros((rows, cols), dtype=np.uint8)
     for bit, (dr, dc) in enumerate(_DIAGONAL_MOVES):
-        diag_mask |= (shifted(dr, dc) & (shifted(dr, 0) | shifted(0, dc))) << bit
+        beside = (shifted(dr, 0) | shifted(0, dc)) if cut_corners else \
+            (shifted(dr, 0) & shifted(0, dc))
+        diag_mask |= (shifted(dr, dc) & beside) << bit
     return ortho_mask.tobytes(), diag_mask.tobytes()
 
 

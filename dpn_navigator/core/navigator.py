@@ -47,6 +47,10 @@ def touches_blocked(blocked):
     return near & ~blocked
 
 
+#: Forgetting unseen obstacles keeps those within this many safety radii of the robot.
+FORGET_KEEP_RADII = 2.0
+
+
 class NavigatorStatus(enum.Enum):
     """What the navigator is doing."""
 
@@ -89,7 +93,8 @@ class NavigatorConfig:
     forget_obstacles_after : float
         After this long with no path [s], the obstacle cells (steady and mobile) that the
         latest scan does not see are forgotten, set back to non-explored, and the robot plans
-        again; the cells the scan sees are labelled again at once. Without it, a wanderer
+        again; the cells the scan sees are labelled again at once, and those within
+        ``FORGET_KEEP_RADII`` safety radii (1.2 m) of the robot are kept. Without it, a wanderer
         that blocked a corridor and then left it out of the laser's view (behind the robot,
         round a corner) would block it for good. 0 turns it off: the paper's navigator.
     follower : FollowerConfig
@@ -306,7 +311,7 @@ class Navigator:
             if self.path is None and stamp < self._next_retry:
                 return NavigatorOutput(STOP, self.status, self.reason)
             if self.path is None and self._forget_is_due(stamp):
-                self._forget_unseen_obstacles()
+                self._forget_unseen_obstacles(pose)
                 self._no_path_since = stamp
             replanned = self._plan(pose)
             if self.path is None:
@@ -348,7 +353,9 @@ class Navigator:
         cell_cost = None
         if self.config.obstacle_proximity_cost > 0.0:
             cell_cost = self.config.obstacle_proximity_cost * touches_blocked(blocked)
-        cells = astar(blocked, start, goal, cell_cost=cell_cost)
+        # No diagonal past a blocked cell: r equals the Husky's circumscribed radius, so the
+        # half-cell a cut corner saves would bring the robot's corners to the wall.
+        cells = astar(blocked, start, goal, cell_cost=cell_cost, cut_corners=False)
         if cells is None:
             return self._no_path('no path to the goal on the current map')
         self.path = np.array(cells, dtype=np.int64)
@@ -365,10 +372,23 @@ class Navigator:
         return (after > 0.0 and self._no_path_since is not None
                 and stamp - self._no_path_since >= after and self._last_scan is not None)
 
-    def _forget_unseen_obstacles(self):
-        """Set every obstacle cell back to non-explored, then fold the latest scan in again."""
+    def _forget_unseen_obstacles(self, pose):
+        """
+        Set the obstacle cells back to non-explored, then fold the latest scan in again.
+
+        Cells within ``FORGET_KEEP_RADII`` safety radii of the robot are kept: the robot may
+        have to turn in place beside them before the laser sees them again.
+        """
         labels = self.grid.labels
+        geometry = self.grid.geometry
+        keep = FORGET_KEEP_RADII * self.config.safety_radius
+        rows, cols = geometry.cell_window(pose[0] - keep, pose[0] + keep, pose[1] - keep,
+                                          pose[1] + keep)
+        x_centres, y_centres = geometry.window_centres(rows, cols)
+        near = np.hypot(x_centres[None, :] - pose[0], y_centres[:, None] - pose[1]) <= keep
+        kept = labels[rows, cols].copy()
         labels[blocked_mask(labels)] = CellLabel.NON_EXPLORED
+        labels[rows, cols] = np.where(near, kept, labels[rows, cols])
         laser_pose, ranges, angle_min, angle_increment, range_min, range_max, angle_max = \
             self._last_scan
         self.grid.update(laser_pose, ranges, angle_min, angle_increment, range_min, range_max,

@@ -2,7 +2,11 @@
 A path follower for a differential-drive robot: pose and path in, ``(v, omega)`` out.
 
 The robot steers toward a look-ahead point on the path: the first path point at least
-``lookahead_distance`` ahead of the path point closest to the robot (or the goal). The angular
+``lookahead_distance`` ahead of the path point closest to the robot (or the goal), but never
+past a corner: where the path's heading has turned by more than ``corner_angle`` since the
+closest point, the look-ahead point stops at the corner. The robot thus drives to a sharp
+corner and turns there, on the path, instead of cutting inside it, which in a corridor as
+narrow as the robot's turning circle would bring its corners to the wall. The angular
 speed is proportional to the heading error; the robot turns in place when the error is larger
 than ``turn_in_place_angle``, slows down as the error grows and as the goal nears, and stops
 inside ``goal_tolerance``.
@@ -38,6 +42,10 @@ class FollowerConfig:
         Heading error above which the robot stops to turn [rad].
     slowdown_distance : float
         Within this distance of the goal, the speed falls linearly toward zero [m].
+    corner_angle : float
+        A turn of the path's heading larger than this is a corner the look-ahead point does
+        not pass [rad]; larger than 45 degrees, so that the steps of an 8-connected grid path
+        are not corners.
 
     """
 
@@ -48,11 +56,12 @@ class FollowerConfig:
     heading_gain: float = 2.0
     turn_in_place_angle: float = 0.6
     slowdown_distance: float = 1.5
+    corner_angle: float = 1.0
 
     def __post_init__(self):
         for name in ('max_linear_speed', 'max_angular_speed', 'lookahead_distance',
                      'goal_tolerance', 'heading_gain', 'turn_in_place_angle',
-                     'slowdown_distance'):
+                     'slowdown_distance', 'corner_angle'):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0.0):
                 raise ValueError(f'{name} must be positive and finite, got {value!r}')
@@ -122,7 +131,8 @@ def follow_path(pose, path_xy, config):
     distance = np.hypot(path_xy[:, 0] - x, path_xy[:, 1] - y)
     closest = int(np.argmin(distance))
     ahead = np.flatnonzero(distance[closest:] >= config.lookahead_distance)
-    target = path_xy[closest + ahead[0]] if ahead.shape[0] else path_xy[-1]
+    target_index = closest + int(ahead[0]) if ahead.shape[0] else len(path_xy) - 1
+    target = path_xy[_corner_before(path_xy, closest, target_index, config.corner_angle)]
     heading_error = wrap_angle(math.atan2(target[1] - y, target[0] - x) - yaw)
     angular = float(np.clip(config.heading_gain * heading_error,
                             -config.max_angular_speed, config.max_angular_speed))
@@ -134,3 +144,36 @@ def follow_path(pose, path_xy, config):
     linear = config.max_linear_speed * math.cos(heading_error) * (1.0 - turn_share ** 2)
     linear *= min(1.0, to_goal / config.slowdown_distance)
     return VelocityCommand(float(np.clip(linear, 0.0, config.max_linear_speed)), angular)
+
+
+def _corner_before(path_xy, first, last, corner_angle):
+    """
+    Return the last path index in ``[first, last]`` reached before the heading turns a corner.
+
+    Parameters
+    ----------
+    path_xy : (N, 2) ndarray of float64
+        The path [m].
+    first, last : int
+        Indices: the point closest to the robot and the look-ahead candidate.
+    corner_angle : float
+        [rad]
+
+    Returns
+    -------
+    index : int
+        ``last`` when the heading of every segment from ``first`` to ``last`` stays within
+        ``corner_angle`` of the first segment's; otherwise the start of the first segment
+        that does not.
+
+    """
+    if last - first < 2:
+        return last
+    steps = np.diff(path_xy[first:last + 1], axis=0)
+    headings = np.arctan2(steps[:, 1], steps[:, 0])
+    # A zero-length step has no heading of its own: it keeps the one before.
+    moving = np.hypot(steps[:, 0], steps[:, 1]) > 1e-9
+    headings = headings[np.maximum.accumulate(np.where(moving, np.arange(len(steps)), 0))]
+    turned = np.abs(np.angle(np.exp(1j * (headings - headings[0])))) > corner_angle
+    corners = np.flatnonzero(turned)
+    return first + int(corners[0]) if corners.shape[0] else last
