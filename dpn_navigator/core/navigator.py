@@ -91,12 +91,15 @@ class NavigatorConfig:
     no_path_retry_period : float
         While there is no path, plan again at most this often [s].
     forget_obstacles_after : float
-        After this long with no path [s], the obstacle cells (steady and mobile) that the
-        latest scan does not see are forgotten, set back to non-explored, and the robot plans
-        again; the cells the scan sees are labelled again at once, and those within
-        ``FORGET_KEEP_RADII`` safety radii (1.2 m) of the robot are kept. Without it, a wanderer
-        that blocked a corridor and then left it out of the laser's view (behind the robot,
-        round a corner) would block it for good. 0 turns it off: the paper's navigator.
+        After this long with no path [s], the mobile-obstacle cells that the latest scan does
+        not see are forgotten (set back to explored, which they were before something moved
+        into them) and the robot plans again; after as long again with still no path, every
+        obstacle cell out of view (steady too, as a wanderer first seen in unexplored space is
+        labelled steady) goes back to non-explored. The cells the scan sees are labelled again
+        at once, and those within ``FORGET_KEEP_RADII`` safety radii (1.2 m) of the robot are
+        kept. Without it, a wanderer that blocked a corridor and then left it out of the
+        laser's view (behind the robot, round a corner) would block it for good. 0 turns it
+        off: the paper's navigator.
     follower : FollowerConfig
         Speed limits and gains of the path follower.
 
@@ -188,6 +191,7 @@ class Navigator:
         self._next_retry = -math.inf
         self._replan_requested = False
         self._no_path_since = None
+        self._spell_forgets = 0
         self._last_scan = None
 
     def set_goal(self, x, y):
@@ -216,6 +220,7 @@ class Navigator:
         self.forgets = 0
         self._next_retry = -math.inf
         self._no_path_since = None
+        self._spell_forgets = 0
 
     def clear_goal(self):
         """Drop the goal; the robot stops."""
@@ -320,6 +325,7 @@ class Navigator:
                     self._no_path_since = stamp
                 return NavigatorOutput(STOP, self.status, self.reason, replanned)
             self._no_path_since = None
+            self._spell_forgets = 0
         command = follow_path(pose, self._path_xy, self.config.follower)
         if command.goal_reached:
             self.status = NavigatorStatus.GOAL_REACHED
@@ -374,10 +380,12 @@ class Navigator:
 
     def _forget_unseen_obstacles(self, pose):
         """
-        Set the obstacle cells back to non-explored, then fold the latest scan in again.
+        Forget obstacle cells, then fold the latest scan in again.
 
-        Cells within ``FORGET_KEEP_RADII`` safety radii of the robot are kept: the robot may
-        have to turn in place beside them before the laser sees them again.
+        The first time in a spell without a path, mobile obstacles go back to explored; after
+        that, every obstacle cell goes back to non-explored. Cells within
+        ``FORGET_KEEP_RADII`` safety radii of the robot are kept: the robot may have to turn in
+        place beside them before the laser sees them again.
         """
         labels = self.grid.labels
         geometry = self.grid.geometry
@@ -387,13 +395,17 @@ class Navigator:
         x_centres, y_centres = geometry.window_centres(rows, cols)
         near = np.hypot(x_centres[None, :] - pose[0], y_centres[:, None] - pose[1]) <= keep
         kept = labels[rows, cols].copy()
-        labels[blocked_mask(labels)] = CellLabel.NON_EXPLORED
+        if self._spell_forgets == 0:
+            labels[labels == CellLabel.MOBILE_OBSTACLE] = CellLabel.EXPLORED
+        else:
+            labels[blocked_mask(labels)] = CellLabel.NON_EXPLORED
         labels[rows, cols] = np.where(near, kept, labels[rows, cols])
         laser_pose, ranges, angle_min, angle_increment, range_min, range_max, angle_max = \
             self._last_scan
         self.grid.update(laser_pose, ranges, angle_min, angle_increment, range_min, range_max,
                          self.config.safety_radius, angle_max=angle_max)
         self.forgets += 1
+        self._spell_forgets += 1
 
     def _no_path(self, reason):
         self.path = None
