@@ -13,6 +13,8 @@
 #                importable
 #   make bench-ros  build, then python benchmarks/bench_ros.py: simulator real-time factor and
 #                the dpn node's scan-to-map latency over ROS 2
+#   make benchmark  build, then the paper's test protocol without ROS: dpn-benchmark
+#                $(BENCHMARK_ARGS) (default: --profile smoke --out out/benchmark; see its --help)
 #   make clean   remove build/ install/ log/;  make distclean  also removes .venv/
 #
 # Needs only python3.11 with its venv module (Debian/Ubuntu: apt-get install python3-venv; a
@@ -48,11 +50,12 @@ export ROS_DOMAIN_ID ?= 42
 COLCON := $(VENV_BIN)/colcon
 COLCON_BUILD_ARGS ?=
 BENCH_ARGS ?=
+BENCHMARK_ARGS ?= --profile smoke --out out/benchmark
 DEMO_ARGS ?=
 # Sets AMENT_PREFIX_PATH, PYTHONPATH and the rest for the installed package.
 SOURCE_INSTALL := source $(ROOT)/install/setup.bash
 
-.PHONY: setup build test demo bench bench-ros clean distclean help
+.PHONY: setup build test demo bench bench-ros benchmark clean distclean help
 
 help:
 	@sed -n '1,/^$$/s/^# \{0,1\}//p' $(ROOT)/Makefile
@@ -106,6 +109,10 @@ bench: build
 
 bench-ros: build
 	cd $(ROOT) && $(SOURCE_INSTALL) && python benchmarks/bench_ros.py
+
+benchmark: build
+	cd $(ROOT) && $(SOURCE_INSTALL) && \
+	  $(ROOT)/install/dpn_navigator/lib/dpn_navigator/dpn-benchmark $(BENCHMARK_ARGS)
 
 clean:
 	rm -rf $(ROOT)/build $(ROOT)/install $(ROOT)/log

@@ -10,6 +10,7 @@ or Ray); only ``wall_time`` may differ.
 
 import math
 import os
+from pathlib import Path
 import shutil
 import subprocess
 
@@ -115,6 +116,20 @@ def test_a_log_is_not_resumed_with_another_navigator(smoke_run):
     assert done.returncode == 2
     assert "holds a run with {'navigator': 'dpn'}" in done.stderr
     assert len(read_log(out / 'episodes.csv')) == 6
+
+
+def test_a_map_server_yaml_runs_with_drawn_tasks(tmp_path):
+    # A real map from ../shared/maps (not shipped with the package), when this checkout has it.
+    shared = Path(__file__).resolve().parents[2] / 'shared' / 'maps' / 'tb3_office_raw.yaml'
+    if not shared.is_file():
+        pytest.skip(f'{shared} is not here')
+    done = benchmark('--maps', str(shared), '--tasks', '0', '--wanderers', '0', '--no-progress',
+                     '--out', str(tmp_path))
+    assert done.returncode == 0, done.stderr
+    (row,) = read_log(tmp_path / 'episodes.csv')
+    assert row['map'] == str(shared) and row['number'] is None and row['family'] == ''
+    assert row['success'] == 1 and row['shortest_path'] > 0.0
+    assert '| tb3_office_raw |' in (tmp_path / 'summary.md').read_text()
 
 
 @pytest.mark.parametrize(('args', 'message'), [
