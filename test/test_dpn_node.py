@@ -10,9 +10,9 @@ from dpn_navigator.dpn_node import DpnNode
 from dpn_navigator.qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS
 from geometry_msgs.msg import PoseStamped, Twist
 from nav_msgs.msg import OccupancyGrid, Odometry
+from node_harness import executor_for, spin_until
 import numpy as np
 import pytest
-from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from scan_scenes import ANGLE_INCREMENT, ANGLE_MIN, RANGE_MIN, ray_cast
@@ -67,22 +67,8 @@ def nodes(ros_context):
                  Parameter('sensor_timeout', value=0.3)]
     dpn = DpnNode(context=ros_context, parameter_overrides=overrides)
     probe = Probe(ros_context)
-    executor = SingleThreadedExecutor(context=ros_context)
-    executor.add_node(dpn)
-    executor.add_node(probe)
-    yield dpn, probe, executor
-    executor.shutdown()
-    probe.destroy_node()
-    dpn.destroy_node()
-
-
-def spin_until(executor, condition, timeout=10.0):
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        executor.spin_once(timeout_sec=0.02)
-        if condition():
-            return True
-    return False
+    with executor_for(ros_context, dpn, probe) as executor:
+        yield dpn, probe, executor
 
 
 def wait_for_discovery(executor, probe):

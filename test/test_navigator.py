@@ -52,15 +52,21 @@ def config(**kwargs):
     return NavigatorConfig(width=12.0, height=12.0, **kwargs)
 
 
-@pytest.mark.parametrize('proximity_cost', [0.0, 1.0])
-def test_reaches_a_goal_behind_a_wall_without_touching_it(proximity_cost):
+def round_the_wall(proximity_cost):
+    """Drive from (2, 2) to (9, 2) round a wall with a gap at the top; return the navigator too."""
     occupied = walled_room()
-    add_box(occupied, 5.0, 0.0, 5.5, 8.0)            # a wall with a gap at the top
+    add_box(occupied, 5.0, 0.0, 5.5, 8.0)
     navigator = Navigator(config(obstacle_proximity_cost=proximity_cost))
     navigator.set_goal(9.0, 2.0)
     pose, outputs, clearance = drive(
         navigator, occupied, (2.0, 2.0, 0.0), 600,
         stop_when=lambda out: out.status is NavigatorStatus.GOAL_REACHED)
+    return navigator, pose, outputs, clearance
+
+
+@pytest.mark.parametrize('proximity_cost', [0.0, 1.0])
+def test_reaches_a_goal_behind_a_wall_without_touching_it(proximity_cost):
+    navigator, pose, outputs, clearance = round_the_wall(proximity_cost)
     assert outputs[-1].status is NavigatorStatus.GOAL_REACHED
     assert math.hypot(pose[0] - 9.0, pose[1] - 2.0) <= 0.3
     assert clearance > 0.35                          # the Husky's half width is 0.335 m
@@ -84,13 +90,7 @@ def test_touches_blocked_marks_free_8_neighbours_only():
 def test_proximity_cost_keeps_the_robot_farther_from_a_wall_end():
     clearances = []
     for proximity_cost in (0.0, 1.0):
-        occupied = walled_room()
-        add_box(occupied, 5.0, 0.0, 5.5, 8.0)
-        navigator = Navigator(config(obstacle_proximity_cost=proximity_cost))
-        navigator.set_goal(9.0, 2.0)
-        _, outputs, clearance = drive(
-            navigator, occupied, (2.0, 2.0, 0.0), 600,
-            stop_when=lambda out: out.status is NavigatorStatus.GOAL_REACHED)
+        _, _, outputs, clearance = round_the_wall(proximity_cost)
         assert outputs[-1].status is NavigatorStatus.GOAL_REACHED
         clearances.append(clearance)
     assert clearances[1] > clearances[0] + 0.2, clearances

@@ -8,8 +8,8 @@ from dpn_navigator.conversions import odometry_to_pose, velocity_to_twist
 from dpn_navigator.qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
+from node_harness import executor_for
 import pytest
-from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rosgraph_msgs.msg import Clock
@@ -39,13 +39,8 @@ def world(ros_context):
     node = PybulletWorldNode(context=ros_context, parameter_overrides=[
         Parameter('wanderers', value=1), Parameter('real_time_factor', value=5.0)])
     probe = Probe(ros_context)
-    executor = SingleThreadedExecutor(context=ros_context)
-    executor.add_node(node)
-    executor.add_node(probe)
-    yield node, probe, executor
-    executor.shutdown()
-    probe.destroy_node()
-    node.destroy_node()
+    with executor_for(ros_context, node, probe) as executor:
+        yield node, probe, executor
 
 
 def spin_for(executor, sim_node, simulated, publish=None):

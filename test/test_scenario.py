@@ -23,7 +23,10 @@ from sim_bridge.scenario import INDEX_PATH, load_index, load_scenario, scenario_
 from sim_bridge.scenarios.generate import write_scenarios
 from sim_bridge.tasks import DEFAULT_TASK_CLEARANCE, draw_tasks
 
-SHARED_MAPS = Path('/work/shared/maps')
+# The real maps beside the checkout (../shared/maps), read when present, never shipped.
+SHARED_MAPS = next((folder for folder in (Path(__file__).resolve().parents[2] / 'shared' / 'maps',
+                                          Path('/work/shared/maps')) if folder.is_dir()),
+                   Path('/work/shared/maps'))
 SCENARIOS = INDEX_PATH.parent
 
 # A 3 x 4 image, row 0 at the top: black (0) is a wall, white (254) free, grey (205) unknown.

@@ -125,6 +125,10 @@ def astar(blocked, start, goal, cell_cost=None, cut_corners=True):
         extra = memoryview(np.ldexp(np.round(np.ldexp(extra_cost, bits)), -bits).ravel())
         return _search_with_cell_cost(start, goal, cols, ortho_mask, diag_mask, ortho_moves,
                                       diag_moves, diag_cost, heuristic, extra)
+    # Without cell costs the loop below runs on its own: folding it into
+    # `_search_with_cell_cost` with zero costs made it about 20 % slower (200x200, corner to
+    # corner: 9.6 against 8.0 ms on random obstacles, 9.0 against 7.3 ms in a maze), and the
+    # wanderers of the simulator plan with it on every walk.
 
     source = start[0] * cols + start[1]
     target = goal[0] * cols + goal[1]
