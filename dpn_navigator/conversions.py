@@ -18,6 +18,8 @@ from std_msgs.msg import ColorRGBA
 from visualization_msgs.msg import Marker
 
 from .core.cell_label import OCCUPANCY_VALUE
+from .core.pose2d import quaternion_yaw
+from .core.scan_polygon import check_pose
 
 
 def yaw_to_quaternion(yaw):
@@ -32,15 +34,11 @@ def quaternion_to_yaw(quaternion):
     Raises
     ------
     ValueError
-        When a component is not finite or the quaternion is (nearly) zero.
+        When a component is not finite or the quaternion is not of unit length (see
+        ``core.pose2d.quaternion_yaw``).
 
     """
-    x, y, z, w = quaternion.x, quaternion.y, quaternion.z, quaternion.w
-    if not all(math.isfinite(v) for v in (x, y, z, w)):
-        raise ValueError('orientation has a non-finite component')
-    if x * x + y * y + z * z + w * w < 1e-12:
-        raise ValueError('orientation is a zero quaternion')
-    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+    return quaternion_yaw(quaternion.x, quaternion.y, quaternion.z, quaternion.w)
 
 
 def odometry_to_pose(msg):
@@ -55,13 +53,15 @@ def odometry_to_pose(msg):
     Raises
     ------
     ValueError
-        When the position or orientation is not finite.
+        When the position or orientation is not finite, the orientation not a unit
+        quaternion, or the position beyond any map (``core.scan_polygon.check_pose``).
 
     """
     position = msg.pose.pose.position
     if not (math.isfinite(position.x) and math.isfinite(position.y)):
         raise ValueError('odometry position is not finite')
-    return (position.x, position.y, quaternion_to_yaw(msg.pose.pose.orientation))
+    return check_pose((position.x, position.y, quaternion_to_yaw(msg.pose.pose.orientation)),
+                      'odometry pose')
 
 
 def pose_to_odometry(pose, velocity, stamp, frame_id='map', child_frame_id='base_link'):

@@ -9,8 +9,9 @@ latched), ``/compabot/cmd_vel`` (``geometry_msgs/Twist``), ``/compabot/odom_real
 (``visualization_msgs/MarkerArray``: planned path red, executed path yellow, goal green) and
 ``/compabot/status`` (``diagnostic_msgs/DiagnosticStatus``, latched: status, reason, counters).
 
-Malformed scans, odometry and goals are rejected, counted and warned about (throttled); the node
-keeps running. When scans or odometry are older than ``sensor_timeout`` the robot is stopped.
+Malformed scans, odometry, goals and ``/clock`` messages are rejected, counted and warned about
+(throttled); the node keeps running. When scans or odometry are older than ``sensor_timeout`` on
+the node clock or on the steady wall clock, the robot is stopped (docs/safety.md).
 
 """
 
@@ -23,6 +24,8 @@ from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
 from geometry_msgs.msg import PoseStamped, Twist
 from nav_msgs.msg import OccupancyGrid, Odometry
 import numpy as np
+from rclpy.clock import Clock, ClockType
+from rclpy.duration import Duration
 from rclpy.node import Node
 from sensor_msgs.msg import LaserScan
 from visualization_msgs.msg import MarkerArray
@@ -30,13 +33,18 @@ from visualization_msgs.msg import MarkerArray
 from .conversions import (labels_to_occupancy_grid, laser_scan_fields, line_strip_marker,
                           odometry_to_pose, pose_to_odometry, sphere_marker,
                           velocity_to_twist)
+from .cmd_vel_monitor import CommandTopicMonitor
 from .core import Navigator, NavigatorStatus
 from .core.scan_polygon import check_scan
 from .dpn_params import declare_parameters
 from .qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS
+from .safety_params import declare_safety_parameters
+from .sensor_watchdog import SensorWatchdog
+from .sim_clock import guard_clock
 from .spin import run_node
 
-WATCHDOG_PERIOD = 0.05          # [s]
+WATCHDOG_PERIOD = 0.02          # steady clock [s]: first zero command <= sensor_timeout + this
+STOP_ACK_TIMEOUT = 0.2          # wait this long for the last zero command's delivery [s]
 WARN_THROTTLE = 2.0             # [s]
 TRAIL_STEP = 0.05               # executed-path points at least this far apart [m]
 TRAIL_MAX_POINTS = 20000
@@ -52,12 +60,14 @@ class DpnNode(Node):
     def __init__(self, **node_kwargs):
         super().__init__('dpn', **node_kwargs)
         self.params = declare_parameters(self)
+        self.limits = declare_safety_parameters(self)
         self.navigator = Navigator(self.params.navigator)
-        self.rejected = {'scan': 0, 'odometry': 0, 'goal': 0}
+        self.rejected = {'scan': 0, 'odometry': 0, 'goal': 0, 'clock': 0}
+        self.watchdog = SensorWatchdog(self.params.sensor_timeout, ('scan', 'odometry'))
+        self.steady_clock = Clock(clock_type=ClockType.STEADY_TIME)
+        self.cmd_vel_monitor = CommandTopicMonitor()
         self.pose = None
         self.velocity = (0.0, 0.0)
-        self.last_scan_time = None
-        self.last_odom_time = None
         self.last_map_time = None
         self.last_marker_time = -math.inf
         self.scan_to_map_ms = deque(maxlen=LATENCY_WINDOW)
@@ -73,8 +83,10 @@ class DpnNode(Node):
         self.create_subscription(LaserScan, '/compabot/scan', self.on_scan, SENSOR_QOS)
         self.create_subscription(Odometry, '/compabot/odom', self.on_odom, SENSOR_QOS)
         self.create_subscription(PoseStamped, '/compabot/goal_pose', self.on_goal, COMMAND_QOS)
-        self.create_timer(WATCHDOG_PERIOD, self.on_watchdog)
-        self.create_timer(STATUS_PERIOD, self.publish_status)
+        # On the steady clock: they run when /clock stops.
+        self.create_timer(WATCHDOG_PERIOD, self.on_watchdog, clock=self.steady_clock)
+        self.create_timer(STATUS_PERIOD, self.on_status_timer, clock=self.steady_clock)
+        guard_clock(self, lambda error: self.reject('clock', error))
         if self.params.goal is not None:
             self.set_goal(*self.params.goal)
         self.publish_status()
@@ -86,6 +98,10 @@ class DpnNode(Node):
     def now_seconds(self):
         """Return the node clock's time [s] (simulated time when use_sim_time is set)."""
         return self.get_clock().now().nanoseconds * 1e-9
+
+    def steady_seconds(self):
+        """Return the steady (monotonic wall) clock's time [s]."""
+        return self.steady_clock.now().nanoseconds * 1e-9
 
     def reject(self, kind, error):
         """Count a rejected message and warn, throttled."""
@@ -123,7 +139,7 @@ class DpnNode(Node):
             return
         self.pose = pose
         self.velocity = velocity if all(math.isfinite(v) for v in velocity) else (0.0, 0.0)
-        self.last_odom_time = self.now_seconds()
+        self.watchdog.heard('odometry', self.now_seconds(), self.steady_seconds())
         if self.navigator.goal is not None and (
                 not self.trail or math.dist(self.trail[-1], pose[:2]) >= TRAIL_STEP):
             self.trail.append(pose[:2])
@@ -133,6 +149,10 @@ class DpnNode(Node):
         """Fold the scan into the map, decide the command, publish."""
         received = time.perf_counter()
         now = self.now_seconds()
+        if len(msg.ranges) > self.limits.max_beams:
+            self.reject('scan', f'{len(msg.ranges)} beams, more than max_beams '
+                                f'{self.limits.max_beams}')
+            return
         fields = laser_scan_fields(msg)
         try:
             if self.pose is None:
@@ -145,7 +165,7 @@ class DpnNode(Node):
         except ValueError as error:
             self.reject('scan', error)
             return
-        self.last_scan_time = now
+        self.watchdog.heard('scan', now, self.steady_seconds())
         stamp = msg.header.stamp
         # The map first: it is ready now, and planning can take longer.
         if (self.last_map_time is None
@@ -155,7 +175,7 @@ class DpnNode(Node):
             self.last_map_time = now
             self.scan_to_map_ms.append(1e3 * (time.perf_counter() - received))
         out = self.navigator.decide(now, self.pose)
-        if not self.sensors_stale(now):
+        if not self.watchdog.is_stale(self.now_seconds(), self.steady_seconds()):
             self.cmd_pub.publish(velocity_to_twist(out.command.linear, out.command.angular))
         self.odom_real_pub.publish(pose_to_odometry(self.pose, self.velocity, stamp))
         status_changed = out.status is not self.last_status
@@ -197,7 +217,8 @@ class DpnNode(Node):
         msg.message = 'sensors stale' if self.stale else status.value
         goal = self.navigator.goal
         values = {
-            'status': status.value, 'reason': self.navigator.reason,
+            'status': 'sensors_stale' if self.stale else status.value,
+            'reason': self.navigator.reason,
             'replans': self.navigator.replans,
             'forgets': self.navigator.forgets,
             'goal_x': '' if goal is None else f'{goal[0]:.3f}',
@@ -205,7 +226,10 @@ class DpnNode(Node):
             'rejected_scans': self.rejected['scan'],
             'rejected_odometry': self.rejected['odometry'],
             'rejected_goals': self.rejected['goal'],
+            'rejected_clock': self.rejected['clock'],
             'sensors_stale': self.stale,
+            'cmd_vel_other_publishers': self.cmd_vel_monitor.others,
+            'cmd_vel_conflicts': self.cmd_vel_monitor.conflicts,
             # Wall time from the scan callback's start to the map's publication [ms].
             'scan_to_map_ms_median': (f'{statistics.median(self.scan_to_map_ms):.3f}'
                                       if self.scan_to_map_ms else ''),
@@ -213,25 +237,34 @@ class DpnNode(Node):
         msg.values = [KeyValue(key=k, value=str(v)) for k, v in values.items()]
         self.status_pub.publish(msg)
 
-    def sensors_stale(self, now):
-        """Tell whether the latest scan or odometry is older than ``sensor_timeout``."""
-        timeout = self.params.sensor_timeout
-        return any(last is None or now - last > timeout or now < last
-                   for last in (self.last_scan_time, self.last_odom_time))
-
     def on_watchdog(self):
-        """Stop the robot while scans or odometry are stale."""
-        stale = self.sensors_stale(self.now_seconds())
+        """Stop the robot while scans or odometry are stale on either clock."""
+        stale = self.watchdog.stale_streams(self.now_seconds(), self.steady_seconds())
         if stale:
             self.cmd_pub.publish(velocity_to_twist(0.0, 0.0))
             if self.navigator.goal is not None:
-                self.get_logger().warning('scan or odometry stale: stopping',
+                self.get_logger().warning(f'{" and ".join(stale)} stale: stopping',
                                           throttle_duration_sec=WARN_THROTTLE)
-        if stale != self.stale:
-            self.stale = stale
+        if bool(stale) != self.stale:
+            self.stale = bool(stale)
             self.publish_status()
+
+    def on_status_timer(self):
+        """Look for another publisher on the command topic; refresh the status."""
+        topic = self.cmd_pub.topic_name
+        if self.cmd_vel_monitor.check(self.count_publishers(topic)):
+            self.get_logger().warning(
+                f'{self.cmd_vel_monitor.others} other publisher(s) on {topic}: another node '
+                'is commanding this robot', throttle_duration_sec=10.0 * WARN_THROTTLE)
+        self.publish_status()
+
+    def destroy_node(self):
+        """Send a zero command (waiting briefly for its delivery), then destroy the node."""
+        self.cmd_pub.publish(velocity_to_twist(0.0, 0.0))
+        self.cmd_pub.wait_for_all_acked(Duration(seconds=STOP_ACK_TIMEOUT))
+        return super().destroy_node()
 
 
 def main(args=None):
     """Run the ``dpn`` node: ``ros2 run dpn_navigator dpn``."""
-    run_node(DpnNode, args)
+    return run_node(DpnNode, args)

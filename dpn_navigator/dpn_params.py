@@ -11,9 +11,12 @@ import math
 
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
 
-from .core import FollowerConfig, NavigatorConfig
+from .core import FollowerConfig, GridGeometry, NavigatorConfig
 
 BIG = 1e6   # bound of the "any value" ranges [m]
+#: Most grid cells a node may ask for (2048 x 2048): the grid and A*'s arrays stay in memory and
+#: one plan in seconds. More is a parameter error, not a MemoryError in numpy.
+MAX_GRID_CELLS = 2048 * 2048
 
 # name: (default, description, (low, high), read_only)
 FLOAT_PARAMETERS = {
@@ -46,8 +49,8 @@ FLOAT_PARAMETERS = {
     'laser_x': (0.0, 'Laser position on the base, forward [m].', (-10.0, 10.0), True),
     'laser_y': (0.0, 'Laser position on the base, left [m].', (-10.0, 10.0), True),
     'laser_yaw': (0.0, 'Laser heading on the base [rad].', (-math.pi, math.pi), True),
-    'sensor_timeout': (0.5, 'Stop the robot when scan or odometry is older than this [s].',
-                       (0.01, 60.0), True),
+    'sensor_timeout': (0.4, 'Stop the robot when scan or odometry is older than this [s], on '
+                       'the node clock or the steady clock.', (0.01, 60.0), True),
     'map_publish_period': (0.0, 'Publish the map at most this often [s]; 0: every scan.',
                            (0.0, 60.0), True),
 }
@@ -74,7 +77,8 @@ def declare_parameters(node):
     Raises
     ------
     ValueError
-        When the values do not make a valid navigator configuration.
+        When the values do not make a valid navigator configuration, or a grid of more than
+        ``MAX_GRID_CELLS`` cells.
 
     """
     values = {}
@@ -84,6 +88,7 @@ def declare_parameters(node):
             descriptor.floating_point_range = [
                 FloatingPointRange(from_value=bounds[0], to_value=bounds[1], step=0.0)]
         values[name] = float(node.declare_parameter(name, default, descriptor).value)
+    check_grid_size(values['map_width'], values['map_height'], values['resolution'])
     follower = FollowerConfig(
         max_linear_speed=values['max_linear_speed'],
         max_angular_speed=values['max_angular_speed'],
@@ -102,3 +107,27 @@ def declare_parameters(node):
         goal = (values['goal_x'], values['goal_y'])
     return DpnParameters(navigator, goal, values['sensor_timeout'],
                          values['map_publish_period'])
+
+
+def check_grid_size(width, height, resolution):
+    """
+    Refuse a grid of more than ``MAX_GRID_CELLS`` cells before anything is allocated.
+
+    Parameters
+    ----------
+    width, height, resolution : float
+        The ``map_width``, ``map_height`` and ``resolution`` parameters [m].
+
+    Raises
+    ------
+    ValueError
+        Naming the parameters and the cell count.
+
+    """
+    geometry = GridGeometry(width, height, resolution)
+    cells = geometry.rows * geometry.cols
+    if cells > MAX_GRID_CELLS:
+        raise ValueError(
+            f'map_width {width:g} m x map_height {height:g} m at resolution {resolution:g} m '
+            f'is {geometry.cols} x {geometry.rows} = {cells:,} cells, more than '
+            f'{MAX_GRID_CELLS:,}: use a coarser resolution or a smaller map')

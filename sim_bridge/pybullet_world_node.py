@@ -26,6 +26,7 @@ from builtin_interfaces.msg import Time
 from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
 from dpn_navigator.conversions import make_laser_scan, pose_to_odometry, twist_to_velocity
 from dpn_navigator.qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS
+from dpn_navigator.sim_clock import guard_clock
 from dpn_navigator.spin import run_node
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
@@ -112,6 +113,9 @@ class PybulletWorldNode(Node):
         self.wanderer_pub = self.create_publisher(MarkerArray, '/sim/wanderers', COMMAND_QOS)
         self.create_subscription(Twist, '/compabot/cmd_vel', self.on_cmd_vel, COMMAND_QOS)
         self.create_timer(1.0 / (physics_rate * self.real_time_factor), self.on_tick)
+        # Only with use_sim_time (another simulator's /clock): a bad /clock must not end it.
+        guard_clock(self, lambda error: self.get_logger().warning(
+            f'ignored /clock: {error}', throttle_duration_sec=WARN_THROTTLE))
         self.get_logger().info(
             f'{scenario.name}: task {task}, start {start}, goal {self.goal}, '
             f'{wanderers} wanderers, real-time factor {self.real_time_factor}')
@@ -202,4 +206,4 @@ class PybulletWorldNode(Node):
 
 def main(args=None):
     """Run the ``pybullet_world`` node: ``ros2 run sim_bridge pybullet_world``."""
-    run_node(PybulletWorldNode, args)
+    return run_node(PybulletWorldNode, args)

@@ -193,6 +193,7 @@ class Navigator:
         self._no_path_since = None
         self._spell_forgets = 0
         self._last_scan = None
+        self._last_stamp = None
 
     def set_goal(self, x, y):
         """
@@ -303,8 +304,23 @@ class Navigator:
 
         """
         pose = check_pose(pose)
+        self._follow_clock(stamp)
         replan, self._replan_requested = self._replan_requested, False
         return self._decide(stamp, pose, replan)
+
+    def _follow_clock(self, stamp):
+        """
+        Restart the no-path retry and forget timers when time goes backwards.
+
+        Simulated time jumps back when the simulator restarts; a retry time or a no-path start
+        kept from the old clock would hold the navigator without a plan until the new clock
+        caught up with it.
+        """
+        if self._last_stamp is not None and stamp < self._last_stamp:
+            self._next_retry = -math.inf
+            if self._no_path_since is not None:
+                self._no_path_since = stamp
+        self._last_stamp = stamp
 
     def _decide(self, stamp, pose, replan_flag):
         if self.goal is None:

@@ -24,6 +24,10 @@ import numpy as np
 #: Slack on the full-turn check [rad], for drivers that round ``angle_increment``.
 _FULL_TURN_SLACK = 1e-6
 
+#: Largest accepted ``|x|`` and ``|y|`` of a pose [m]. A position farther out is no robot's (a
+#: million kilometres), and cell arithmetic on it would overflow (``9e307 / 0.5`` is ``inf``).
+MAX_POSE_COORDINATE = 1e9
+
 
 @dataclass(frozen=True)
 class ScanPoints:
@@ -63,7 +67,8 @@ def check_pose(pose, name='pose'):
     Raises
     ------
     ValueError
-        When the pose does not have three finite entries.
+        When the pose does not have three finite entries, or ``|x|`` or ``|y|`` exceeds
+        ``MAX_POSE_COORDINATE``.
 
     """
     values = np.asarray(pose, dtype=np.float64)
@@ -71,6 +76,9 @@ def check_pose(pose, name='pose'):
         raise ValueError(f'{name} must be (x, y, yaw), got shape {values.shape}')
     if not np.all(np.isfinite(values)):
         raise ValueError(f'{name} must be finite, got {tuple(values.tolist())}')
+    if max(abs(values[0]), abs(values[1])) > MAX_POSE_COORDINATE:
+        raise ValueError(f'{name} position ({values[0]:.3g}, {values[1]:.3g}) m is beyond '
+                         f'+-{MAX_POSE_COORDINATE:.0e} m')
     return float(values[0]), float(values[1]), float(values[2])
 
 
