@@ -1,0 +1,154 @@
+"""
+Fuzz both nodes in this process: hypothesis draws every field of every message they take in.
+
+The messages go to the callbacks the executor would call (``/clock`` through the node's own
+time source), so an exception fails the test at the message that raised it. After each message
+the test checks that the node either took it (its state shows the message) or counted exactly
+one rejection, and that everything published so far is sane: finite commands within the speed
+limits, map values in {-1, 0, 70, 100}. The nine cases the DDS attack found are replayed first
+by ``test_safety_cases.py``; here they are among the drawn values (``NASTY_FLOATS``).
+"""
+
+import math
+
+from builtin_interfaces.msg import Time
+from dpn_navigator.conversions import make_laser_scan, pose_to_odometry
+from dpn_navigator.dpn_node import DpnNode
+from hypothesis import given, HealthCheck, settings
+from hypothesis.stateful import (invariant, rule, RuleBasedStateMachine,
+                                 run_state_machine_as_test)
+from message_strategies import clocks, dpn_messages, twists
+import numpy as np
+import pytest
+from rclpy.parameter import Parameter
+from scan_scenes import ANGLE_INCREMENT, ANGLE_MIN, RANGE_MIN
+from sim_bridge.pybullet_world_node import PybulletWorldNode
+
+MAX_LINEAR, MAX_ANGULAR = 1.0, 1.5         # the dpn node's and the Husky's defaults
+MAP_VALUES = {-1, 0, 70, 100}
+#: 60 sequences of up to 40 messages: about 2,000 messages to the dpn node.
+DPN_FUZZ_SETTINGS = settings(max_examples=60, stateful_step_count=40,
+                             suppress_health_check=list(HealthCheck))
+WORLD_EXAMPLES = 300
+
+
+class Recorder:
+    """Record what a publisher publishes, and publish it."""
+
+    def __init__(self, publisher):
+        self.messages = []
+        self._publish = publisher.publish
+        publisher.publish = self.publish
+
+    def publish(self, msg):
+        self.messages.append(msg)
+        self._publish(msg)
+
+
+def check_commands(recorder):
+    for msg in recorder.messages:
+        values = (msg.linear.x, msg.linear.y, msg.linear.z, msg.angular.x, msg.angular.y,
+                  msg.angular.z)
+        assert all(math.isfinite(v) for v in values), msg
+        assert abs(msg.linear.x) <= MAX_LINEAR and abs(msg.angular.z) <= MAX_ANGULAR, msg
+    recorder.messages.clear()
+
+
+def check_maps(recorder):
+    for msg in recorder.messages:
+        assert len(msg.data) == msg.info.width * msg.info.height
+        assert set(np.unique(np.frombuffer(msg.data, np.int8)).tolist()) <= MAP_VALUES
+    recorder.messages.clear()
+
+
+def good_scan():
+    ranges = np.full(640, 4.0, dtype=np.float32)
+    return make_laser_scan(ranges, ANGLE_MIN, ANGLE_INCREMENT, RANGE_MIN, 10.0, Time())
+
+
+class DpnFuzz(RuleBasedStateMachine):
+    """Any sequence of scans, odometry, goals and /clock messages, sane ones interleaved."""
+
+    node = cmd = map = None         # set by the test: one node for every sequence
+
+    @rule(message=dpn_messages)
+    def deliver(self, message):
+        node = self.node
+        kind, msg = message
+        before = dict(node.rejected)
+        if kind == 'scan':
+            heard = node.watchdog._last['scan']
+            node.on_scan(msg)
+            took = node.watchdog._last['scan'] is not heard or node.pose is None
+        elif kind == 'odometry':
+            node.on_odom(msg)
+            position = msg.pose.pose.position
+            took = node.pose is not None and node.pose[:2] == (position.x, position.y)
+        elif kind == 'goal':
+            node.on_goal(msg)
+            took = node.navigator.goal == (msg.pose.position.x, msg.pose.position.y)
+        else:
+            node._time_source.clock_callback(msg)
+            expected = msg.clock.sec * 10**9 + msg.clock.nanosec
+            took = node.get_clock().now().nanoseconds == expected
+        counted = node.rejected[kind] - before[kind]
+        assert (took, counted) in ((True, 0), (False, 1)), (kind, msg, counted)
+        assert all(node.rejected[k] == before[k] for k in before if k != kind)
+
+    @rule()
+    def sane_step(self):
+        """A valid odometry and scan: the navigator maps, plans and commands."""
+        node = self.node
+        node.on_odom(pose_to_odometry((6.0, 6.0, 0.3), (0.0, 0.0), Time()))
+        node.on_scan(good_scan())
+        assert node.pose == pytest.approx((6.0, 6.0, 0.3))
+
+    @rule()
+    def watchdog(self):
+        self.node.on_watchdog()
+
+    @invariant()
+    def published_only_sane_values(self):
+        check_commands(self.cmd)
+        check_maps(self.map)
+
+
+def test_dpn_node_survives_any_message_and_counts_each_rejection(ros_context):
+    overrides = [Parameter('map_width', value=12.0), Parameter('map_height', value=12.0),
+                 Parameter('goal_x', value=10.0), Parameter('goal_y', value=6.0),
+                 Parameter('use_sim_time', value=True)]
+    node = DpnNode(context=ros_context, parameter_overrides=overrides)
+    DpnFuzz.node, DpnFuzz.cmd, DpnFuzz.map = node, Recorder(node.cmd_pub), Recorder(node.map_pub)
+    try:
+        run_state_machine_as_test(DpnFuzz, settings=DPN_FUZZ_SETTINGS)
+        assert sum(node.rejected.values()) > 100, node.rejected
+        assert node.navigator.replans > 0
+    finally:
+        DpnFuzz.node = DpnFuzz.cmd = DpnFuzz.map = None
+        node.destroy_node()
+
+
+def test_world_node_survives_any_command_and_clock(ros_context):
+    world = PybulletWorldNode(context=ros_context, parameter_overrides=[
+        Parameter('wanderers', value=1), Parameter('use_sim_time', value=True)])
+    delivered = []
+
+    @settings(max_examples=WORLD_EXAMPLES, suppress_health_check=list(HealthCheck))
+    @given(twists(), clocks())
+    def deliver(twist, clock):
+        before = world.world.rejected_commands
+        world.on_cmd_vel(twist)
+        world._time_source.clock_callback(clock)
+        finite = math.isfinite(twist.linear.x) and math.isfinite(twist.angular.z)
+        assert world.world.rejected_commands - before == (0 if finite else 1)
+        world.on_tick()
+        v, omega = world.world.husky_velocity
+        assert math.isfinite(v) and math.isfinite(omega)
+        assert abs(v) <= MAX_LINEAR + 1e-9 and abs(omega) <= MAX_ANGULAR + 1e-9
+        delivered.append(twist)
+
+    try:
+        deliver()
+    finally:
+        world.destroy_node()
+    assert len(delivered) == WORLD_EXAMPLES
