@@ -1,0 +1,82 @@
+"""
+SIGINT and SIGTERM end both node processes cleanly, busy or not: exit code 0, no traceback.
+
+Ten world + navigator pairs (five at a time, all in this test's domain, so every navigator
+hears scans and every world commands) run for a moment; then each process gets SIGINT or
+SIGTERM, once or twice in a row as an impatient Ctrl-C does: ten processes each signal.
+"""
+
+import os
+from pathlib import Path
+import signal
+import subprocess
+import time
+
+from dpn_navigator.demo import installed_executable, ros_environment, start_nodes, stop_nodes
+
+PAIRS_PER_BATCH = 5
+BATCHES = 2
+READY = {'dpn': 'dpn ready', 'pybullet_world': 'real-time factor'}
+BUSY_TIME = 1.5             # [s] of callbacks after both nodes are ready
+EXIT_TIMEOUT = 10.0         # [s]
+
+
+def wait_ready(pairs, timeout=60.0):
+    deadline = time.monotonic() + timeout
+    logs = [(Path(log_dir) / f'{name}.log', marker) for log_dir, _ in pairs
+            for name, marker in READY.items()]
+    while time.monotonic() < deadline:
+        if all(path.exists() and marker in path.read_text() for path, marker in logs):
+            return
+        time.sleep(0.1)
+    raise AssertionError(f'nodes not ready after {timeout} s: '
+                         + '; '.join(path.read_text()[-500:] for path, _ in logs))
+
+
+def test_sigint_and_sigterm_end_busy_nodes_cleanly(ros_domain_id, tmp_path):
+    outcomes = []
+    for batch in range(BATCHES):
+        pairs = []
+        try:
+            for index in range(PAIRS_PER_BATCH):
+                log_dir = tmp_path / f'batch{batch}_pair{index}'
+                _, processes = start_nodes('back_and_forth', 0, 3, index, 2.0, ros_domain_id,
+                                           log_dir)
+                pairs.append((log_dir, processes))
+            wait_ready(pairs)
+            time.sleep(BUSY_TIME)
+            signalled = []
+            for index, (log_dir, processes) in enumerate(pairs):
+                first = signal.SIGINT if index % 2 == 0 else signal.SIGTERM
+                second = signal.SIGTERM if first == signal.SIGINT else signal.SIGINT
+                for name, signum in (('dpn', first), ('pybullet_world', second)):
+                    process = processes[name]
+                    os.killpg(process.pid, signum)         # as launch signals a group
+                    if batch == 1:
+                        time.sleep(0.02)
+                        os.killpg(process.pid, signum)     # Ctrl-C pressed twice
+                    signalled.append((log_dir / f'{name}.log', signum, process))
+            for log, signum, process in signalled:
+                code = process.wait(EXIT_TIMEOUT)
+                outcomes.append((signum, code, log.read_text()))
+        finally:
+            for _, processes in pairs:
+                stop_nodes(processes)
+    assert len(outcomes) == 2 * BATCHES * PAIRS_PER_BATCH
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        assert sum(1 for s, _, _ in outcomes if s == signum) >= 10
+    for signum, code, text in outcomes:
+        assert code == 0, (signum, code, text[-2000:])
+        assert 'Traceback' not in text and 'Error' not in text, (signum, text[-2000:])
+        assert f'{signal.Signals(signum).name}: stopping' in text, text[-2000:]
+
+
+def test_absurd_grid_parameters_end_in_one_error_line(ros_domain_id):
+    command = [str(installed_executable('dpn_navigator', 'dpn')), '--ros-args',
+               '-p', 'map_width:=1000000.0', '-p', 'resolution:=0.01']
+    result = subprocess.run(command, env=ros_environment(ros_domain_id), capture_output=True,
+                            text=True, timeout=60)
+    output = result.stdout + result.stderr
+    assert result.returncode == 1, output
+    assert 'cannot start' in output and 'use a coarser resolution' in output, output
+    assert 'Traceback' not in output and 'MemoryError' not in output, output
