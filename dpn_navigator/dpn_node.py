@@ -39,7 +39,7 @@ from .core.scan_polygon import check_scan
 from .dpn_params import declare_parameters
 from .qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS
 from .safety_params import declare_safety_parameters
-from .sensor_watchdog import SensorWatchdog
+from .sensor_watchdog import SensorWatchdog, steady_arrival_time
 from .sim_clock import guard_clock
 from .spin import run_node
 
@@ -80,8 +80,11 @@ class DpnNode(Node):
         self.marker_pub = self.create_publisher(MarkerArray, '/compabot/marker', LATCHED_QOS)
         self.status_pub = self.create_publisher(DiagnosticStatus, '/compabot/status',
                                                 LATCHED_QOS)
-        self.create_subscription(LaserScan, '/compabot/scan', self.on_scan, SENSOR_QOS)
-        self.create_subscription(Odometry, '/compabot/odom', self.on_odom, SENSOR_QOS)
+        # With the message info, so that the watchdog dates a message by its arrival.
+        self.create_subscription(LaserScan, '/compabot/scan',
+                                 lambda msg, info: self.on_scan(msg, info), SENSOR_QOS)
+        self.create_subscription(Odometry, '/compabot/odom',
+                                 lambda msg, info: self.on_odom(msg, info), SENSOR_QOS)
         self.create_subscription(PoseStamped, '/compabot/goal_pose', self.on_goal, COMMAND_QOS)
         # On the steady clock: they run when /clock stops.
         self.create_timer(WATCHDOG_PERIOD, self.on_watchdog, clock=self.steady_clock)
@@ -102,6 +105,11 @@ class DpnNode(Node):
     def steady_seconds(self):
         """Return the steady (monotonic wall) clock's time [s]."""
         return self.steady_clock.now().nanoseconds * 1e-9
+
+    def arrival_seconds(self, info):
+        """Return the steady-clock time [s] a message arrived at, from its ``MessageInfo``."""
+        received = None if info is None else info.get('received_timestamp')
+        return steady_arrival_time(self.steady_seconds(), time.time_ns(), received)
 
     def reject(self, kind, error):
         """Count a rejected message and warn, throttled."""
@@ -129,7 +137,7 @@ class DpnNode(Node):
             return
         self.set_goal(msg.pose.position.x, msg.pose.position.y)
 
-    def on_odom(self, msg):
+    def on_odom(self, msg, info=None):
         """Keep the latest finite base pose and extend the executed path."""
         try:
             pose = odometry_to_pose(msg)
@@ -139,13 +147,13 @@ class DpnNode(Node):
             return
         self.pose = pose
         self.velocity = velocity if all(math.isfinite(v) for v in velocity) else (0.0, 0.0)
-        self.watchdog.heard('odometry', self.now_seconds(), self.steady_seconds())
+        self.watchdog.heard('odometry', self.now_seconds(), self.arrival_seconds(info))
         if self.navigator.goal is not None and (
                 not self.trail or math.dist(self.trail[-1], pose[:2]) >= TRAIL_STEP):
             self.trail.append(pose[:2])
             del self.trail[:-TRAIL_MAX_POINTS]
 
-    def on_scan(self, msg):
+    def on_scan(self, msg, info=None):
         """Fold the scan into the map, decide the command, publish."""
         received = time.perf_counter()
         now = self.now_seconds()
@@ -165,7 +173,7 @@ class DpnNode(Node):
         except ValueError as error:
             self.reject('scan', error)
             return
-        self.watchdog.heard('scan', now, self.steady_seconds())
+        self.watchdog.heard('scan', now, self.arrival_seconds(info))
         stamp = msg.header.stamp
         # The map first: it is ready now, and planning can take longer.
         if (self.last_map_time is None

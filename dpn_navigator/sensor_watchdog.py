@@ -81,3 +81,33 @@ class SensorWatchdog:
     def is_stale(self, clock_time, steady_time):
         """Tell whether any stream is stale now (see ``stale_streams``)."""
         return bool(self.stale_streams(clock_time, steady_time))
+
+
+def steady_arrival_time(steady_now, system_now_ns, received_ns):
+    """
+    Steady-clock time at which a message reached this host.
+
+    rmw stamps each message on arrival with the system clock (``MessageInfo``'s
+    ``received_timestamp``). A node that is busy takes queued messages late; dating them by
+    their arrival rather than by the callback keeps a backlog from looking fresh.
+
+    Parameters
+    ----------
+    steady_now : float
+        The steady clock now [s].
+    system_now_ns : int
+        The system clock now [ns].
+    received_ns : int or None
+        The message's arrival on the system clock [ns]; None or 0 when unknown.
+
+    Returns
+    -------
+    float
+        ``steady_now`` less the message's age, the age clipped to ``[0, 60]`` s against system
+        clock steps [s].
+
+    """
+    if not received_ns:
+        return steady_now
+    age = min(max((system_now_ns - received_ns) * 1e-9, 0.0), 60.0)
+    return steady_now - age

@@ -1,7 +1,7 @@
 """Tests of the two-clock sensor watchdog and the command-topic monitor, without ROS."""
 
 from dpn_navigator.cmd_vel_monitor import CommandTopicMonitor
-from dpn_navigator.sensor_watchdog import SensorWatchdog
+from dpn_navigator.sensor_watchdog import SensorWatchdog, steady_arrival_time
 import pytest
 
 
@@ -57,3 +57,14 @@ def test_command_topic_monitor_counts_conflicts():
     assert not monitor.check(1) and monitor.others == 0
     assert monitor.check(2) and monitor.conflicts == 2
     assert not monitor.check(0) and monitor.others == 0
+
+
+@pytest.mark.parametrize('system_now_ns, received_ns, arrival', [
+    (5_000_000_000, 4_700_000_000, 99.7),       # arrived 0.3 s ago
+    (5_000_000_000, None, 100.0),               # unknown: now
+    (5_000_000_000, 0, 100.0),
+    (5_000_000_000, 6_000_000_000, 100.0),      # the system clock stepped back: age 0
+    (500_000_000_000, 1, 40.0),                 # stepped forward: age clipped to 60 s
+])
+def test_steady_arrival_time(system_now_ns, received_ns, arrival):
+    assert steady_arrival_time(100.0, system_now_ns, received_ns) == pytest.approx(arrival)
