@@ -149,3 +149,29 @@ def test_absurd_grid_is_a_parameter_error(ros_context, width, resolution):
                  Parameter('resolution', value=resolution)]
     with pytest.raises(ValueError, match=f'more than {MAX_GRID_CELLS:,}'):
         DpnNode(context=ros_context, parameter_overrides=overrides)
+
+
+def test_node_plans_again_after_sim_time_goes_backwards(dpn):
+    dpn._time_source.clock_callback(Clock(clock=Time(sec=500)))
+    dpn.on_odom(odometry((-3.0, 6.0, 0.0)))                   # off the map: no path
+    dpn.on_scan(room_scan())
+    assert dpn.navigator.status is NavigatorStatus.NO_PATH
+    dpn._time_source.clock_callback(Clock(clock=Time(sec=2)))  # the simulator restarted
+    dpn.on_odom(odometry((2.0, 6.0, 0.0)))
+    dpn.on_scan(room_scan())
+    assert dpn.navigator.status is NavigatorStatus.ACTIVE
+    assert dpn.navigator.path is not None
+
+
+def test_destroying_the_node_sends_a_zero_command(ros_context):
+    node = DpnNode(context=ros_context, parameter_overrides=[
+        Parameter('map_width', value=12.0), Parameter('map_height', value=12.0),
+        Parameter('goal_x', value=10.0), Parameter('goal_y', value=6.0)])
+    sent = []
+    publish = node.cmd_pub.publish
+    node.cmd_pub.publish = lambda msg: (sent.append(msg), publish(msg))
+    node.on_odom(odometry((2.0, 6.0, 0.0)))
+    node.on_scan(room_scan())
+    assert sent and (sent[-1].linear.x, sent[-1].angular.z) != (0.0, 0.0)
+    node.destroy_node()
+    assert (sent[-1].linear.x, sent[-1].angular.z) == (0.0, 0.0)
