@@ -1,0 +1,235 @@
+"""
+Fault measurements of the node processes: how fast the robot stops, and how cleanly they exit.
+
+1. Stop time: from the last sensor message to the first zero ``cmd_vel``, wall clock, 20
+   trials each: (a) a ``dpn`` process on wall time fed by a stand-in simulator in this
+   process, which then stops its scans and odometry; (b) the same on simulated time, the
+   stand-in's ``/clock`` running on; (c) a real ``pybullet_world`` process killed with SIGKILL
+   while the robot drives (the last message being the last one this process heard from the
+   world), the ``dpn`` process (``use_sim_time``) running through all the world's restarts.
+2. Exits: world + navigator pairs, busy, five at a time; each process gets SIGINT or SIGTERM;
+   the exit code and whether the log holds a traceback.
+
+Not a test: it prints min / median / max and counts. ``make faults`` (``FAULTS_ARGS``:
+``--trials N``).
+
+"""
+
+import argparse
+import os
+from pathlib import Path
+import signal
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent / 'test'))
+
+from dpn_navigator.demo import (installed_executable, navigator_arguments,  # noqa: E402, I100
+                                ros_environment, start_nodes, stop_nodes)
+from dpn_navigator.qos import COMMAND_QOS, SENSOR_QOS  # noqa: E402
+from geometry_msgs.msg import Twist  # noqa: E402
+from nav_msgs.msg import Odometry  # noqa: E402
+import rclpy  # noqa: E402
+from rclpy.context import Context  # noqa: E402
+from rclpy.executors import SingleThreadedExecutor  # noqa: E402
+from rclpy.node import Node  # noqa: E402
+from rosgraph_msgs.msg import Clock  # noqa: E402
+from sensor_msgs.msg import LaserScan  # noqa: E402
+from sim_stand_in import SimulatorStandIn  # noqa: E402
+from sim_bridge.scenario import load_scenario  # noqa: E402
+
+ALL_STREAMS = ('clock', 'odometry', 'scan')
+
+
+def spin_for(executor, seconds, tick=None):
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline:
+        if tick is not None:
+            tick()
+        executor.spin_once(timeout_sec=0.02)
+
+
+def first_zero_after(commands, since):
+    return next((t - since for t, linear, angular in commands
+                 if t >= since and linear == angular == 0.0), None)
+
+
+def start_dpn(domain_id, log_path, sim_time):
+    args = ['--ros-args', '-p', 'map_width:=12.0', '-p', 'map_height:=12.0',
+            '-p', 'goal_x:=10.0', '-p', 'goal_y:=6.0', '-p', f'use_sim_time:={str(sim_time)}']
+    log = open(log_path, 'w')
+    process = subprocess.Popen([str(installed_executable('dpn_navigator', 'dpn'))] + args,
+                               env=ros_environment(domain_id), stdout=log,
+                               stderr=subprocess.STDOUT, start_new_session=True)
+    log.close()
+    return process
+
+
+def stand_in_trials(trials, domain_id, log_dir, sim_time):
+    """Stop times [s] with the stand-in simulator; None where no zero command came."""
+    process = start_dpn(domain_id, log_dir / f'dpn_sim{sim_time}.log', sim_time)
+    context = Context()
+    rclpy.init(context=context, domain_id=domain_id)
+    probe = SimulatorStandIn(context)
+    executor = SingleThreadedExecutor(context=context)
+    executor.add_node(probe)
+    times = []
+    try:
+        deadline = time.monotonic() + 60.0
+        while probe.scan_pub.get_subscription_count() == 0 and time.monotonic() < deadline:
+            spin_for(executor, 0.1)
+        for _ in range(trials):
+            spin_for(executor, 1.0, lambda: probe.tick(ALL_STREAMS))
+            last = probe.tick(ALL_STREAMS)
+            remaining = ('clock',) if sim_time else ()
+            spin_for(executor, 1.0, lambda: probe.tick(remaining))
+            times.append(first_zero_after(probe.commands, last))
+            probe.commands.clear()
+    finally:
+        stop_nodes({'dpn': process})
+        executor.shutdown()
+        probe.destroy_node()
+        rclpy.try_shutdown(context=context)
+    return times
+
+
+class WorldWatcher(Node):
+    """Note when the world was last heard from and what the navigator commands."""
+
+    def __init__(self, context):
+        super().__init__('world_watcher', context=context)
+        self.last_heard = None
+        self.commands = []
+        for msg_type, topic, qos in ((Clock, '/clock', COMMAND_QOS),
+                                     (Odometry, '/compabot/odom', SENSOR_QOS),
+                                     (LaserScan, '/compabot/scan', SENSOR_QOS)):
+            self.create_subscription(msg_type, topic, self.on_world, qos)
+        self.create_subscription(Twist, '/compabot/cmd_vel', self.on_cmd, COMMAND_QOS)
+
+    def on_world(self, msg):
+        self.last_heard = time.monotonic()
+
+    def on_cmd(self, msg):
+        self.commands.append((time.monotonic(), msg.linear.x, msg.angular.z))
+
+
+def world_kill_trials(trials, domain_id, log_dir):
+    """Stop times [s] after SIGKILL of the world; None where no zero command came."""
+    scenario = load_scenario('back_and_forth')
+    log = open(log_dir / 'dpn_world_kill.log', 'w')
+    dpn = subprocess.Popen(
+        [str(installed_executable('dpn_navigator', 'dpn'))] + navigator_arguments(scenario, 0),
+        env=ros_environment(domain_id), stdout=log, stderr=subprocess.STDOUT,
+        start_new_session=True)
+    log.close()
+    context = Context()
+    rclpy.init(context=context, domain_id=domain_id)
+    watcher = WorldWatcher(context)
+    executor = SingleThreadedExecutor(context=context)
+    executor.add_node(watcher)
+    times = []
+    try:
+        for trial in range(trials):
+            log = open(log_dir / f'world_{trial}.log', 'w')
+            world = subprocess.Popen(
+                [str(installed_executable('sim_bridge', 'pybullet_world')), '--ros-args',
+                 '-p', 'wanderers:=3', '-p', f'seed:={trial}'],
+                env=ros_environment(domain_id), stdout=log, stderr=subprocess.STDOUT,
+                start_new_session=True)
+            log.close()
+            deadline = time.monotonic() + 60.0
+            while time.monotonic() < deadline and not any(
+                    (linear, angular) != (0.0, 0.0) for _, linear, angular
+                    in watcher.commands[-5:]):
+                spin_for(executor, 0.1)
+            spin_for(executor, 1.0)
+            os.kill(world.pid, signal.SIGKILL)
+            world.wait()
+            spin_for(executor, 1.0)
+            times.append(first_zero_after(watcher.commands, watcher.last_heard))
+            watcher.commands.clear()
+    finally:
+        stop_nodes({'dpn': dpn})
+        executor.shutdown()
+        watcher.destroy_node()
+        rclpy.try_shutdown(context=context)
+    return times
+
+
+def exit_trials(per_signal, domain_id, log_dir, batch_size=5):
+    """Return ``{signal name: [(exit code, traceback in log), ...]}``."""
+    outcomes = {'SIGINT': [], 'SIGTERM': []}
+    pairs_needed = per_signal       # each pair: one SIGINT and one SIGTERM
+    batch = 0
+    while pairs_needed > 0:
+        pairs = []
+        for index in range(min(batch_size, pairs_needed)):
+            pair_dir = log_dir / f'exit_{batch}_{index}'
+            pairs.append((pair_dir, start_nodes('back_and_forth', 0, 3, index, 2.0, domain_id,
+                                                pair_dir)[1]))
+        deadline = time.monotonic() + 60.0
+        while time.monotonic() < deadline and not all(
+                (pair_dir / f'{name}.log').exists() and marker in (
+                    pair_dir / f'{name}.log').read_text()
+                for pair_dir, _ in pairs for name, marker in (
+                    ('dpn', 'dpn ready'), ('pybullet_world', 'real-time factor'))):
+            time.sleep(0.1)
+        time.sleep(1.5)
+        signalled = []
+        for index, (pair_dir, processes) in enumerate(pairs):
+            dpn_signal = signal.SIGINT if index % 2 == 0 else signal.SIGTERM
+            world_signal = signal.SIGTERM if dpn_signal == signal.SIGINT else signal.SIGINT
+            for name, signum in (('dpn', dpn_signal), ('pybullet_world', world_signal)):
+                os.killpg(processes[name].pid, signum)
+                signalled.append((pair_dir / f'{name}.log', signum, processes[name]))
+        for log, signum, process in signalled:
+            try:
+                code = process.wait(15.0)
+            except subprocess.TimeoutExpired:
+                code = None
+            outcomes[signal.Signals(signum).name].append(
+                (code, 'Traceback' in log.read_text()))
+        for _, processes in pairs:
+            stop_nodes(processes)
+        pairs_needed -= len(pairs)
+        batch += 1
+    return outcomes
+
+
+def summary(name, times):
+    measured = [t for t in times if t is not None]
+    if not measured:
+        return f'{name}: no zero command in {len(times)} trials'
+    within = sum(1 for t in measured if t <= 0.5)
+    return (f'{name}: {within}/{len(times)} within 0.5 s; min {min(measured):.3f} s, median '
+            f'{statistics.median(measured):.3f} s, max {max(measured):.3f} s')
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
+    parser.add_argument('--trials', type=int, default=20)
+    parser.add_argument('--domain-id', type=int, default=93)
+    parser.add_argument('--skip-exits', action='store_true')
+    args = parser.parse_args(argv)
+    log_dir = Path(tempfile.mkdtemp(prefix='dpn_faults_'))
+    print(summary('stop, sensors stop, wall time', stand_in_trials(
+        args.trials, args.domain_id, log_dir, sim_time=False)), flush=True)
+    print(summary('stop, sensors stop, sim time', stand_in_trials(
+        args.trials, args.domain_id, log_dir, sim_time=True)), flush=True)
+    print(summary('stop, world killed (SIGKILL)', world_kill_trials(
+        args.trials, args.domain_id, log_dir)), flush=True)
+    if not args.skip_exits:
+        for name, results in exit_trials(args.trials, args.domain_id, log_dir).items():
+            clean = sum(1 for code, traceback in results if code == 0 and not traceback)
+            print(f'{name}: {clean}/{len(results)} clean exits (exit code 0, no traceback); '
+                  f'codes {sorted(set(code for code, _ in results), key=str)}')
+    print(f'logs: {log_dir}')
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
