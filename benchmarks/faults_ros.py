@@ -39,8 +39,8 @@ from rclpy.executors import SingleThreadedExecutor  # noqa: E402
 from rclpy.node import Node  # noqa: E402
 from rosgraph_msgs.msg import Clock  # noqa: E402
 from sensor_msgs.msg import LaserScan  # noqa: E402
-from sim_stand_in import SimulatorStandIn  # noqa: E402
 from sim_bridge.scenario import load_scenario  # noqa: E402
+from sim_stand_in import SimulatorStandIn  # noqa: E402
 
 ALL_STREAMS = ('clock', 'odometry', 'scan')
 
@@ -58,15 +58,18 @@ def first_zero_after(commands, since):
                  if t >= since and linear == angular == 0.0), None)
 
 
+def start_process(package, name, args, domain_id, log_path):
+    """Start an installed executable in its own session, its output to ``log_path``."""
+    with open(log_path, 'w') as log:
+        return subprocess.Popen([str(installed_executable(package, name))] + args,
+                                env=ros_environment(domain_id), stdout=log,
+                                stderr=subprocess.STDOUT, start_new_session=True)
+
+
 def start_dpn(domain_id, log_path, sim_time):
     args = ['--ros-args', '-p', 'map_width:=12.0', '-p', 'map_height:=12.0',
             '-p', 'goal_x:=10.0', '-p', 'goal_y:=6.0', '-p', f'use_sim_time:={str(sim_time)}']
-    log = open(log_path, 'w')
-    process = subprocess.Popen([str(installed_executable('dpn_navigator', 'dpn'))] + args,
-                               env=ros_environment(domain_id), stdout=log,
-                               stderr=subprocess.STDOUT, start_new_session=True)
-    log.close()
-    return process
+    return start_process('dpn_navigator', 'dpn', args, domain_id, log_path)
 
 
 def stand_in_trials(trials, domain_id, log_dir, sim_time):
@@ -120,12 +123,8 @@ class WorldWatcher(Node):
 def world_kill_trials(trials, domain_id, log_dir):
     """Stop times [s] after SIGKILL of the world; None where no zero command came."""
     scenario = load_scenario('back_and_forth')
-    log = open(log_dir / 'dpn_world_kill.log', 'w')
-    dpn = subprocess.Popen(
-        [str(installed_executable('dpn_navigator', 'dpn'))] + navigator_arguments(scenario, 0),
-        env=ros_environment(domain_id), stdout=log, stderr=subprocess.STDOUT,
-        start_new_session=True)
-    log.close()
+    dpn = start_process('dpn_navigator', 'dpn', navigator_arguments(scenario, 0), domain_id,
+                        log_dir / 'dpn_world_kill.log')
     context = Context()
     rclpy.init(context=context, domain_id=domain_id)
     watcher = WorldWatcher(context)
@@ -134,13 +133,9 @@ def world_kill_trials(trials, domain_id, log_dir):
     times = []
     try:
         for trial in range(trials):
-            log = open(log_dir / f'world_{trial}.log', 'w')
-            world = subprocess.Popen(
-                [str(installed_executable('sim_bridge', 'pybullet_world')), '--ros-args',
-                 '-p', 'wanderers:=3', '-p', f'seed:={trial}'],
-                env=ros_environment(domain_id), stdout=log, stderr=subprocess.STDOUT,
-                start_new_session=True)
-            log.close()
+            world = start_process('sim_bridge', 'pybullet_world',
+                                  ['--ros-args', '-p', 'wanderers:=3', '-p', f'seed:={trial}'],
+                                  domain_id, log_dir / f'world_{trial}.log')
             deadline = time.monotonic() + 60.0
             while time.monotonic() < deadline and not any(
                     (linear, angular) != (0.0, 0.0) for _, linear, angular
@@ -226,7 +221,7 @@ def main(argv=None):
         for name, results in exit_trials(args.trials, args.domain_id, log_dir).items():
             clean = sum(1 for code, traceback in results if code == 0 and not traceback)
             print(f'{name}: {clean}/{len(results)} clean exits (exit code 0, no traceback); '
-                  f'codes {sorted(set(code for code, _ in results), key=str)}')
+                  f'codes {sorted({code for code, _ in results}, key=str)}')
     print(f'logs: {log_dir}')
     return 0
 

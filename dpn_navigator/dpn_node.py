@@ -30,10 +30,10 @@ from rclpy.node import Node
 from sensor_msgs.msg import LaserScan
 from visualization_msgs.msg import MarkerArray
 
+from .cmd_vel_monitor import CommandTopicMonitor
 from .conversions import (labels_to_occupancy_grid, laser_scan_fields, line_strip_marker,
                           odometry_to_pose, pose_to_odometry, sphere_marker,
                           velocity_to_twist)
-from .cmd_vel_monitor import CommandTopicMonitor
 from .core import Navigator, NavigatorStatus
 from .core.scan_polygon import check_scan
 from .dpn_params import declare_parameters

@@ -54,6 +54,7 @@ def guard_clock(node, on_reject):
     Parameters
     ----------
     node : rclpy.node.Node
+        The node whose time source to replace.
     on_reject : callable
         Called with a ``str`` for each rejected ``/clock`` message.
 

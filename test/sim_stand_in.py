@@ -9,12 +9,22 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 import numpy as np
 from rclpy.node import Node
+from rclpy.parameter import Parameter
 from rosgraph_msgs.msg import Clock
 from scan_scenes import ANGLE_INCREMENT, ANGLE_MIN, RANGE_MIN, ray_cast
 from sensor_msgs.msg import LaserScan
 
 #: The robot's pose in the 12 m x 12 m room, facing a goal at (10, 6) [m, m, rad].
 POSE = (2.0, 6.0, 0.0)
+
+
+def room_navigator(context, use_sim_time=True):
+    """Return a ``DpnNode`` for the 12 m x 12 m room with its goal at (10, 6) m."""
+    from dpn_navigator.dpn_node import DpnNode
+    overrides = [Parameter('map_width', value=12.0), Parameter('map_height', value=12.0),
+                 Parameter('goal_x', value=10.0), Parameter('goal_y', value=6.0),
+                 Parameter('use_sim_time', value=use_sim_time)]
+    return DpnNode(context=context, parameter_overrides=overrides)
 
 
 class SimulatorStandIn(Node):

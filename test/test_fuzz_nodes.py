@@ -13,7 +13,6 @@ import math
 
 from builtin_interfaces.msg import Time
 from dpn_navigator.conversions import make_laser_scan, pose_to_odometry
-from dpn_navigator.dpn_node import DpnNode
 from hypothesis import given, HealthCheck, settings
 from hypothesis.stateful import (invariant, rule, RuleBasedStateMachine,
                                  run_state_machine_as_test)
@@ -23,6 +22,7 @@ import pytest
 from rclpy.parameter import Parameter
 from scan_scenes import ANGLE_INCREMENT, ANGLE_MIN, RANGE_MIN
 from sim_bridge.pybullet_world_node import PybulletWorldNode
+from sim_stand_in import room_navigator
 
 MAX_LINEAR, MAX_ANGULAR = 1.0, 1.5         # the dpn node's and the Husky's defaults
 MAP_VALUES = {-1, 0, 70, 100}
@@ -69,7 +69,7 @@ def good_scan():
 class DpnFuzz(RuleBasedStateMachine):
     """Any sequence of scans, odometry, goals and /clock messages, sane ones interleaved."""
 
-    node = cmd = map = None         # set by the test: one node for every sequence
+    node = commands = maps = None       # set by the test: one node for every sequence
 
     @rule(message=dpn_messages)
     def deliver(self, message):
@@ -97,7 +97,7 @@ class DpnFuzz(RuleBasedStateMachine):
 
     @rule()
     def sane_step(self):
-        """A valid odometry and scan: the navigator maps, plans and commands."""
+        """Send a valid odometry and scan: the navigator maps, plans and commands."""
         node = self.node
         node.on_odom(pose_to_odometry((6.0, 6.0, 0.3), (0.0, 0.0), Time()))
         node.on_scan(good_scan())
@@ -109,22 +109,20 @@ class DpnFuzz(RuleBasedStateMachine):
 
     @invariant()
     def published_only_sane_values(self):
-        check_commands(self.cmd)
-        check_maps(self.map)
+        check_commands(self.commands)
+        check_maps(self.maps)
 
 
 def test_dpn_node_survives_any_message_and_counts_each_rejection(ros_context):
-    overrides = [Parameter('map_width', value=12.0), Parameter('map_height', value=12.0),
-                 Parameter('goal_x', value=10.0), Parameter('goal_y', value=6.0),
-                 Parameter('use_sim_time', value=True)]
-    node = DpnNode(context=ros_context, parameter_overrides=overrides)
-    DpnFuzz.node, DpnFuzz.cmd, DpnFuzz.map = node, Recorder(node.cmd_pub), Recorder(node.map_pub)
+    node = room_navigator(ros_context)
+    DpnFuzz.node = node
+    DpnFuzz.commands, DpnFuzz.maps = Recorder(node.cmd_pub), Recorder(node.map_pub)
     try:
         run_state_machine_as_test(DpnFuzz, settings=DPN_FUZZ_SETTINGS)
         assert sum(node.rejected.values()) > 100, node.rejected
         assert node.navigator.replans > 0
     finally:
-        DpnFuzz.node = DpnFuzz.cmd = DpnFuzz.map = None
+        DpnFuzz.node = DpnFuzz.commands = DpnFuzz.maps = None
         node.destroy_node()
 
 

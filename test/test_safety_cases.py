@@ -23,6 +23,7 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rosgraph_msgs.msg import Clock
 from scan_scenes import ANGLE_INCREMENT, ANGLE_MIN, RANGE_MIN
+from sim_stand_in import room_navigator
 
 DBL_MAX_ISH = 9e307
 
@@ -38,10 +39,7 @@ def odometry(pose):
 
 @pytest.fixture
 def dpn(ros_context):
-    overrides = [Parameter('map_width', value=12.0), Parameter('map_height', value=12.0),
-                 Parameter('goal_x', value=10.0), Parameter('goal_y', value=6.0),
-                 Parameter('use_sim_time', value=True)]
-    node = DpnNode(context=ros_context, parameter_overrides=overrides)
+    node = room_navigator(ros_context)
     yield node
     node.destroy_node()
 
@@ -164,9 +162,7 @@ def test_node_plans_again_after_sim_time_goes_backwards(dpn):
 
 
 def test_destroying_the_node_sends_a_zero_command(ros_context):
-    node = DpnNode(context=ros_context, parameter_overrides=[
-        Parameter('map_width', value=12.0), Parameter('map_height', value=12.0),
-        Parameter('goal_x', value=10.0), Parameter('goal_y', value=6.0)])
+    node = room_navigator(ros_context, use_sim_time=False)
     sent = []
     publish = node.cmd_pub.publish
     node.cmd_pub.publish = lambda msg: (sent.append(msg), publish(msg))

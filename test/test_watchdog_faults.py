@@ -10,11 +10,10 @@ delivery, on the wall clock: under 0.5 s.
 
 import time
 
-from dpn_navigator.dpn_node import DpnNode, WATCHDOG_PERIOD
+from dpn_navigator.dpn_node import WATCHDOG_PERIOD
 from node_harness import executor_for, spin_until
 import pytest
-from rclpy.parameter import Parameter
-from sim_stand_in import SimulatorStandIn
+from sim_stand_in import room_navigator, SimulatorStandIn
 
 STOP_LIMIT = 0.5            # [s] of wall time, last message to first zero command
 TRIALS = 3
@@ -32,10 +31,7 @@ def run_for(executor, probe, seconds, streams):
 
 @pytest.fixture
 def nodes(ros_context):
-    overrides = [Parameter('map_width', value=12.0), Parameter('map_height', value=12.0),
-                 Parameter('goal_x', value=10.0), Parameter('goal_y', value=6.0),
-                 Parameter('use_sim_time', value=True)]
-    dpn = DpnNode(context=ros_context, parameter_overrides=overrides)
+    dpn = room_navigator(ros_context)
     probe = SimulatorStandIn(ros_context)
     with executor_for(ros_context, dpn, probe) as executor:
         assert spin_until(executor, lambda: probe.scan_pub.get_subscription_count() > 0
