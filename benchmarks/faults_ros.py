@@ -43,6 +43,7 @@ from sim_bridge.scenario import load_scenario  # noqa: E402
 from sim_stand_in import SimulatorStandIn  # noqa: E402
 
 ALL_STREAMS = ('clock', 'odometry', 'scan')
+PARTS = ('wall', 'sim', 'kill', 'exits')
 
 
 def spin_for(executor, seconds, tick=None):
@@ -201,23 +202,27 @@ def summary(name, times):
         return f'{name}: no zero command in {len(times)} trials'
     within = sum(1 for t in measured if t <= 0.5)
     return (f'{name}: {within}/{len(times)} within 0.5 s; min {min(measured):.3f} s, median '
-            f'{statistics.median(measured):.3f} s, max {max(measured):.3f} s')
+            f'{statistics.median(measured):.3f} s, max {max(measured):.3f} s; all: '
+            + ' '.join('-' if t is None else f'{t:.3f}' for t in times))
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
     parser.add_argument('--trials', type=int, default=20)
     parser.add_argument('--domain-id', type=int, default=93)
-    parser.add_argument('--skip-exits', action='store_true')
+    parser.add_argument('--parts', nargs='+', default=PARTS, choices=PARTS)
     args = parser.parse_args(argv)
     log_dir = Path(tempfile.mkdtemp(prefix='dpn_faults_'))
-    print(summary('stop, sensors stop, wall time', stand_in_trials(
-        args.trials, args.domain_id, log_dir, sim_time=False)), flush=True)
-    print(summary('stop, sensors stop, sim time', stand_in_trials(
-        args.trials, args.domain_id, log_dir, sim_time=True)), flush=True)
-    print(summary('stop, world killed (SIGKILL)', world_kill_trials(
-        args.trials, args.domain_id, log_dir)), flush=True)
-    if not args.skip_exits:
+    if 'wall' in args.parts:
+        print(summary('stop, sensors stop, wall time', stand_in_trials(
+            args.trials, args.domain_id, log_dir, sim_time=False)), flush=True)
+    if 'sim' in args.parts:
+        print(summary('stop, sensors stop, sim time', stand_in_trials(
+            args.trials, args.domain_id, log_dir, sim_time=True)), flush=True)
+    if 'kill' in args.parts:
+        print(summary('stop, world killed (SIGKILL)', world_kill_trials(
+            args.trials, args.domain_id, log_dir)), flush=True)
+    if 'exits' in args.parts:
         for name, results in exit_trials(args.trials, args.domain_id, log_dir).items():
             clean = sum(1 for code, traceback in results if code == 0 and not traceback)
             print(f'{name}: {clean}/{len(results)} clean exits (exit code 0, no traceback); '

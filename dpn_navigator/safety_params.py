@@ -11,8 +11,12 @@ from dataclasses import dataclass
 
 from rcl_interfaces.msg import IntegerRange, ParameterDescriptor
 
-#: Default beam limit: four times the 640-beam laser of the paper, more than any 2-D lidar's.
-DEFAULT_MAX_BEAMS = 4096
+# name: (default, description, (low, high)); all read-only. The default beam limit is four
+# times the paper's 640-beam laser, more than a 2-D lidar gives.
+INTEGER_PARAMETERS = {
+    'max_beams': (4096, 'Scans with more beams than this are rejected and counted [beams].',
+                  (1, 1_000_000)),
+}
 
 
 @dataclass(frozen=True)
@@ -39,9 +43,10 @@ def declare_safety_parameters(node):
     SafetyParameters
 
     """
-    descriptor = ParameterDescriptor(
-        description='Scans with more beams than this are rejected and counted [beams].',
-        read_only=True,
-        integer_range=[IntegerRange(from_value=1, to_value=1_000_000, step=1)])
-    max_beams = node.declare_parameter('max_beams', DEFAULT_MAX_BEAMS, descriptor).value
-    return SafetyParameters(max_beams=int(max_beams))
+    values = {}
+    for name, (default, description, (low, high)) in INTEGER_PARAMETERS.items():
+        descriptor = ParameterDescriptor(
+            description=description, read_only=True,
+            integer_range=[IntegerRange(from_value=low, to_value=high, step=1)])
+        values[name] = int(node.declare_parameter(name, default, descriptor).value)
+    return SafetyParameters(**values)

@@ -45,8 +45,9 @@ def test_launch_file_names_the_real_executables_and_config_files():
 
 def test_parameter_files_hold_only_declared_parameters():
     from dpn_navigator.dpn_params import FLOAT_PARAMETERS
+    from dpn_navigator.safety_params import INTEGER_PARAMETERS
     dpn = yaml.safe_load((REPO / 'config' / 'dpn.yaml').read_text())
-    assert set(dpn['dpn']['ros__parameters']) == set(FLOAT_PARAMETERS)
+    assert set(dpn['dpn']['ros__parameters']) == set(FLOAT_PARAMETERS) | set(INTEGER_PARAMETERS)
     world = yaml.safe_load((REPO / 'config' / 'pybullet_world.yaml').read_text())
     source = (REPO / 'sim_bridge' / 'pybullet_world_node.py').read_text()
     for name in world['pybullet_world']['ros__parameters']:
