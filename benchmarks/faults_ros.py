@@ -16,6 +16,7 @@ Not a test: it prints min / median / max and counts. ``make faults`` (``FAULTS_A
 """
 
 import argparse
+import contextlib
 import os
 from pathlib import Path
 import signal
@@ -73,31 +74,40 @@ def start_dpn(domain_id, log_path, sim_time):
     return start_process('dpn_navigator', 'dpn', args, domain_id, log_path)
 
 
+@contextlib.contextmanager
+def node_in_domain(node_class, domain_id):
+    """Yield ``(node, executor)`` for a node of this process in a context of its own."""
+    context = Context()
+    rclpy.init(context=context, domain_id=domain_id)
+    node = node_class(context)
+    executor = SingleThreadedExecutor(context=context)
+    executor.add_node(node)
+    try:
+        yield node, executor
+    finally:
+        executor.shutdown()
+        node.destroy_node()
+        rclpy.try_shutdown(context=context)
+
+
 def stand_in_trials(trials, domain_id, log_dir, sim_time):
     """Stop times [s] with the stand-in simulator; None where no zero command came."""
     process = start_dpn(domain_id, log_dir / f'dpn_sim{sim_time}.log', sim_time)
-    context = Context()
-    rclpy.init(context=context, domain_id=domain_id)
-    probe = SimulatorStandIn(context)
-    executor = SingleThreadedExecutor(context=context)
-    executor.add_node(probe)
     times = []
-    try:
-        deadline = time.monotonic() + 60.0
-        while probe.scan_pub.get_subscription_count() == 0 and time.monotonic() < deadline:
-            spin_for(executor, 0.1)
-        for _ in range(trials):
-            spin_for(executor, 1.0, lambda: probe.tick(ALL_STREAMS))
-            last = probe.tick(ALL_STREAMS)
-            remaining = ('clock',) if sim_time else ()
-            spin_for(executor, 1.0, lambda: probe.tick(remaining))
-            times.append(first_zero_after(probe.commands, last))
-            probe.commands.clear()
-    finally:
-        stop_nodes({'dpn': process})
-        executor.shutdown()
-        probe.destroy_node()
-        rclpy.try_shutdown(context=context)
+    with node_in_domain(SimulatorStandIn, domain_id) as (probe, executor):
+        try:
+            deadline = time.monotonic() + 60.0
+            while probe.scan_pub.get_subscription_count() == 0 and time.monotonic() < deadline:
+                spin_for(executor, 0.1)
+            for _ in range(trials):
+                spin_for(executor, 1.0, lambda: probe.tick(ALL_STREAMS))
+                last = probe.tick(ALL_STREAMS)
+                remaining = ('clock',) if sim_time else ()
+                spin_for(executor, 1.0, lambda: probe.tick(remaining))
+                times.append(first_zero_after(probe.commands, last))
+                probe.commands.clear()
+        finally:
+            stop_nodes({'dpn': process})
     return times
 
 
@@ -126,33 +136,30 @@ def world_kill_trials(trials, domain_id, log_dir):
     scenario = load_scenario('back_and_forth')
     dpn = start_process('dpn_navigator', 'dpn', navigator_arguments(scenario, 0), domain_id,
                         log_dir / 'dpn_world_kill.log')
-    context = Context()
-    rclpy.init(context=context, domain_id=domain_id)
-    watcher = WorldWatcher(context)
-    executor = SingleThreadedExecutor(context=context)
-    executor.add_node(watcher)
     times = []
-    try:
-        for trial in range(trials):
-            world = start_process('sim_bridge', 'pybullet_world',
-                                  ['--ros-args', '-p', 'wanderers:=3', '-p', f'seed:={trial}'],
-                                  domain_id, log_dir / f'world_{trial}.log')
-            deadline = time.monotonic() + 60.0
-            while time.monotonic() < deadline and not any(
-                    (linear, angular) != (0.0, 0.0) for _, linear, angular
-                    in watcher.commands[-5:]):
-                spin_for(executor, 0.1)
-            spin_for(executor, 1.0)
-            os.kill(world.pid, signal.SIGKILL)
-            world.wait()
-            spin_for(executor, 1.0)
-            times.append(first_zero_after(watcher.commands, watcher.last_heard))
-            watcher.commands.clear()
-    finally:
-        stop_nodes({'dpn': dpn})
-        executor.shutdown()
-        watcher.destroy_node()
-        rclpy.try_shutdown(context=context)
+    with node_in_domain(WorldWatcher, domain_id) as (watcher, executor):
+        try:
+            for trial in range(trials):
+                world = start_process(
+                    'sim_bridge', 'pybullet_world',
+                    ['--ros-args', '-p', 'wanderers:=3', '-p', f'seed:={trial}'], domain_id,
+                    log_dir / f'world_{trial}.log')
+                watcher.last_heard = None
+                deadline = time.monotonic() + 60.0
+                while time.monotonic() < deadline and not (
+                        watcher.last_heard is not None and any(
+                            (linear, angular) != (0.0, 0.0) for _, linear, angular
+                            in watcher.commands[-5:])):
+                    spin_for(executor, 0.1)
+                spin_for(executor, 1.0)
+                os.kill(world.pid, signal.SIGKILL)
+                world.wait()
+                spin_for(executor, 1.0)
+                times.append(None if watcher.last_heard is None else first_zero_after(
+                    watcher.commands, watcher.last_heard))
+                watcher.commands.clear()
+        finally:
+            stop_nodes({'dpn': dpn})
     return times
 
 
