@@ -59,6 +59,8 @@ def test_navigator_rejects_a_pose_beyond_any_map():
     navigator = Navigator(NavigatorConfig(width=12.0, height=12.0))
     with pytest.raises(ValueError, match='beyond'):
         navigator.decide(0.0, (DBL_MAX_ISH, 0.0, 0.0))
+    with pytest.raises(ValueError, match='goal position .* beyond'):
+        navigator.set_goal(DBL_MAX_ISH, -DBL_MAX_ISH)
 
 
 def test_negative_clock_seconds_are_rejected_over_dds_and_time_keeps(dpn, ros_context):

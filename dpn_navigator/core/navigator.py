@@ -205,10 +205,7 @@ class Navigator:
             When the goal is not finite or lies outside the map.
 
         """
-        x = float(x)
-        y = float(y)
-        if not (math.isfinite(x) and math.isfinite(y)):
-            raise ValueError(f'goal must be finite, got ({x!r}, {y!r})')
+        x, y, _ = check_pose((x, y, 0.0), 'goal')      # finite, within MAX_POSE_COORDINATE
         rr, cc = self.grid.geometry.world_to_cell(x, y)
         if not self.grid.geometry.contains_cell(rr, cc):
             raise ValueError(f'goal ({x:.2f}, {y:.2f}) m is outside the map')
