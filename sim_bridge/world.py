@@ -182,6 +182,23 @@ class World:
         """Return the radius of the circle around a wanderer's footprint [m]."""
         return self._wanderers.radius
 
+    def scan_wanderer_beams(self):
+        """
+        Return which wanderer each beam of the current scan hit (ground truth, for measuring).
+
+        Returns
+        -------
+        wanderer : (n_beams,) ndarray of int64
+            Index of the wanderer (as in `wanderer_positions`) beam ``i`` hit; -1 where it hit a
+            wall or returned nothing.
+
+        """
+        hit_body = self.scan().hit_body
+        wanderer = np.full(hit_body.shape, -1, dtype=np.int64)
+        for i, body in enumerate(self.scene.wanderer_ray_bodies):
+            wanderer[hit_body == body] = i
+        return wanderer
+
     @property
     def occupied(self):
         """Return the walls, (rows, cols) ndarray of bool, row 0 at the bottom."""

@@ -22,6 +22,9 @@ for _label in CellLabel:
         _TRANSITION_BY_CODE[(_label << 2) | _scan_input] = TRANSITION[_label, _scan_input]
 _TRANSITION_BY_CODE.setflags(write=False)
 
+# ``LabelGrid.last_window`` of an update whose window missed the grid.
+_EMPTY_WINDOW = (slice(0, 0), slice(0, 0), np.zeros((0, 0), dtype=LABEL_DTYPE))
+
 
 def check_path(path, shape):
     """
@@ -81,12 +84,17 @@ class LabelGrid:
         Size and placement; owns every world <-> cell conversion.
     labels : (rows, cols) ndarray of uint8
         Current labels, row ``i`` along y; all ``NON_EXPLORED`` at start. Updated in place.
+    last_window : (slice, slice, (n_rows, n_cols) ndarray of uint8)
+        The latest update's window ``(rows, cols, cell_input)``: the cells it could touch and
+        their ``ScanInput`` (f1/f2); ``(slice(0, 0), slice(0, 0), empty)`` when the window was
+        empty (or before the first update). For measuring the map, not for planning.
 
     """
 
     def __init__(self, width, height, resolution=0.5, origin=(0.0, 0.0)):
         self.geometry = GridGeometry(width, height, resolution, tuple(origin))
         self.labels = np.full(self.geometry.shape, CellLabel.NON_EXPLORED, dtype=LABEL_DTYPE)
+        self.last_window = _EMPTY_WINDOW
 
     def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
                safety_radius, path=None, angle_max=None):
@@ -136,8 +144,10 @@ class LabelGrid:
             float(points.vertices_y.min()) - safety_radius,
             float(points.vertices_y.max()) + safety_radius)
         if rows.start == rows.stop or cols.start == cols.stop:
+            self.last_window = _EMPTY_WINDOW
             return False
         cell_input = scan_input(self.geometry, rows, cols, points, safety_radius)
+        self.last_window = (rows, cols, cell_input)
         window = self.labels[rows, cols]
         if path is not None and path.shape[0]:
             on_window = ((path[:, 0] >= rows.start) & (path[:, 0] < rows.stop)

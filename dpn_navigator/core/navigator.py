@@ -60,6 +60,15 @@ class NavigatorStatus(enum.Enum):
     NO_PATH = 'no_path'              # no path on the current map; retried as the map changes
 
 
+class ReplanCause(enum.Enum):
+    """Why a step planned a path."""
+
+    NONE = ''                        # no planning in this step
+    FLAG = 'flag'                    # the grid's replan flag: a path cell turned obstacle
+    NO_PATH_RETRY = 'no_path_retry'  # a retry while there was no path
+    OTHER = 'other'                  # no path yet (new goal), a blocked cell ahead, off the path
+
+
 @dataclass(frozen=True)
 class NavigatorConfig:
     """
@@ -144,6 +153,8 @@ class NavigatorOutput:
         Why the status is what it is, for people (empty when active).
     replanned : bool
         True when this step computed a new path.
+    replan_cause : ReplanCause
+        Why it did (``ReplanCause.NONE`` when it did not); the flag wins over a stale path.
 
     """
 
@@ -151,6 +162,7 @@ class NavigatorOutput:
     status: NavigatorStatus
     reason: str = ''
     replanned: bool = False
+    replan_cause: ReplanCause = ReplanCause.NONE
 
 
 class Navigator:
@@ -312,9 +324,14 @@ class Navigator:
         if self.status is NavigatorStatus.GOAL_REACHED:
             return NavigatorOutput(STOP, self.status, self.reason)
         replanned = False
+        cause = ReplanCause.NONE
         if replan_flag or self._path_is_stale(pose):
             if self.path is None and stamp < self._next_retry:
                 return NavigatorOutput(STOP, self.status, self.reason)
+            if self.path is None and self.status is NavigatorStatus.NO_PATH:
+                cause = ReplanCause.NO_PATH_RETRY
+            else:
+                cause = ReplanCause.FLAG if replan_flag else ReplanCause.OTHER
             if self.path is None and self._forget_is_due(stamp):
                 self._forget_unseen_obstacles(pose)
                 self._no_path_since = stamp
@@ -323,15 +340,15 @@ class Navigator:
                 self._next_retry = stamp + self.config.no_path_retry_period
                 if self._no_path_since is None:
                     self._no_path_since = stamp
-                return NavigatorOutput(STOP, self.status, self.reason, replanned)
+                return NavigatorOutput(STOP, self.status, self.reason, replanned, cause)
             self._no_path_since = None
             self._spell_forgets = 0
         command = follow_path(pose, self._path_xy, self.config.follower)
         if command.goal_reached:
             self.status = NavigatorStatus.GOAL_REACHED
             self.reason = 'inside the goal tolerance'
-            return NavigatorOutput(STOP, self.status, self.reason, replanned)
-        return NavigatorOutput(command, self.status, self.reason, replanned)
+            return NavigatorOutput(STOP, self.status, self.reason, replanned, cause)
+        return NavigatorOutput(command, self.status, self.reason, replanned, cause)
 
     def _path_is_stale(self, pose):
         """Tell whether there is no path, a cell ahead on it is blocked, or the robot left it."""
