@@ -4,7 +4,7 @@ The installed ``dpn-benchmark`` on the smoke profile, 2 maps: CSV schema, determ
 Each run is a process of its own, started from the executable ``ros2 run dpn_navigator
 dpn-benchmark`` resolves. Episodes are deterministic for a seed, so two runs of the same
 protocol must log the same rows, whatever the number of workers or the backend (local processes
-or Ray); only ``wall_time`` may differ.
+or Ray); only ``wall_time`` and ``detection_wall_time`` may differ.
 
 """
 
@@ -32,9 +32,9 @@ def benchmark(*args, timeout=600):
 
 
 def without_wall_time(rows):
-    """Return the rows sorted by key, without the one column that may differ between runs."""
-    return sorted(({k: v for k, v in row.items() if k != 'wall_time'} for row in rows),
-                  key=lambda row: tuple(map(str, row_key(row))))
+    """Return the rows sorted by key, without the two columns that may differ between runs."""
+    return sorted(({k: v for k, v in row.items() if k not in ('wall_time', 'detection_wall_time')}
+                   for row in rows), key=lambda row: tuple(map(str, row_key(row))))
 
 
 @pytest.fixture(scope='module')
@@ -64,6 +64,11 @@ def test_smoke_run_logs_every_episode_with_the_schema(smoke_run):
         assert row['replans'] >= 1 and row['wall_time'] > 0.0
         assert min(row['wall_contacts'], row['wanderer_contacts'], row['path_length'],
                    row['walls_labelled_mobile'], row['ghost_obstacles']) >= 0
+        # The detection measures are on: every scan measured, every plan given a cause.
+        assert row['scans'] >= 10 * row['time'] and 0.0 < row['detection_wall_time']
+        assert sum(row[f'replans_{cause}'] for cause in
+                   ('wall', 'wanderer', 'no_path_retry', 'other')) == row['replans']
+        assert (row['wanderer_hit_recall'] is None) == (row['wanderers'] == 0)
     # Without wanderers, nothing can stop the robot on these maps.
     assert all(row['success'] for row in rows if row['wanderers'] == 0)
     assert 'ran 6 episodes (0 already logged)' in done.stdout
@@ -71,6 +76,8 @@ def test_smoke_run_logs_every_episode_with_the_schema(smoke_run):
     summary = (out / 'summary.md').read_text()
     assert '| 3 back_and_forth |' in summary and '| 27 tunnel |' in summary
     assert (out / 'success_rate.png').read_bytes()[:4] == b'\x89PNG'
+    assert '| dpn | 10 | 2 |' in summary                   # the detection table
+    assert (out / 'detection.png').read_bytes()[:4] == b'\x89PNG'
 
 
 def test_same_seed_same_rows_on_one_worker(smoke_run, tmp_path):

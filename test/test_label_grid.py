@@ -240,3 +240,22 @@ def test_dense_640_beam_scan_equals_the_literal_reference():
         got = grid.update(pose, ranges, safety_radius=0.6, path=path, **SCAN)
         assert_array_equal(grid.labels, expected)
         assert got == want
+
+
+def test_last_window_holds_the_updates_window_and_fsm_input():
+    grid = LabelGrid(width=10.0, height=10.0, resolution=0.5)
+    rows, cols, cell_input = grid.last_window
+    assert cell_input.shape == (0, 0) and rows.start == rows.stop
+    ranges, scan = wall_scan(3.0)
+    grid.update((2.0, 5.0, 0.0), ranges, safety_radius=0.3, **scan)
+    rows, cols, cell_input = grid.last_window
+    assert cell_input.shape == (rows.stop - rows.start, cols.stop - cols.start)
+    assert cell_input.dtype == np.uint8
+    row = grid.geometry.world_to_cell(0.0, 5.0)[0] - rows.start
+    assert cell_input[row, 9 - cols.start] == 2 and cell_input[row, 5 - cols.start] == 1
+    # Every label that changed lies in the window, where the input was not (0, 0).
+    changed = np.argwhere(grid.labels != N)
+    assert np.all((changed[:, 0] >= rows.start) & (changed[:, 0] < rows.stop))
+    assert np.all(cell_input[changed[:, 0] - rows.start, changed[:, 1] - cols.start] != 0)
+    grid.update((-50.0, -50.0, 0.0), ranges, safety_radius=0.3, **scan)   # misses the grid
+    assert grid.last_window[2].shape == (0, 0)

@@ -9,7 +9,9 @@ Examples::
 
 Episodes are appended to ``OUT/episodes.csv`` as they finish; running the same command again
 skips the episodes already there. At the end ``OUT/summary.md`` and ``OUT/success_rate.png``
-are written from the whole log, and with ``--strip`` a Fig. 9-style strip of one episode.
+are written from the whole log, with ``OUT/detection.png`` (the map as a detector against the
+wanderer count, ``detection_report``), and with ``--strip`` a Fig. 9-style strip of one
+episode.
 
 """
 
@@ -19,6 +21,7 @@ from pathlib import Path
 import sys
 import time
 
+from .detection_report import detection_stats, save_detection_figure
 from .episode_log import read_log
 from .protocol import NAVIGATORS, plan_episodes, PROFILES, resolve_maps
 from .report import save_success_figure, summary_markdown
@@ -105,11 +108,17 @@ def main(argv=None):
           f'worker, {stats.episodes_per_hour:.0f} episodes per hour')
     rows = read_log(log_path)
     title = f'dpn benchmark, {args.navigator} navigator'
-    (args.out / 'summary.md').write_text(summary_markdown(rows, title=title))
+    summary = summary_markdown(rows, title=title, navigator=args.navigator)
+    (args.out / 'summary.md').write_text(summary)
     if rows:
         save_success_figure(args.out / 'success_rate.png', rows,
                             title=f'Success rate per map, {args.navigator} navigator')
     print(f'wrote {args.out / "summary.md"} and {args.out / "success_rate.png"}')
+    if detection_stats(rows) is not None:
+        save_detection_figure(args.out / 'detection.png', {args.navigator: rows},
+                              title=f'Detection against wanderer count, {args.navigator} '
+                                    'navigator')
+        print(f'wrote {args.out / "detection.png"}')
     if args.strip and specs:
         strip = args.out / 'strip.png'
         write_strip(strip, specs, args.index, navigator_options=NAVIGATORS[args.navigator])

@@ -28,10 +28,10 @@ import math
 
 import numpy as np
 
+from .ground_truth import near_any
 from ..core.cell_label import CellLabel, ScanInput
 from ..core.navigator import ReplanCause
 from ..core.scan_features import squared_radius_bound
-from .ground_truth import near_any
 
 #: Replan classes, in column order.
 REPLAN_CLASSES = ('wall', 'wanderer', 'no_path_retry', 'other')
@@ -42,7 +42,7 @@ class DetectionResult:
     """
     One episode's detection measures (see ``docs/detection.md``).
 
-    Ratios are ``nan`` when their denominator is 0 (written as an empty CSV field).
+    A ratio is None when its denominator is 0 (undefined; an empty CSV field).
 
     Attributes
     ----------
@@ -50,19 +50,19 @@ class DetectionResult:
         Scans measured.
     mobile_visible, mobile_visible_true : int
         Visible mobile cells summed over scans, and those near a wanderer.
-    mobile_precision : float
+    mobile_precision : float or None
         ``mobile_visible_true / mobile_visible``.
     wanderer_hit_cells, wanderer_hit_cells_mobile : int
         Wanderers' f1 cells off the wall belts summed over scans, and those labelled mobile.
-    wanderer_hit_recall : float
+    wanderer_hit_recall : float or None
         ``wanderer_hit_cells_mobile / wanderer_hit_cells``.
     wall_cells_seen, wall_cells_ever_mobile : int
         Belt cells ever visible, and those ever left mobile with no wanderer near [cells].
-    wall_mobile_share : float
+    wall_mobile_share : float or None
         ``wall_cells_ever_mobile / wall_cells_seen``.
-    mobile_ghosts_mean, steady_ghosts_mean : float
+    mobile_ghosts_mean, steady_ghosts_mean : float or None
         Ghost cells per scan, mean over scans.
-    mobile_ghost_scan_share, steady_ghost_scan_share : float
+    mobile_ghost_scan_share, steady_ghost_scan_share : float or None
         Share of scans with at least one ghost cell of the label.
     mobile_ghosts_end, steady_ghosts_end : int
         Ghost cells after the last scan.
@@ -74,17 +74,17 @@ class DetectionResult:
     scans: int
     mobile_visible: int
     mobile_visible_true: int
-    mobile_precision: float
+    mobile_precision: object
     wanderer_hit_cells: int
     wanderer_hit_cells_mobile: int
-    wanderer_hit_recall: float
+    wanderer_hit_recall: object
     wall_cells_seen: int
     wall_cells_ever_mobile: int
-    wall_mobile_share: float
-    mobile_ghosts_mean: float
-    mobile_ghost_scan_share: float
-    steady_ghosts_mean: float
-    steady_ghost_scan_share: float
+    wall_mobile_share: object
+    mobile_ghosts_mean: object
+    mobile_ghost_scan_share: object
+    steady_ghosts_mean: object
+    steady_ghost_scan_share: object
     mobile_ghosts_end: int
     steady_ghosts_end: int
     replans_wall: int
@@ -93,11 +93,11 @@ class DetectionResult:
     replans_other: int
 
     def as_row(self):
-        """Return the measures as a flat dict, ratios rounded to 4 decimals (nan kept)."""
+        """Return the measures as a flat dict, ratios rounded to 4 decimals."""
         row = asdict(self)
         for name, value in row.items():
             if isinstance(value, float):
-                row[name] = value if math.isnan(value) else round(value, 4)
+                row[name] = round(value, 4)
         return row
 
 
@@ -106,8 +106,8 @@ DETECTION_FIELDS = tuple(DetectionResult.__dataclass_fields__)
 
 
 def ratio(numerator, denominator):
-    """Return ``numerator / denominator``, or nan when the denominator is 0."""
-    return numerator / denominator if denominator else math.nan
+    """Return ``numerator / denominator``, or None (undefined) when the denominator is 0."""
+    return numerator / denominator if denominator else None
 
 
 class DetectionMeter:
@@ -245,6 +245,7 @@ class DetectionMeter:
         Parameters
         ----------
         labels : (H, W) ndarray of uint8
+            The navigator's labels.
         wanderer_xy : (K, 2) array_like of float
             True wanderer positions [m].
 

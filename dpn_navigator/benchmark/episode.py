@@ -18,16 +18,16 @@ Episode rules:
 
 """
 
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass, field
 import math
 import time
 
 import numpy as np
 
-from ..core import astar, CellLabel, Navigator, NavigatorConfig, NavigatorStatus, path_cost
-from ..core.pose2d import compose
 from .detection import DETECTION_FIELDS, DetectionMeter
 from .ground_truth import wall_belt, wanderer_hit_points
+from ..core import astar, CellLabel, Navigator, NavigatorConfig, NavigatorStatus, path_cost
+from ..core.pose2d import compose
 
 #: The Husky's half width [m]: the clearance of the reference shortest path.
 HUSKY_HALF_WIDTH = 0.35
@@ -72,7 +72,7 @@ class EpisodeResult:
         The map measured as a detector, scan by scan (``detection.DetectionMeter``); None
         when the episode ran without it.
     detection_wall_time : float or None
-        Wall-clock time spent measuring it [s].
+        Wall-clock time spent measuring it [s]; left out of comparisons, as it varies.
 
     """
 
@@ -93,7 +93,7 @@ class EpisodeResult:
     walls_labelled_mobile: int
     ghost_obstacles: int
     detection: object = None
-    detection_wall_time: float = None
+    detection_wall_time: float = field(default=None, compare=False)
 
     def as_row(self):
         """Return the result as a flat dict, for CSV writing (detection fields None if off)."""
@@ -296,6 +296,7 @@ def measure_step(meter, navigator, world, scan, out, path, path_labels):
     Parameters
     ----------
     meter : DetectionMeter
+        The episode's meter.
     navigator : Navigator
         After its step on ``scan``.
     world : sim_bridge.world.World

@@ -26,7 +26,6 @@ Columns (`COLUMNS`), per episode:
 
 import csv
 import io
-import math
 import os
 
 from .detection import DETECTION_FIELDS, DetectionResult
@@ -45,7 +44,7 @@ INT_COLUMNS = ('task', 'wanderers', 'repetition', 'seed', 'success', 'replans', 
                'wall_contacts', 'wanderer_contacts', 'walls_labelled_mobile', 'ghost_obstacles')
 #: Float columns (parsed by `read_log`).
 FLOAT_COLUMNS = ('time', 'time_limit', 'path_length', 'shortest_path', 'wall_time')
-#: Detection columns holding counts (int, or None when empty); the others are float (nan).
+#: Detection columns holding counts (int); the others hold float. Empty fields read as None.
 _DETECTION_INT_COLUMNS = tuple(name for name in DETECTION_COLUMNS
                                if DetectionResult.__dataclass_fields__[name].type is int)
 #: Values of the ``failure`` column.
@@ -70,7 +69,8 @@ def read_log(path):
     -------
     rows : list of dict
         One per complete line, with `INT_COLUMNS` as int, `FLOAT_COLUMNS` as float and
-        ``number`` as int or None. A last line without its newline (cut short) is left out.
+        ``number`` as int or None, the detection columns as int or float, or None where empty.
+        A last line without its newline (cut short) is left out.
 
     Raises
     ------
@@ -113,10 +113,12 @@ def _parse_row(row):
     row['number'] = int(row['number']) if row['number'] else None
     for column in DETECTION_COLUMNS + ('detection_wall_time',):
         text = row[column]
-        if column in _DETECTION_INT_COLUMNS:
-            row[column] = int(text) if text else None
+        if not text:
+            row[column] = None
+        elif column in _DETECTION_INT_COLUMNS:
+            row[column] = int(text)
         else:
-            row[column] = float(text) if text else math.nan
+            row[column] = float(text)
     if row['success'] not in (0, 1) or row['failure'] not in FAILURES:
         raise ValueError(f'bad success/failure {row["success"]!r}/{row["failure"]!r}')
     return row
@@ -175,7 +177,7 @@ class EpisodeLog:
             value = row[column]
             if column == 'success':
                 value = int(bool(value))
-            elif value is None or (isinstance(value, float) and math.isnan(value)):
+            elif value is None:
                 value = ''
             values.append(value)
         self._writer.writerow(values)

@@ -13,7 +13,6 @@ import math
 import numpy as np
 
 
-
 def wall_belt(truth_occupied, truth_geometry, geometry, safety_radius):
     """
     Mark the cells of the navigator's grid whose centre lies within ``r`` of a wall.
