@@ -150,9 +150,9 @@ class DetectionMeter:
         self._centre_x = np.broadcast_to(all_x, geometry.shape).ravel()
         self._centre_y = np.broadcast_to(all_y, geometry.shape).ravel()
         # f1's test of eq. 2, and the cell offsets around a hit's cell that can pass it: a
-        # centre d cells away lies at least (d - 1/2) cells from the hit; one spare for rounding.
+        # centre d cells away lies more than (d - 1/2) cells from the hit.
         self._f1_bound = squared_radius_bound(self.safety_radius)
-        reach = math.floor(self.safety_radius / geometry.resolution + 0.5) + 1
+        reach = math.floor(self.safety_radius / geometry.resolution + 0.5 + 1e-9)
         offsets = np.arange(-reach, reach + 1)
         self._f1_dr = np.repeat(offsets, offsets.shape[0])[None, :]
         self._f1_dc = np.tile(offsets, offsets.shape[0])[None, :]
