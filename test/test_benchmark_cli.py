@@ -13,7 +13,8 @@ import os
 import shutil
 import subprocess
 
-from dpn_navigator.benchmark.episode_log import COLUMNS, FAILURES, read_log, row_key
+from dpn_navigator.benchmark.episode_log import (COLUMNS, DETECTION_COLUMNS, FAILURES,
+                                                 read_log, row_key)
 from dpn_navigator.benchmark.protocol import plan_episodes, PROFILES
 from dpn_navigator.demo import installed_executable
 import pytest
@@ -114,6 +115,22 @@ def test_ray_backend_logs_the_same_rows(smoke_run, tmp_path):
                 if row['map'] == 'back_and_forth' and row['wanderers'] in (0, 5)]
     assert without_wall_time(read_log(tmp_path / 'episodes.csv')) == \
         without_wall_time(expected)
+
+
+def test_without_detection_the_same_episode_logs_the_same_outcome(smoke_run, tmp_path):
+    out, _ = smoke_run
+    done = benchmark(*SMOKE, '--maps', 'back_and_forth', '--wanderers', '5', '--no-detection',
+                     '--out', str(tmp_path))
+    assert done.returncode == 0, done.stderr
+    (plain,) = read_log(tmp_path / 'episodes.csv')
+    (measured,) = [row for row in read_log(out / 'episodes.csv')
+                   if row['map'] == 'back_and_forth' and row['wanderers'] == 5]
+    measures = DETECTION_COLUMNS + ('detection_wall_time',)
+    assert all(plain[name] is None for name in measures)
+    assert {k: v for k, v in without_wall_time([plain])[0].items() if k not in measures} == \
+        {k: v for k, v in without_wall_time([measured])[0].items() if k not in measures}
+    assert 'No episode with detection measures.' in (tmp_path / 'summary.md').read_text()
+    assert not (tmp_path / 'detection.png').exists()
 
 
 def test_a_log_is_not_resumed_with_another_navigator(smoke_run):

@@ -66,6 +66,9 @@ def build_parser():
     parser.add_argument('--strip', action='store_true',
                         help="also rerun the first map's first task with the most wanderers and "
                              'draw strip.png, a Fig. 9-style strip of map snapshots')
+    parser.add_argument('--no-detection', action='store_true',
+                        help='skip the detection measures (about 8-10 %% of episode time; see '
+                             'docs/detection.md): their columns are left empty')
     parser.add_argument('--no-progress', action='store_true', help='no progress bar')
     return parser
 
@@ -95,7 +98,8 @@ def main(argv=None):
         stats = run_protocol(specs, log_path, workers=args.workers,
                              ray_address=args.ray_address, index=args.index,
                              progress=not args.no_progress,
-                             navigator_options=NAVIGATORS[args.navigator])
+                             navigator_options=NAVIGATORS[args.navigator],
+                             detection=not args.no_detection)
     except ValueError as exc:
         parser.exit(2, f'dpn-benchmark: error: {exc}\n')
     except KeyboardInterrupt:
