@@ -311,8 +311,10 @@ def measure_step(meter, navigator, world, scan, out, path, path_labels):
     """
     wanderer_xy = world.wanderer_positions
     labels = navigator.grid.labels
-    hits = wanderer_hit_points(compose(world.husky_pose, navigator.config.laser_offset),
-                               scan.ranges, scan.angle_min, scan.angle_increment,
-                               scan.range_min, scan.range_max, world.scan_wanderer_beams())
+    hits = (np.zeros(0), np.zeros(0))
+    if wanderer_xy.shape[0]:
+        hits = wanderer_hit_points(compose(world.husky_pose, navigator.config.laser_offset),
+                                   scan.ranges, scan.angle_min, scan.angle_increment,
+                                   scan.range_min, scan.range_max, world.scan_wanderer_beams())
     meter.record_scan(labels, navigator.grid.last_window, wanderer_xy, hits)
     meter.record_replan(out.replan_cause, path, path_labels, labels, wanderer_xy)
