@@ -141,7 +141,7 @@ class DpnNode(Node):
                 self.get_logger().info('waiting for odometry',
                                        throttle_duration_sec=WARN_THROTTLE)
                 return
-            self.navigator.observe(self.pose, **fields)
+            self.navigator.observe(self.pose, **fields, stamp=now)
         except ValueError as error:
             self.reject('scan', error)
             return

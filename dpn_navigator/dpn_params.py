@@ -33,6 +33,16 @@ FLOAT_PARAMETERS = {
     'forget_obstacles_after': (10.0, 'With no path for this long, forget the obstacle cells '
                                'out of view and plan again [s]; 0: never (the paper).',
                                (0.0, 3600.0), True),
+    'free_evidence_radius': (0.6, 'Conservative free space: explored -> mobile only for cells '
+                             'whose disc of this radius once lay inside one scan polygon, '
+                             'else steady [m]; 0: the paper.', (0.0, 5.0), True),
+    'moving_object_size': (0.7, 'Object-level relabelling: steady cells of scan-segment hits '
+                           'within this distance of a hit in surely-free space become mobile '
+                           '[m]; 0: off.', (0.0, 10.0), True),
+    'segment_gap': (0.3, 'Consecutive laser hits farther apart than this are different '
+                    'objects [m].', (0.01, 10.0), True),
+    'mobile_expiry': (5.0, 'Mobile cells no hit confirmed for this long and out of view go '
+                      'back to explored [s]; 0: never (the paper).', (0.0, 3600.0), True),
     'goal_x': (math.nan, 'Goal x in the map frame [m]; NaN: wait for /compabot/goal_pose.',
                None, True),
     'goal_y': (math.nan, 'Goal y in the map frame [m]; NaN: wait for /compabot/goal_pose.',
@@ -95,6 +105,9 @@ def declare_parameters(node):
         safety_radius=values['safety_radius'], footprint_radius=values['footprint_radius'],
         obstacle_proximity_cost=values['obstacle_proximity_cost'],
         forget_obstacles_after=values['forget_obstacles_after'],
+        free_evidence_radius=values['free_evidence_radius'],
+        moving_object_size=values['moving_object_size'], segment_gap=values['segment_gap'],
+        mobile_expiry=values['mobile_expiry'],
         laser_offset=(values['laser_x'], values['laser_y'], values['laser_yaw']),
         follower=follower)
     goal = None

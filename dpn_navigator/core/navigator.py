@@ -16,7 +16,7 @@ import numpy as np
 
 from .astar_search import astar
 from .cell_label import blocked_mask, CellLabel
-from .label_grid import LabelGrid
+from .label_grid import LabelGrid, LabelRule
 from .path_follower import follow_path, FollowerConfig, STOP, VelocityCommand
 from .pose2d import compose
 from .scan_polygon import check_pose
@@ -109,6 +109,18 @@ class NavigatorConfig:
         kept. Without it, a wanderer that blocked a corridor and then left it out of the
         laser's view (behind the robot, round a corner) would block it for good. 0 turns it
         off: the paper's navigator.
+    free_evidence_radius : float
+        Conservative free space [m]: explored -> mobile obstacle only for cells once surely
+        seen free (their disc of this radius inside one scan's polygon), else a steady
+        obstacle; see ``LabelRule``. 0: the paper's FSM.
+    moving_object_size : float
+        Object-level relabelling [m]: the steady cells of a scan segment's hits within this
+        distance of a hit in surely-free space become mobile; see ``LabelRule``. 0: off.
+    segment_gap : float
+        Consecutive hits farther apart than this belong to different objects [m].
+    mobile_expiry : float
+        Ghost expiry [s]: mobile cells unconfirmed by any hit for this long and out of view go
+        back to explored; see ``LabelRule``. 0: off.
     follower : FollowerConfig
         Speed limits and gains of the path follower.
 
@@ -125,6 +137,10 @@ class NavigatorConfig:
     obstacle_proximity_cost: float = 1.0
     no_path_retry_period: float = 0.5
     forget_obstacles_after: float = 10.0
+    free_evidence_radius: float = 0.6
+    moving_object_size: float = 0.7
+    segment_gap: float = 0.3
+    mobile_expiry: float = 5.0
     follower: FollowerConfig = field(default_factory=FollowerConfig)
 
     def __post_init__(self):
@@ -137,6 +153,13 @@ class NavigatorConfig:
             raise ValueError(
                 f'max_path_deviation must be positive, got {self.max_path_deviation!r}')
         check_pose(self.laser_offset, 'laser_offset')
+        self.label_rule()                        # validates the label rule's fields
+
+    def label_rule(self):
+        """Return the grid's ``LabelRule`` from the label fields of this configuration."""
+        return LabelRule(free_evidence_radius=self.free_evidence_radius,
+                         moving_object_size=self.moving_object_size,
+                         segment_gap=self.segment_gap, mobile_expiry=self.mobile_expiry)
 
 
 @dataclass(frozen=True)
@@ -192,7 +215,8 @@ class Navigator:
 
     def __init__(self, config):
         self.config = config
-        self.grid = LabelGrid(config.width, config.height, config.resolution, config.origin)
+        self.grid = LabelGrid(config.width, config.height, config.resolution, config.origin,
+                              config.label_rule())
         self.path = None
         self.goal = None
         self.status = NavigatorStatus.IDLE
@@ -268,11 +292,12 @@ class Navigator:
             For a malformed scan or pose; the navigator's state is then unchanged.
 
         """
-        self.observe(pose, ranges, angle_min, angle_increment, range_min, range_max, angle_max)
+        self.observe(pose, ranges, angle_min, angle_increment, range_min, range_max, angle_max,
+                     stamp=stamp)
         return self.decide(stamp, pose)
 
     def observe(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
-                angle_max=None):
+                angle_max=None, stamp=None):
         """
         Fold one scan into the map; the next ``decide`` replans if the scan asks for it.
 
@@ -282,6 +307,8 @@ class Navigator:
         ----------
         pose, ranges, angle_min, angle_increment, range_min, range_max, angle_max
             As for ``step``.
+        stamp : float, optional
+            Time of the scan [s]; needed when ``mobile_expiry`` is on.
 
         Raises
         ------
@@ -293,10 +320,10 @@ class Navigator:
         laser_pose = compose(pose, self.config.laser_offset)
         replan = self.grid.update(laser_pose, ranges, angle_min, angle_increment, range_min,
                                   range_max, self.config.safety_radius, path=self.path,
-                                  angle_max=angle_max)
+                                  angle_max=angle_max, stamp=stamp)
         self._replan_requested |= replan
         self._last_scan = (laser_pose, np.array(ranges, dtype=np.float64), angle_min,
-                           angle_increment, range_min, range_max, angle_max)
+                           angle_increment, range_min, range_max, angle_max, stamp)
 
     def decide(self, stamp, pose):
         """
@@ -417,10 +444,10 @@ class Navigator:
         else:
             labels[blocked_mask(labels)] = CellLabel.NON_EXPLORED
         labels[rows, cols] = np.where(near, kept, labels[rows, cols])
-        laser_pose, ranges, angle_min, angle_increment, range_min, range_max, angle_max = \
-            self._last_scan
+        laser_pose, ranges, angle_min, angle_increment, range_min, range_max, angle_max, \
+            stamp = self._last_scan
         self.grid.update(laser_pose, ranges, angle_min, angle_increment, range_min, range_max,
-                         self.config.safety_radius, angle_max=angle_max)
+                         self.config.safety_radius, angle_max=angle_max, stamp=stamp)
         self.forgets += 1
         self._spell_forgets += 1
 
