@@ -149,7 +149,7 @@ def test_f1_cells_are_the_cores_f1_cells(hits, radius):
     rr, cc = m.f1_cells(hits_x, hits_y)
     mine = np.zeros(geometry.shape, dtype=bool)
     mine[rr, cc] = True
-    points = ScanPoints(np.zeros(1), np.zeros(1), hits_x, hits_y)
+    points = ScanPoints(np.zeros(1), np.zeros(1), hits_x, hits_y, np.arange(len(hits)))
     core = scan_input(geometry, slice(0, geometry.rows), slice(0, geometry.cols), points,
                       radius) == HIT
     assert_array_equal(mine, core)

@@ -77,4 +77,5 @@ def test_detection_measures_do_not_change_the_episode(back_and_forth):
             + detection.replans_no_path_retry + detection.replans_other) == measured.replans
     assert 0.0 <= detection.mobile_precision <= 1.0
     assert 0.0 <= detection.wanderer_hit_recall <= 1.0
-    assert 0 < detection.wall_cells_ever_mobile <= detection.wall_cells_seen
+    assert 0 <= detection.wall_cells_ever_mobile <= detection.wall_cells_seen
+    assert detection.wall_cells_seen > 0
