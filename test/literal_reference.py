@@ -230,8 +230,9 @@ def literal_update_with_rule(labels, seen_free, last_hit, origin, resolution, po
         evidence = []
         for hx, hy in hits:
             evidence.append(any(
-                seen_free[i, j] and literal_f1(*centre(i, j), [(hx, hy)],
-                                               rule.free_evidence_radius)
+                seen_free[i, j] and literal_f1(
+                    *centre(i, j), [(hx, hy)],
+                    max(rule.free_evidence_radius - rule.evidence_margin, 0.0))
                 for i in range(rows) for j in range(cols)))
         moving = literal_moving_hits(hits, beams, evidence, rule.segment_gap,
                                      rule.moving_object_size)
@@ -254,6 +255,9 @@ def literal_update_with_rule(labels, seen_free, last_hit, origin, resolution, po
                 if f1 and rule.moving_object_size > 0.0:
                     # Object level: hit cells are mobile near a moving object, else steady.
                     new = MOBILE if literal_f1(cx, cy, moving_hits, safety_radius) else STEADY
+                elif rule.moving_object_size > 0.0 and new == STEADY and literal_f1(
+                        cx, cy, moving_hits, safety_radius + rule.moving_object_size):
+                    new = MOBILE                 # where the moving object may have been
                 elif f1 and old == EXPLORED and not seen_free[i, j]:
                     new = STEADY                 # conservative free space
                 if literal_surely_free(cx, cy, vertices, hits, safety_radius,

@@ -48,8 +48,8 @@ def build_parser():
     parser.add_argument('--repeats', type=int, help='repetitions of each configuration')
     parser.add_argument('--navigator', choices=sorted(NAVIGATORS), default='dpn',
                         help="dpn: as shipped; paper: without this project's additions (A* "
-                             'proximity cost, forgetting unseen obstacles when stuck) '
-                             '(default: %(default)s)')
+                             'proximity cost, forgetting unseen obstacles when stuck, the '
+                             'label rules of docs/detection.md) (default: %(default)s)')
     parser.add_argument('--seed', type=int, default=0,
                         help='base seed of the episode seeds (default: %(default)s)')
     parser.add_argument('--out', default='benchmark_out', type=Path,

@@ -34,7 +34,7 @@ import math
 import numpy as np
 
 from .cell_label import ScanInput
-from .scan_features import hit_runs
+from .scan_features import hit_runs, run_cover
 
 #: Slack of the candidate boxes [m]: far more than the rounding of their bounds.
 _BOX_SLACK = 1e-6
@@ -131,10 +131,6 @@ def surely_free(geometry, rows, cols, points, radius, cell_input):
         return free.reshape(cell_input.shape)
     starts, ends = hit_runs(geometry, rows, cols, centres, points.vertices_x[:-1],
                             points.vertices_y[:-1], radius)
-    # Runs may overlap: a cell is near a vertex where the running count of open runs is > 0.
-    size = free.shape[0]
-    open_runs = np.cumsum(np.bincount(starts, minlength=size + 1)
-                          - np.bincount(ends, minlength=size + 1))
-    free &= open_runs[:size] == 0
+    free &= ~run_cover(starts, ends, cell_input.shape).ravel()
     free[edge_band_positions(centres, points.vertices_x, points.vertices_y, radius)] = False
     return free.reshape(cell_input.shape)

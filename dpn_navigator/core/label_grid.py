@@ -22,7 +22,7 @@ from .cell_label import blocked_mask, CellLabel, LABEL_DTYPE, ScanInput, TRANSIT
 from .free_evidence import surely_free
 from .grid_geometry import GridGeometry
 from .moving_objects import moving_object_hits
-from .scan_features import hit_runs, scan_input
+from .scan_features import hit_runs, run_cover, scan_input
 from .scan_polygon import check_pose, check_scan, scan_points
 
 # TRANSITION flattened for one-step lookup with index (label << 2) | scan_input.
@@ -88,13 +88,21 @@ class LabelRule:
         it a steady obstacle. 0 turns it off: every explored cell counts as seen free.
     moving_object_size : float
         Object-level relabelling [m]. A hit shows motion when a cell within
-        ``free_evidence_radius`` of it was once surely seen free; the hits of its scan segment
+        ``free_evidence_radius - evidence_margin`` of it was once surely seen free; the hits of its scan segment
         within this distance of it are one moving object (``moving_objects``). Every cell the
         scan hits (f1 = 1) is then labelled by object: a mobile obstacle when within the
         safety radius of a moving object's hit, else a steady obstacle, whatever its label
         was (so the steady cells of an object seen to move become mobile, and mobile cells
         that only objects not seen to move hit, such as a wall a wanderer stood by, become
-        steady). 0 turns it off. Needs ``free_evidence_radius`` > 0.
+        steady). The steady cells this scan does not hit within ``safety radius +
+        moving_object_size`` of a moving object's hit, where the object was before it was
+        found to move, become mobile too, so that they expire like other mobile cells.
+        0 turns it off. Needs ``free_evidence_radius`` > 0.
+    evidence_margin : float
+        How much closer than ``free_evidence_radius`` a hit must be to a surely-free cell to
+        show motion [m]. The scan polygon's edge between two beams cuts a little into a
+        convex corner facing the laser (up to about half the beam spacing there), so a
+        surely-free disc may reach that far into a wall.
     segment_gap : float
         Consecutive hits farther apart than this start a new scan segment [m].
     mobile_expiry : float
@@ -106,11 +114,13 @@ class LabelRule:
 
     free_evidence_radius: float = 0.0
     moving_object_size: float = 0.0
+    evidence_margin: float = 0.15
     segment_gap: float = 0.3
     mobile_expiry: float = 0.0
 
     def __post_init__(self):
-        for name in ('free_evidence_radius', 'moving_object_size', 'mobile_expiry'):
+        for name in ('free_evidence_radius', 'moving_object_size', 'evidence_margin',
+                     'mobile_expiry'):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0.0):
                 raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
@@ -219,8 +229,10 @@ class LabelGrid:
                 raise ValueError(f'mobile_expiry needs a finite scan stamp, got {stamp!r}')
             self._restart_clocks_if_time_went_back(float(stamp))
         points = scan_points(pose, ranges, angle_min, angle_increment, range_min, range_max)
-        # Every cell within r of a hit (f1), or within the evidence radius of one.
-        reach = max(safety_radius, self.rule.free_evidence_radius)
+        # Every cell within r of a hit (f1), within the evidence radius of one, or where an
+        # object seen to move may have been.
+        reach = max(safety_radius, self.rule.free_evidence_radius,
+                    safety_radius + self.rule.moving_object_size)
         rows, cols = self.geometry.cell_window(
             float(points.vertices_x.min()) - reach, float(points.vertices_x.max()) + reach,
             float(points.vertices_y.min()) - reach, float(points.vertices_y.max()) + reach)
@@ -263,25 +275,28 @@ class LabelGrid:
         hit = cell_input == ScanInput.HIT
         window[(before == CellLabel.EXPLORED) & hit & ~seen_free] = CellLabel.STEADY_OBSTACLE
         if self.rule.moving_object_size > 0.0:
-            near_moving = self._near_moving_objects(rows, cols, points, safety_radius,
-                                                    seen_free)
+            near_moving, trail = self._near_moving_objects(rows, cols, points, safety_radius,
+                                                           seen_free)
             window[hit] = np.where(near_moving[hit], CellLabel.MOBILE_OBSTACLE,
                                    CellLabel.STEADY_OBSTACLE)
+            window[trail & ~hit & (window == CellLabel.STEADY_OBSTACLE)] = \
+                CellLabel.MOBILE_OBSTACLE
         seen_free |= surely_free(self.geometry, rows, cols, points,
                                  self.rule.free_evidence_radius, cell_input)
 
     def _near_moving_objects(self, rows, cols, points, safety_radius, seen_free):
         """
-        Window cells within the safety radius of a hit on an object seen to move.
+        Window cells within the safety radius of a hit on an object seen to move, and those
+        within ``safety radius + moving_object_size`` of one (where it may have been).
 
-        A hit shows motion when a cell within ``free_evidence_radius`` of it was once surely
-        seen free (``seen_free``, before this scan): never so for a hit on a steady wall,
-        which would then have been inside that scan's polygon.
+        A hit shows motion when a cell within ``free_evidence_radius - evidence_margin`` of it
+        was once surely seen free (``seen_free``, before this scan): never so for a hit on a
+        steady wall, which would then have been inside that scan's polygon.
         """
         centres = self.geometry.window_centres(rows, cols)
         runs = hit_runs(self.geometry, rows, cols, centres, points.hits_x, points.hits_y,
                         safety_radius, return_hits=True)
-        evidence_radius = self.rule.free_evidence_radius
+        evidence_radius = max(self.rule.free_evidence_radius - self.rule.evidence_margin, 0.0)
         evidence_runs = runs if evidence_radius == safety_radius else hit_runs(
             self.geometry, rows, cols, centres, points.hits_x, points.hits_y, evidence_radius,
             return_hits=True)
@@ -292,11 +307,13 @@ class LabelGrid:
         moving = moving_object_hits(points.hits_x, points.hits_y, points.hit_beams, evidence,
                                     self.rule.segment_gap, self.rule.moving_object_size)
         starts, ends, hit_index = runs
-        moving_run = moving[hit_index]
-        size = seen_free.size
-        open_runs = np.cumsum(np.bincount(starts[moving_run], minlength=size + 1)
-                              - np.bincount(ends[moving_run], minlength=size + 1))
-        return (open_runs[:size] > 0).reshape(seen_free.shape)
+        near = run_cover(starts[moving[hit_index]], ends[moving[hit_index]], seen_free.shape)
+        if not moving.any():
+            return near, near
+        trail_starts, trail_ends = hit_runs(
+            self.geometry, rows, cols, centres, points.hits_x[moving], points.hits_y[moving],
+            safety_radius + self.rule.moving_object_size)
+        return near, run_cover(trail_starts, trail_ends, seen_free.shape)
 
     def _restart_clocks_if_time_went_back(self, stamp):
         """After a jump back in time (a restarted simulation), no hit is newer than now."""

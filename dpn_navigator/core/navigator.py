@@ -116,6 +116,9 @@ class NavigatorConfig:
     moving_object_size : float
         Object-level relabelling [m]: the steady cells of a scan segment's hits within this
         distance of a hit in surely-free space become mobile; see ``LabelRule``. 0: off.
+    evidence_margin : float
+        A hit shows motion only within ``free_evidence_radius`` minus this of a cell surely
+        seen free [m]; see ``LabelRule``.
     segment_gap : float
         Consecutive hits farther apart than this belong to different objects [m].
     mobile_expiry : float
@@ -139,6 +142,7 @@ class NavigatorConfig:
     forget_obstacles_after: float = 10.0
     free_evidence_radius: float = 0.6
     moving_object_size: float = 0.7
+    evidence_margin: float = 0.15
     segment_gap: float = 0.3
     mobile_expiry: float = 5.0
     follower: FollowerConfig = field(default_factory=FollowerConfig)
@@ -159,7 +163,8 @@ class NavigatorConfig:
         """Return the grid's ``LabelRule`` from the label fields of this configuration."""
         return LabelRule(free_evidence_radius=self.free_evidence_radius,
                          moving_object_size=self.moving_object_size,
-                         segment_gap=self.segment_gap, mobile_expiry=self.mobile_expiry)
+                         evidence_margin=self.evidence_margin, segment_gap=self.segment_gap,
+                         mobile_expiry=self.mobile_expiry)
 
 
 @dataclass(frozen=True)

@@ -102,6 +102,29 @@ def hit_runs(geometry, rows, cols, centres, hits_x, hits_y, safety_radius, retur
     return row_base + first[keep], row_base + last[keep] + 1
 
 
+def run_cover(starts, ends, shape):
+    """
+    Mark the window cells that lie in at least one run.
+
+    Parameters
+    ----------
+    starts, ends : (R,) ndarray of int64
+        Half-open runs ``[start, end)`` of flat window positions, as from ``hit_runs``; runs
+        may overlap.
+    shape : (int, int)
+        The window's ``(n_rows, n_cols)``.
+
+    Returns
+    -------
+    covered : (n_rows, n_cols) ndarray of bool
+
+    """
+    size = shape[0] * shape[1]
+    open_runs = np.cumsum(np.bincount(starts, minlength=size + 1)
+                          - np.bincount(ends, minlength=size + 1))
+    return (open_runs[:size] > 0).reshape(shape)
+
+
 def crossing_toggles(rows, cols, centres, vertices_x, vertices_y):
     """
     Find f2's crossings: where the even-odd parity of each window row flips.
