@@ -59,7 +59,7 @@ FLOAT_PARAMETERS = {
 OTHER_PARAMETERS = {
     'map_frame': ('map', 'Frame of the map, the plan and the markers; goals in another frame are '
                   'rejected (an empty goal frame means this one).'),
-    'laser_frame': ('laser', "Frame the scans must be in (laser_x/_y/_yaw place it on the "
+    'laser_frame': ('laser', 'Frame the scans must be in (laser_x/_y/_yaw place it on the '
                     "base); scans in another frame are rejected and counted; '': any."),
     'base_frame': ('base_link', 'Frame of the robot base: header of TwistStamped commands.'),
     'cmd_vel_stamped': (False, 'Send geometry_msgs/TwistStamped on cmd_vel instead of Twist '

@@ -74,9 +74,9 @@ class PybulletWorldNode(Node):
         task = declare('task', 0, _descriptor('Which start/goal pair of the scenario.',
                                               int_range=(0, 1000))).value
         start = [declare_number(
-            self, name, math.nan, f"Override the task start {axis} (spawn pose); NaN: the "
-            "task's.") for name, axis in (('start_x', 'x [m]'), ('start_y', 'y [m]'),
-                                          ('start_yaw', 'yaw [rad]'))]
+            self, name, math.nan, f"Override the task start {axis} (spawn pose); NaN: the task's.")
+            for name, axis in (('start_x', 'x [m]'), ('start_y', 'y [m]'),
+                               ('start_yaw', 'yaw [rad]'))]
         wanderers = declare('wanderers', 3, _descriptor(
             'Number of wandering P3-AT robots.', int_range=(0, 10))).value
         seed = declare('seed', 0, _descriptor('Seed of the wanderers and the laser noise.',

@@ -3,8 +3,7 @@
 import math
 import time
 
-from diagnostic_msgs.msg import DiagnosticStatus
-from diagnostic_msgs.msg import DiagnosticArray
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from dpn_navigator.conversions import odometry_to_pose, quaternion_to_yaw, velocity_to_twist
 from dpn_navigator.qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS, TF_QOS, TF_STATIC_QOS
 from geometry_msgs.msg import Twist, TwistStamped
@@ -102,8 +101,8 @@ def test_tf_chain_map_odom_base_laser_resolves_at_scan_stamps(world):
         assert translation == pytest.approx(expected, abs=1e-6)
         laser_yaw = math.atan2(2.0 * (rotation[3] * rotation[2] + rotation[0] * rotation[1]),
                                1.0 - 2.0 * (rotation[1] ** 2 + rotation[2] ** 2))
-        assert math.remainder(laser_yaw - (yaw + myaw), 2 * math.pi) == pytest.approx(0.0,
-                                                                                   abs=1e-6)
+        yaw_error = math.remainder(laser_yaw - (yaw + myaw), 2 * math.pi)
+        assert yaw_error == pytest.approx(0.0, abs=1e-6)
         checked += 1
     assert checked >= 5
     assert probe.frames.parents == {'odom': 'map', 'base_link': 'odom', 'laser': 'base_link'}
