@@ -7,6 +7,7 @@ file it uses must exist and hold parameters that the nodes declare.
 
 import ast
 from pathlib import Path
+import re
 
 import yaml
 
@@ -71,3 +72,15 @@ def test_rviz_config_shows_map_plan_scan_tf_and_robot():
     classes = {d['Class'] for d in displays}
     assert {'rviz_default_plugins/TF', 'rviz_default_plugins/Axes'} <= classes
     assert rviz['Visualization Manager']['Global Options']['Fixed Frame'] == 'map'
+
+
+def test_every_parameter_is_in_the_reference_table():
+    from dpn_navigator.dpn_params import FLOAT_PARAMETERS, OTHER_PARAMETERS
+    table = {'dpn': set(), 'pybullet_world': set()}
+    for line in (REPO / 'docs' / 'ros_reference.md').read_text().splitlines():
+        cells = [c.strip() for c in line.split('|')]
+        if len(cells) > 3 and cells[1] in table:
+            table[cells[1]].update(re.findall(r'`([a-z_]+)`', cells[2]))
+    assert table['dpn'] == set(FLOAT_PARAMETERS) | set(OTHER_PARAMETERS)
+    world = yaml.safe_load((REPO / 'config' / 'pybullet_world.yaml').read_text())
+    assert table['pybullet_world'] == set(world['/**/pybullet_world']['ros__parameters'])
