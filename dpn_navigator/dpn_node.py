@@ -261,4 +261,4 @@ class DpnNode(Node):
 
 def main(args=None):
     """Run the ``dpn`` node: ``ros2 run dpn_navigator dpn``."""
-    run_node(DpnNode, args)
+    return run_node(DpnNode, args)

@@ -2,6 +2,7 @@
 
 import rclpy
 from rclpy.executors import ExternalShutdownException
+from rclpy.logging import get_logger
 
 
 def run_node(node_class, args=None):
@@ -9,13 +10,25 @@ def run_node(node_class, args=None):
     Initialise rclpy, build ``node_class()`` and spin it until shutdown or Ctrl-C.
 
     ``KeyboardInterrupt`` and ``ExternalShutdownException`` end it quietly; the node is
-    destroyed and rclpy shut down in ``finally``. (Jazzy's experimental ``EventsExecutor`` was
-    tried: its ``spin()`` hangs with these wheels, so the default executor is used.)
+    destroyed and rclpy shut down in ``finally``. A ``ValueError`` while the node is built (a
+    bad parameter) is logged as one line and ends it with exit status 1, not a traceback.
+    (Jazzy's experimental ``EventsExecutor`` was tried: its ``spin()`` hangs with these wheels,
+    so the default executor is used.)
+
+    Returns
+    -------
+    int
+        Exit status: 0, or 1 when the node could not be built.
+
     """
     rclpy.init(args=args)
     node = None
     try:
-        node = node_class()
+        try:
+            node = node_class()
+        except ValueError as error:
+            get_logger(node_class.__name__).fatal(f'cannot start: {error}')
+            return 1
         rclpy.spin(node)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
@@ -23,3 +36,4 @@ def run_node(node_class, args=None):
         if node is not None:
             node.destroy_node()
         rclpy.try_shutdown()
+    return 0

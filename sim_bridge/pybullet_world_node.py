@@ -221,4 +221,4 @@ class PybulletWorldNode(Node):
 
 def main(args=None):
     """Run the ``pybullet_world`` node: ``ros2 run sim_bridge pybullet_world``."""
-    run_node(PybulletWorldNode, args)
+    return run_node(PybulletWorldNode, args)

@@ -7,12 +7,14 @@ domain of this test's own; a monitor node in the test process watches the topics
 """
 
 import math
+import subprocess
 
 from diagnostic_msgs.msg import DiagnosticArray
-from dpn_navigator.demo import installed_executable, run_episode, stop_nodes
+from dpn_navigator.demo import installed_executable, ros_environment, run_episode, stop_nodes
 from dpn_navigator.qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS, TF_QOS, TF_STATIC_QOS
 from nav_msgs.msg import OccupancyGrid, Path
 import numpy as np
+import pytest
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from sensor_msgs.msg import LaserScan
@@ -26,6 +28,21 @@ def test_executables_are_where_ros2_run_looks():
     for package, name in (('dpn_navigator', 'dpn'), ('sim_bridge', 'pybullet_world')):
         path = installed_executable(package, name)
         assert path.parts[-3:] == ('lib', package, name)
+
+
+@pytest.mark.parametrize('package, name, parameter', [
+    ('dpn_navigator', 'dpn', 'map_width:=abc'),
+    ('sim_bridge', 'pybullet_world', 'physics_rate:=0'),
+])
+def test_a_bad_parameter_ends_the_process_with_one_line(ros_domain_id, package, name,
+                                                         parameter):
+    result = subprocess.run(
+        [str(installed_executable(package, name)), '--ros-args', '-p', parameter],
+        env=ros_environment(ros_domain_id), capture_output=True, text=True, timeout=60)
+    output = result.stdout + result.stderr
+    assert result.returncode == 1, output
+    assert 'Traceback' not in output
+    assert f"cannot start: parameter {parameter.split(':=')[0]}" in output
 
 
 def test_robot_reaches_the_goal_over_ros(ros_domain_id, tmp_path):

@@ -1,6 +1,7 @@
 """Tests of the pybullet_world node in one process: real topics over DDS."""
 
 import math
+from pathlib import Path
 import time
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
@@ -19,6 +20,7 @@ from sim_bridge.husky import LASER_HEIGHT, LASER_MOUNT
 from sim_bridge.pybullet_world_node import PybulletWorldNode
 from tf2_msgs.msg import TFMessage
 from tf_chain import FrameChain
+import yaml
 
 
 class Probe(Node):
@@ -144,3 +146,19 @@ def test_commands_are_clamped_rejected_when_not_finite_and_time_out(world):
     spin_for(executor, node, 1.5)
     assert node.world.husky_velocity[0] == pytest.approx(0.0, abs=1e-9)
     assert probe.status('rejected_commands') == '1'
+
+
+def test_code_defaults_are_those_of_the_parameter_file(ros_context):
+    config = Path(__file__).resolve().parents[1] / 'config' / 'pybullet_world.yaml'
+    values = yaml.safe_load(config.read_text())['/**/pybullet_world']['ros__parameters']
+    node = PybulletWorldNode(context=ros_context)
+    try:
+        assert node.get_fully_qualified_name() == '/compabot/pybullet_world'
+        for name, value in values.items():
+            actual = node.get_parameter(name).value
+            if isinstance(value, float) and math.isnan(value):
+                assert math.isnan(actual), name
+            else:
+                assert actual == value and type(actual) is type(value), name
+    finally:
+        node.destroy_node()
