@@ -34,8 +34,8 @@ def test_executables_are_where_ros2_run_looks():
     ('dpn_navigator', 'dpn', 'map_width:=abc'),
     ('sim_bridge', 'pybullet_world', 'physics_rate:=0'),
 ])
-def test_a_bad_parameter_ends_the_process_with_one_line(ros_domain_id, package, name,
-                                                         parameter):
+def test_a_bad_parameter_ends_the_process_with_one_line(
+        ros_domain_id, package, name, parameter):
     result = subprocess.run(
         [str(installed_executable(package, name)), '--ros-args', '-p', parameter],
         env=ros_environment(ros_domain_id), capture_output=True, text=True, timeout=60)
@@ -89,19 +89,26 @@ def test_robot_reaches_the_goal_over_ros(ros_domain_id, tmp_path):
         late.create_subscription(
             DiagnosticArray, '/diagnostics',
             lambda m: diagnostics.update((s.name, s) for s in m.status), COMMAND_QOS)
-        resolved = []
+        resolved, errors = [], []
 
         def resolve():
-            for scan in scans[:-1]:     # the last scan's transforms may still be on their way
-                resolved.append(frames.lookup('map', scan.header.frame_id, scan.header.stamp))
-            scans[:-1] = []
+            # A scan can arrive before its transforms (or, at first, /tf_static): try it again
+            # on the next round, and keep the last error for the report.
+            for scan in list(scans):
+                try:
+                    resolved.append(frames.lookup('map', scan.header.frame_id,
+                                                  scan.header.stamp))
+                    scans.remove(scan)
+                except LookupError as error:
+                    errors.append(error)
             return len(resolved) >= 3 and plans and len(diagnostics) >= 2
 
         for _ in range(400):
             executor.spin_once(timeout_sec=0.05)
             if resolve():
                 break
-        assert len(resolved) >= 3, f'{len(resolved)} scans resolved; frames {frames.parents}'
+        assert len(resolved) >= 3, (f'{len(resolved)} scans resolved; frames {frames.parents}; '
+                                    f'last error: {errors[-1:]}')
         assert frames.parents == {'odom': 'map', 'base_link': 'odom', 'laser': 'base_link'}
         laser_z = [translation[2] for translation, _ in resolved]
         assert laser_z == [laser_z[0]] * len(laser_z) and laser_z[0] > 0.0
