@@ -179,7 +179,9 @@ class DpnNode(Node):
         out = self.navigator.decide(now, self.pose)
         if not self.sensors_stale(now):
             self.cmd_pub.publish(out.command.linear, out.command.angular)
-        self.odom_real_pub.publish(pose_to_odometry(self.pose, self.velocity, stamp))
+        self.odom_real_pub.publish(pose_to_odometry(
+            self.pose, self.velocity, stamp, frame_id=self.params.map_frame,
+            child_frame_id=self.params.base_frame))
         status_changed = out.status is not self.last_status
         if status_changed:
             self.publish_status()
