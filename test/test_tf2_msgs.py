@@ -7,6 +7,8 @@ hash must be the one a Jazzy system announces for ``/tf`` (as ``ros2 topic info 
 prints it), or rclpy would not match it with tf2_ros, RViz and Nav2 publishers and subscribers.
 """
 
+from pathlib import Path
+
 from dpn_navigator.qos import TF_QOS
 from rclpy.node import Node
 from tf2_msgs.msg import TFMessage
@@ -31,3 +33,11 @@ def test_tf_message_carries_transforms():
     assert list(msg.get_fields_and_field_types()) == ['transforms']
     assert msg.get_fields_and_field_types()['transforms'] == \
         'sequence<geometry_msgs/TransformStamped>'
+
+
+def test_the_stand_in_is_hidden_from_colcon_and_keeps_the_standard_definition():
+    fallback = Path(__file__).resolve().parents[1] / 'fallback'
+    # colcon (and rosdep) never crawl it, so an apt Jazzy workspace uses the real tf2_msgs.
+    assert (fallback / 'COLCON_IGNORE').is_file()
+    definition = (fallback / 'tf2_msgs' / 'msg' / 'TFMessage.msg').read_text()
+    assert definition.split() == ['geometry_msgs/TransformStamped[]', 'transforms']
