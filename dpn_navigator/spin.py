@@ -1,6 +1,7 @@
 """Spin a node until shutdown, the Jazzy way: the ``main()`` of every node of the package."""
 
 import rclpy
+from rclpy.exceptions import ParameterException
 from rclpy.executors import ExternalShutdownException
 from rclpy.logging import get_logger
 
@@ -10,8 +11,9 @@ def run_node(node_class, args=None):
     Initialise rclpy, build ``node_class()`` and spin it until shutdown or Ctrl-C.
 
     ``KeyboardInterrupt`` and ``ExternalShutdownException`` end it quietly; the node is
-    destroyed and rclpy shut down in ``finally``. A ``ValueError`` while the node is built (a
-    bad parameter) is logged as one line and ends it with exit status 1, not a traceback.
+    destroyed and rclpy shut down in ``finally``. A ``ValueError`` or rclpy's
+    ``ParameterException`` while the node is built (a bad parameter: wrong type, out of range)
+    is logged as one line and ends it with exit status 1, not a traceback.
     (Jazzy's experimental ``EventsExecutor`` was tried: its ``spin()`` hangs with these wheels,
     so the default executor is used.)
 
@@ -26,7 +28,7 @@ def run_node(node_class, args=None):
     try:
         try:
             node = node_class()
-        except ValueError as error:
+        except (ValueError, ParameterException) as error:
             get_logger(node_class.__name__).fatal(f'cannot start: {error}')
             return 1
         rclpy.spin(node)
