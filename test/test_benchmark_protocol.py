@@ -1,6 +1,7 @@
 """Tests of the benchmark's protocol, episode log and report, without running episodes."""
 
 import csv
+from pathlib import Path
 
 from dpn_navigator.benchmark.episode_log import (COLUMNS, DETECTION_COLUMNS, EpisodeLog,
                                                  read_log, row_key)
@@ -10,9 +11,11 @@ from dpn_navigator.benchmark.report import (cell_stats, map_order, save_success_
                                             success_matrix, summary_markdown)
 from dpn_navigator.benchmark.snapshots import EpisodeRecorder, pick_snapshots, Snapshot
 from dpn_navigator.core import NavigatorConfig
+from dpn_navigator.core.label_grid import PAPER_RULE
 import numpy as np
 import pytest
 from sim_bridge.scenario import IndexEntry
+import yaml
 
 
 def entries():
@@ -60,6 +63,17 @@ def test_navigator_variants_are_valid_configs():
     assert NAVIGATORS['dpn'] == {}
     paper = NavigatorConfig(width=10.0, height=10.0, **NAVIGATORS['paper'])
     assert paper.obstacle_proximity_cost == 0.0 and paper.forget_obstacles_after == 0.0
+    # The paper's FSM exactly: no label rule on.
+    assert paper.label_rule() == PAPER_RULE
+
+
+def test_the_nodes_paper_params_file_is_the_benchmarks_paper_navigator():
+    config = Path(__file__).resolve().parents[1] / 'config'
+    paper = yaml.safe_load((config / 'dpn_paper.yaml').read_text())['/**/dpn']['ros__parameters']
+    assert paper == NAVIGATORS['paper']
+    shipped = yaml.safe_load((config / 'dpn.yaml').read_text())['/**/dpn']['ros__parameters']
+    assert set(paper) <= set(shipped)
+    assert all(shipped[name] > 0.0 for name in paper)      # each one is on in the dpn file
 
 
 def test_plan_is_the_cross_product_without_repeats():
