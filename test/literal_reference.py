@@ -167,7 +167,7 @@ def tuple_astar(blocked, start, goal):
 
 def literal_surely_free(cx, cy, vertices, hits, safety_radius, radius):
     """
-    The centre is inside the polygon (f1 = 0, f2 = 1) and no boundary point is within radius.
+    Tell whether the centre is inside the polygon (f1 = 0, f2 = 1) with no boundary near.
 
     A boundary point is within ``radius`` when a vertex is (eq. 1's distance), or when the
     centre projects onto an edge and its distance from the edge's line is at most ``radius``.
@@ -192,7 +192,7 @@ def literal_surely_free(cx, cy, vertices, hits, safety_radius, radius):
 
 
 def literal_moving_hits(hits, beams, evidence, segment_gap, object_size):
-    """A hit is moving when a hit with evidence is in its segment within object_size of arc."""
+    """Mark hits that have a hit with evidence in their segment within object_size of arc."""
     count = len(hits)
     segment = [0] * count
     arc = [0.0] * count
@@ -211,7 +211,7 @@ def literal_update_with_rule(labels, seen_free, last_hit, origin, resolution, po
                              angle_min, angle_increment, range_min, range_max, safety_radius,
                              rule, stamp, last_stamp, path=None):
     """
-    The dpn label rule over every cell, in place; return (replan, new last_stamp).
+    Apply the dpn label rule to every cell, in place; return (replan, new last_stamp).
 
     ``seen_free`` (bool) and ``last_hit`` (float) are updated in place when their rule is on.
     """

@@ -333,7 +333,7 @@ def test_grazing_wall_is_steady_under_conservative_free_space():
 
 
 def grazing_wall_scan(position, wall_y, beams=91):
-    """A laser at ``position`` facing +x, a wall along ``y = wall_y`` below it [m]."""
+    """Return ranges of a laser at ``position`` facing +x, a wall along ``y = wall_y`` below."""
     angles = -math.pi / 2 + np.arange(beams) * (math.pi / (beams - 1))
     height = position[1] - wall_y
     with np.errstate(divide='ignore'):

@@ -88,11 +88,11 @@ class LabelRule:
         it a steady obstacle. 0 turns it off: every explored cell counts as seen free.
     moving_object_size : float
         Object-level relabelling [m]. A hit shows motion when a cell within
-        ``free_evidence_radius - evidence_margin`` of it was once surely seen free; the hits of its scan segment
-        within this distance of it are one moving object (``moving_objects``). Every cell the
-        scan hits (f1 = 1) is then labelled by object: a mobile obstacle when within the
-        safety radius of a moving object's hit, else a steady obstacle, whatever its label
-        was (so the steady cells of an object seen to move become mobile, and mobile cells
+        ``free_evidence_radius - evidence_margin`` of it was once surely seen free; the hits
+        of its scan segment within this distance of it are one moving object
+        (``moving_objects``). Every cell the scan hits (f1 = 1) is then labelled by object: a
+        mobile obstacle when within the safety radius of a moving object's hit, else a steady
+        obstacle, whatever its label was (so the steady cells of an object seen to move become mobile, and mobile cells
         that only objects not seen to move hit, such as a wall a wanderer stood by, become
         steady). The steady cells this scan does not hit within ``safety radius +
         moving_object_size`` of a moving object's hit, where the object was before it was
@@ -286,8 +286,10 @@ class LabelGrid:
 
     def _near_moving_objects(self, rows, cols, points, safety_radius, seen_free):
         """
-        Window cells within the safety radius of a hit on an object seen to move, and those
-        within ``safety radius + moving_object_size`` of one (where it may have been).
+        Find the window cells near hits on objects seen to move.
+
+        Returns the cells within the safety radius of such a hit, and those within
+        ``safety radius + moving_object_size`` of one (where the object may have been).
 
         A hit shows motion when a cell within ``free_evidence_radius - evidence_margin`` of it
         was once surely seen free (``seen_free``, before this scan): never so for a hit on a
@@ -324,7 +326,8 @@ class LabelGrid:
     def _expire_mobile(self, stamp):
         """Set mobile cells out of view and unconfirmed for ``mobile_expiry`` to explored."""
         rows, cols, cell_input = self.last_window
-        stale = (self.labels == CellLabel.MOBILE_OBSTACLE) & (stamp - self.last_hit >= self.rule.mobile_expiry)
+        stale = ((self.labels == CellLabel.MOBILE_OBSTACLE)
+                 & (stamp - self.last_hit >= self.rule.mobile_expiry))
         stale[rows, cols] &= cell_input == ScanInput.NONE
         self.labels[stale] = CellLabel.EXPLORED
 
