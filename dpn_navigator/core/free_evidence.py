@@ -101,7 +101,7 @@ def edge_band_positions(centres, vertices_x, vertices_y, radius):
     return local_row[pair][in_band] * n_cols + local_col[in_band]
 
 
-def surely_free(geometry, rows, cols, points, radius, cell_input):
+def surely_free(geometry, rows, cols, points, radius, cell_input, safety_radius):
     """
     Cells of a window whose whole ``radius`` disc lies inside the scan polygon.
 
@@ -117,6 +117,8 @@ def surely_free(geometry, rows, cols, points, radius, cell_input):
         Disc radius [m], finite and non-negative.
     cell_input : (n_rows, n_cols) ndarray of uint8
         The window's FSM input (``scan_input``); only ``INSIDE`` cells can be surely free.
+    safety_radius : float
+        f1's ``r`` [m] that ``cell_input`` was found with.
 
     Returns
     -------
@@ -129,8 +131,16 @@ def surely_free(geometry, rows, cols, points, radius, cell_input):
     free = (cell_input == ScanInput.INSIDE).ravel()
     if not free.any():
         return free.reshape(cell_input.shape)
-    starts, ends = hit_runs(geometry, rows, cols, centres, points.vertices_x[:-1],
-                            points.vertices_y[:-1], radius)
+    vertices_x = points.vertices_x[:-1]
+    vertices_y = points.vertices_y[:-1]
+    if radius <= safety_radius:
+        # Cells within r of a hit have f1 = 1 and are not INSIDE: only the vertices that are
+        # not hits (no return, invalid beams, the laser itself) need their discs.
+        not_hit = np.ones(vertices_x.shape[0], dtype=bool)
+        not_hit[points.hit_beams + 1] = False
+        vertices_x = vertices_x[not_hit]
+        vertices_y = vertices_y[not_hit]
+    starts, ends = hit_runs(geometry, rows, cols, centres, vertices_x, vertices_y, radius)
     free &= ~run_cover(starts, ends, cell_input.shape).ravel()
     free[edge_band_positions(centres, points.vertices_x, points.vertices_y, radius)] = False
     return free.reshape(cell_input.shape)

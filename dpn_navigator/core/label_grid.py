@@ -35,6 +35,19 @@ _TRANSITION_BY_CODE.setflags(write=False)
 _EMPTY_WINDOW = (slice(0, 0), slice(0, 0), np.zeros((0, 0), dtype=LABEL_DTYPE))
 
 
+def _runs_touching(runs, cells, hit_count):
+    """
+    Tell for each hit whether one of its runs holds a True cell.
+
+    ``runs`` is ``hit_runs(..., return_hits=True)`` over the window of ``cells`` (bool).
+    """
+    starts, ends, hit_index = runs
+    before = np.concatenate(([0], np.cumsum(cells.ravel())))
+    touching = np.zeros(hit_count, dtype=bool)
+    touching[hit_index[before[ends] > before[starts]]] = True
+    return touching
+
+
 def check_path(path, shape):
     """
     Validate a path of grid cells.
@@ -241,7 +254,12 @@ class LabelGrid:
             if expiring:
                 self._expire_mobile(float(stamp))
             return False
-        cell_input = scan_input(self.geometry, rows, cols, points, safety_radius)
+        runs = None
+        if self.rule.moving_object_size > 0.0:
+            # f1's runs, with the hit of each, serve the objects' rule too.
+            runs = hit_runs(self.geometry, rows, cols, self.geometry.window_centres(rows, cols),
+                            points.hits_x, points.hits_y, safety_radius, return_hits=True)
+        cell_input = scan_input(self.geometry, rows, cols, points, safety_radius, runs)
         self.last_window = (rows, cols, cell_input)
         window = self.labels[rows, cols]
         before = window.copy()
@@ -249,7 +267,7 @@ class LabelGrid:
         window[...] = np.take(_TRANSITION_BY_CODE, (before << 2) | cell_input)
         if self.rule.free_evidence_radius > 0.0:
             self._apply_free_evidence(rows, cols, points, safety_radius, before, cell_input,
-                                      window)
+                                      window, runs)
         if expiring:
             self.last_hit[rows, cols][cell_input == ScanInput.HIT] = stamp
             self._expire_mobile(float(stamp))
@@ -264,27 +282,28 @@ class LabelGrid:
         return bool(new_obstacle.any())
 
     def _apply_free_evidence(self, rows, cols, points, safety_radius, before, cell_input,
-                             window):
+                             window, runs):
         """
         Conservative free space and object-level relabelling over the window, in place.
 
         ``before`` holds the window's labels before this scan, ``window`` (a view into
-        ``labels``) those after the paper's FSM.
+        ``labels``) those after the paper's FSM; ``runs`` are f1's runs with their hits
+        (``hit_runs(..., return_hits=True)``) when the objects' rule is on.
         """
         seen_free = self.seen_free[rows, cols]
         hit = cell_input == ScanInput.HIT
         window[(before == CellLabel.EXPLORED) & hit & ~seen_free] = CellLabel.STEADY_OBSTACLE
         if self.rule.moving_object_size > 0.0:
             near_moving, trail = self._near_moving_objects(rows, cols, points, safety_radius,
-                                                           seen_free)
+                                                           seen_free, runs)
             window[hit] = np.where(near_moving[hit], CellLabel.MOBILE_OBSTACLE,
                                    CellLabel.STEADY_OBSTACLE)
             window[trail & ~hit & (window == CellLabel.STEADY_OBSTACLE)] = \
                 CellLabel.MOBILE_OBSTACLE
         seen_free |= surely_free(self.geometry, rows, cols, points,
-                                 self.rule.free_evidence_radius, cell_input)
+                                 self.rule.free_evidence_radius, cell_input, safety_radius)
 
-    def _near_moving_objects(self, rows, cols, points, safety_radius, seen_free):
+    def _near_moving_objects(self, rows, cols, points, safety_radius, seen_free, runs):
         """
         Find the window cells near hits on objects seen to move.
 
@@ -296,16 +315,22 @@ class LabelGrid:
         steady wall, which would then have been inside that scan's polygon.
         """
         centres = self.geometry.window_centres(rows, cols)
-        runs = hit_runs(self.geometry, rows, cols, centres, points.hits_x, points.hits_y,
-                        safety_radius, return_hits=True)
         evidence_radius = max(self.rule.free_evidence_radius - self.rule.evidence_margin, 0.0)
-        evidence_runs = runs if evidence_radius == safety_radius else hit_runs(
-            self.geometry, rows, cols, centres, points.hits_x, points.hits_y, evidence_radius,
-            return_hits=True)
-        starts, ends, hit_index = evidence_runs
-        seen_before = np.concatenate(([0], np.cumsum(seen_free.ravel())))
-        evidence = np.zeros(points.hits_x.shape[0], dtype=bool)
-        evidence[hit_index[seen_before[ends] > seen_before[starts]]] = True
+        hit_count = points.hits_x.shape[0]
+        evidence = _runs_touching(runs, seen_free, hit_count)
+        if evidence_radius > safety_radius:
+            evidence = _runs_touching(
+                hit_runs(self.geometry, rows, cols, centres, points.hits_x, points.hits_y,
+                         evidence_radius, return_hits=True), seen_free, hit_count)
+        elif evidence_radius < safety_radius and evidence.any():
+            # Only hits with a surely-free cell within r can have one within the smaller
+            # evidence radius; most hits (walls) have none.
+            candidates = np.flatnonzero(evidence)
+            evidence = np.zeros(hit_count, dtype=bool)
+            evidence[candidates] = _runs_touching(
+                hit_runs(self.geometry, rows, cols, centres, points.hits_x[candidates],
+                         points.hits_y[candidates], evidence_radius, return_hits=True),
+                seen_free, candidates.shape[0])
         moving = moving_object_hits(points.hits_x, points.hits_y, points.hit_beams, evidence,
                                     self.rule.segment_gap, self.rule.moving_object_size)
         starts, ends, hit_index = runs

@@ -168,7 +168,7 @@ def crossing_toggles(rows, cols, centres, vertices_x, vertices_y):
     return row * n_cols + np.searchsorted(x_centres, x_cross, side='left')
 
 
-def scan_input(geometry, rows, cols, points, safety_radius):
+def scan_input(geometry, rows, cols, points, safety_radius, runs=None):
     """
     FSM input of every cell of a window: ``HIT`` where f1, else ``INSIDE`` where f2, else 0.
 
@@ -182,6 +182,9 @@ def scan_input(geometry, rows, cols, points, safety_radius):
         The scan's polygon vertices and hits in the map frame.
     safety_radius : float
         ``r`` [m].
+    runs : (starts, ends, ...), optional
+        f1's runs of these hits at ``safety_radius`` over this window, from ``hit_runs``, when
+        the caller has them already.
 
     Returns
     -------
@@ -192,8 +195,10 @@ def scan_input(geometry, rows, cols, points, safety_radius):
     n_rows = rows.stop - rows.start
     n_cols = cols.stop - cols.start
     centres = geometry.window_centres(rows, cols)
-    starts, ends = hit_runs(geometry, rows, cols, centres, points.hits_x, points.hits_y,
-                            safety_radius)
+    if runs is None:
+        runs = hit_runs(geometry, rows, cols, centres, points.hits_x, points.hits_y,
+                        safety_radius)
+    starts, ends = runs[0], runs[1]
     toggles = crossing_toggles(rows, cols, centres, points.vertices_x, points.vertices_y)
     # Events along the flat window: f1 coverage changes by +1/-1, f2 parity flips.
     position = np.concatenate((starts, ends, toggles))
