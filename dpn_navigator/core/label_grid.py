@@ -105,9 +105,9 @@ class LabelRule:
         of its scan segment within this distance of it are one moving object
         (``moving_objects``). Every cell the scan hits (f1 = 1) is then labelled by object: a
         mobile obstacle when within the safety radius of a moving object's hit, else a steady
-        obstacle, whatever its label was (so the steady cells of an object seen to move become mobile, and mobile cells
-        that only objects not seen to move hit, such as a wall a wanderer stood by, become
-        steady). The steady cells this scan does not hit within ``safety radius +
+        obstacle, whatever its label was (so the steady cells of an object seen to move
+        become mobile, and mobile cells that only objects not seen to move hit, such as a
+        wall a wanderer stood by, become steady). The steady cells this scan does not hit within ``safety radius +
         moving_object_size`` of a moving object's hit, where the object was before it was
         found to move, become mobile too, so that they expire like other mobile cells.
         0 turns it off. Needs ``free_evidence_radius`` > 0.
