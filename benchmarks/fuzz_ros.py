@@ -72,7 +72,7 @@ class Fuzzer(Node):
         self.create_subscription(OccupancyGrid, '/compabot/map', self.on_map, LATCHED_QOS)
         self.create_subscription(DiagnosticStatus, '/compabot/status', self.on_status,
                                  LATCHED_QOS)
-        self.create_subscription(DiagnosticStatus, '/sim/status', self.on_sim_status,
+        self.create_subscription(DiagnosticStatus, '/compabot/sim/status', self.on_sim_status,
                                  LATCHED_QOS)
         self.sending_cmd_vel = False
 

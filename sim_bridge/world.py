@@ -118,6 +118,7 @@ class World:
         self._command = (0.0, 0.0)
         self._depth = 0.0
         self._scan = None
+        self._wanderer_of_body = None
         wander_seed, noise_seed = np.random.SeedSequence(config.seed).spawn(2)
         grid = clearance_grid(scenario.free, scenario.geometry, config.wanderer.clearance)
         self._wanderers = Wanderers(grid, config.n_wanderers, (x, y),
@@ -181,6 +182,26 @@ class World:
     def wanderer_radius(self):
         """Return the radius of the circle around a wanderer's footprint [m]."""
         return self._wanderers.radius
+
+    def scan_wanderer_beams(self):
+        """
+        Return which wanderer each beam of the current scan hit (ground truth, for measuring).
+
+        Returns
+        -------
+        wanderer : (n_beams,) ndarray of int64
+            Index of the wanderer (as in `wanderer_positions`) beam ``i`` hit; -1 where it hit a
+            wall or returned nothing.
+
+        """
+        if self._wanderer_of_body is None:
+            bodies = self.scene.wanderer_ray_bodies
+            # Indexed by body id; the last entry answers -1 (no hit) with -1.
+            self._wanderer_of_body = np.full(max(bodies, default=0) + 2, -1, dtype=np.int64)
+            self._wanderer_of_body[bodies] = np.arange(len(bodies))
+        hit_body = self.scan().hit_body
+        known = hit_body < self._wanderer_of_body.shape[0] - 1
+        return np.where(known, self._wanderer_of_body[np.where(known, hit_body, -1)], -1)
 
     @property
     def occupied(self):

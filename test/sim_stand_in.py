@@ -18,12 +18,19 @@ from sensor_msgs.msg import LaserScan
 POSE = (2.0, 6.0, 0.0)
 
 
-def room_navigator(context, use_sim_time=True):
-    """Return a ``DpnNode`` for the 12 m x 12 m room with its goal at (10, 6) m."""
+def room_navigator(context, use_sim_time=True, *more_overrides):
+    """
+    Return a ``DpnNode`` for the 12 m x 12 m room with its goal at (10, 6) m.
+
+    Its laser is at the base's centre (``laser_x`` 0), as in the scans of ``scan_scenes``;
+    ``more_overrides`` (``Parameter``) set other parameters.
+
+    """
     from dpn_navigator.dpn_node import DpnNode
     overrides = [Parameter('map_width', value=12.0), Parameter('map_height', value=12.0),
                  Parameter('goal_x', value=10.0), Parameter('goal_y', value=6.0),
-                 Parameter('use_sim_time', value=use_sim_time)]
+                 Parameter('laser_x', value=0.0),
+                 Parameter('use_sim_time', value=use_sim_time), *more_overrides]
     return DpnNode(context=context, parameter_overrides=overrides)
 
 

@@ -1,17 +1,21 @@
 """Tests of the benchmark's protocol, episode log and report, without running episodes."""
 
 import csv
+from pathlib import Path
 
-from dpn_navigator.benchmark.episode_log import COLUMNS, EpisodeLog, read_log, row_key
+from dpn_navigator.benchmark.episode_log import (COLUMNS, DETECTION_COLUMNS, EpisodeLog,
+                                                 read_log, row_key)
 from dpn_navigator.benchmark.protocol import (episode_seed, MAX_WANDERERS, NAVIGATORS,
                                               plan_episodes, PROFILES, resolve_maps)
 from dpn_navigator.benchmark.report import (cell_stats, map_order, save_success_figure,
                                             success_matrix, summary_markdown)
 from dpn_navigator.benchmark.snapshots import EpisodeRecorder, pick_snapshots, Snapshot
 from dpn_navigator.core import NavigatorConfig
+from dpn_navigator.core.label_grid import PAPER_RULE
 import numpy as np
 import pytest
 from sim_bridge.scenario import IndexEntry
+import yaml
 
 
 def entries():
@@ -59,6 +63,17 @@ def test_navigator_variants_are_valid_configs():
     assert NAVIGATORS['dpn'] == {}
     paper = NavigatorConfig(width=10.0, height=10.0, **NAVIGATORS['paper'])
     assert paper.obstacle_proximity_cost == 0.0 and paper.forget_obstacles_after == 0.0
+    # The paper's FSM exactly: no label rule on.
+    assert paper.label_rule() == PAPER_RULE
+
+
+def test_the_nodes_paper_params_file_is_the_benchmarks_paper_navigator():
+    config = Path(__file__).resolve().parents[1] / 'config'
+    paper = yaml.safe_load((config / 'dpn_paper.yaml').read_text())['/**/dpn']['ros__parameters']
+    assert paper == NAVIGATORS['paper']
+    shipped = yaml.safe_load((config / 'dpn.yaml').read_text())['/**/dpn']['ros__parameters']
+    assert set(paper) <= set(shipped)
+    assert all(shipped[name] > 0.0 for name in paper)      # each one is on in the dpn file
 
 
 def test_plan_is_the_cross_product_without_repeats():
@@ -120,6 +135,27 @@ def test_log_round_trip_and_resume_after_a_cut_short_line(tmp_path):
         lines = list(csv.reader(stream))
     assert lines[0] == list(COLUMNS) and len(lines) == 4
     assert [row['seed'] for row in read_log(path)] == [1, 2, 3]
+
+
+def test_detection_columns_round_trip_with_undefined_ratios_empty(tmp_path):
+    path = tmp_path / 'episodes.csv'
+    measured = make_row(seed=1, scans=11, mobile_visible=0, mobile_precision=None,
+                        wanderer_hit_recall=0.8125, detection_wall_time=0.25)
+    with EpisodeLog(path) as log:
+        log.append(measured)
+        log.append(make_row(seed=2, **dict.fromkeys(DETECTION_COLUMNS + (
+            'detection_wall_time',))))
+    with open(path, newline='') as stream:
+        lines = list(csv.reader(stream))
+    assert lines[1][COLUMNS.index('mobile_precision')] == ''
+    assert lines[1][COLUMNS.index('scans')] == '11'
+    assert all(lines[2][COLUMNS.index(name)] == '' for name in DETECTION_COLUMNS)
+    first, second = read_log(path)
+    assert first['scans'] == 11 and first['mobile_precision'] is None
+    assert first['wanderer_hit_recall'] == 0.8125 and first['detection_wall_time'] == 0.25
+    assert isinstance(first['replans_wall'], int)
+    assert isinstance(first['steady_ghosts_mean'], float)
+    assert all(second[name] is None for name in DETECTION_COLUMNS)
 
 
 @pytest.mark.parametrize(('text', 'match'), [

@@ -121,7 +121,7 @@ class DpnFuzz(RuleBasedStateMachine):
 def test_dpn_node_survives_any_message_and_counts_each_rejection(ros_context):
     node = room_navigator(ros_context)
     DpnFuzz.node = node
-    DpnFuzz.commands, DpnFuzz.maps = Recorder(node.cmd_pub), Recorder(node.map_pub)
+    DpnFuzz.commands, DpnFuzz.maps = Recorder(node.cmd_pub.publisher), Recorder(node.map_pub)
     try:
         run_state_machine_as_test(DpnFuzz, settings=DPN_FUZZ_SETTINGS)
         assert sum(node.rejected.values()) > 100, node.rejected

@@ -143,6 +143,28 @@ def test_another_cmd_vel_publisher_is_warned_about_and_counted(dpn, ros_context)
         executor.remove_node(dpn)
 
 
+def test_cmd_vel_monitor_watches_the_namespaced_command_topic(ros_context):
+    node = DpnNode(context=ros_context, namespace='robot2',
+                   parameter_overrides=[Parameter('map_width', value=12.0),
+                                        Parameter('map_height', value=12.0)])
+    assert node.cmd_pub.topic_name == '/robot2/cmd_vel'
+    rival = Node('rival_navigator', context=ros_context)
+    rival.create_publisher(Twist, '/compabot/cmd_vel', COMMAND_QOS)     # another robot's
+    with executor_for(ros_context, rival) as executor:
+        executor.add_node(node)
+        spin_until(executor, lambda: False, timeout=0.5)
+        node.on_status_timer()
+        assert node.cmd_vel_monitor.others == 0
+        rival.create_publisher(Twist, '/robot2/cmd_vel', COMMAND_QOS)
+
+        def seen():
+            node.on_status_timer()
+            return node.cmd_vel_monitor.others == 1
+        assert spin_until(executor, seen)
+        executor.remove_node(node)
+    node.destroy_node()
+
+
 @pytest.mark.parametrize('width, resolution', [(1e6, 0.01), (2100.0, 1.0)])
 def test_absurd_grid_is_a_parameter_error(ros_context, width, resolution):
     overrides = [Parameter('map_width', value=width), Parameter('map_height', value=width),
@@ -163,11 +185,13 @@ def test_node_plans_again_after_sim_time_goes_backwards(dpn):
     assert dpn.navigator.path is not None
 
 
-def test_destroying_the_node_sends_a_zero_command(ros_context):
-    node = room_navigator(ros_context, use_sim_time=False)
+@pytest.mark.parametrize('stamped', [False, True])
+def test_destroying_the_node_sends_a_zero_command(ros_context, stamped):
+    node = room_navigator(ros_context, False, Parameter('cmd_vel_stamped', value=stamped))
     sent = []
-    publish = node.cmd_pub.publish
-    node.cmd_pub.publish = lambda msg: (sent.append(msg), publish(msg))
+    publish = node.cmd_pub.publisher.publish
+    node.cmd_pub.publisher.publish = lambda msg: (sent.append(msg.twist if stamped else msg),
+                                                  publish(msg))
     node.on_odom(odometry((2.0, 6.0, 0.0)))
     node.on_scan(room_scan())
     assert sent and (sent[-1].linear.x, sent[-1].angular.z) != (0.0, 0.0)

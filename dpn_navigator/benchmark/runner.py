@@ -73,7 +73,7 @@ def _scenario(map_key, index):
     return load_scenario(map_key, index=index)
 
 
-def run_spec(spec, index=None, navigator_options=None):
+def run_spec(spec, index=None, navigator_options=None, detection=True):
     """
     Run one episode and return its log row.
 
@@ -85,6 +85,8 @@ def run_spec(spec, index=None, navigator_options=None):
         The scenario index (the built-in one by default).
     navigator_options : dict, optional
         ``NavigatorConfig`` overrides (see ``protocol.NAVIGATORS``).
+    detection : bool
+        Measure the map as a detector (``run_episode``'s ``detection``).
 
     Returns
     -------
@@ -98,7 +100,7 @@ def run_spec(spec, index=None, navigator_options=None):
         raise ValueError(f'map {spec.map_key!r} has {len(scenario.tasks)} tasks; there is no '
                          f'task {spec.task}')
     result = run_episode(scenario, spec.task, spec.wanderers, spec.seed,
-                         navigator_options=navigator_options)
+                         navigator_options=navigator_options, detection=detection)
     row = result.as_row()
     del row['scenario']
     row.update(map=spec.map_key, number=scenario.number, family=scenario.family or '',
@@ -120,7 +122,7 @@ def default_workers():
 
 
 def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, progress=True,
-                 navigator_options=None):
+                 navigator_options=None, detection=True):
     """
     Run the episodes a log does not hold yet and append their rows to it.
 
@@ -142,6 +144,8 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
         Show a tqdm progress bar with the time left on stderr.
     navigator_options : dict, optional
         ``NavigatorConfig`` overrides for every episode (see ``protocol.NAVIGATORS``).
+    detection : bool
+        Measure the map as a detector in every episode (the detection columns).
 
     Returns
     -------
@@ -172,9 +176,9 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
                   dynamic_ncols=True, smoothing=0.05) as bar:
             if ray_address is not None:
                 results, workers = _ray_results(pending, ray_address, index,
-                                                navigator_options)
+                                                navigator_options, detection)
             else:
-                results = _local_results(pending, workers, index, navigator_options)
+                results = _local_results(pending, workers, index, navigator_options, detection)
             for row in results:
                 log.append(row)
                 ran += 1
@@ -188,20 +192,20 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
                     episode_wall_time=spent, workers=workers)
 
 
-def _local_results(pending, workers, index, navigator_options):
+def _local_results(pending, workers, index, navigator_options, detection):
     """Yield the rows of pending episodes from local worker processes, as they finish."""
     if workers == 1 or len(pending) <= 1:
         for spec in pending:
-            yield run_spec(spec, index, navigator_options)
+            yield run_spec(spec, index, navigator_options, detection)
         return
     # spawn: each worker starts clean (its own pybullet client, no forked state).
     context = multiprocessing.get_context('spawn')
     with context.Pool(min(workers, len(pending))) as pool:
         yield from pool.imap_unordered(
-            _run_spec_star, [(spec, index, navigator_options) for spec in pending])
+            _run_spec_star, [(spec, index, navigator_options, detection) for spec in pending])
 
 
-def _ray_results(pending, address, index, navigator_options):
+def _ray_results(pending, address, index, navigator_options, detection):
     """Start the pending episodes on Ray; return a generator of rows and Ray's CPU count."""
     import ray
     if not ray.is_initialized():
@@ -211,7 +215,8 @@ def _ray_results(pending, address, index, navigator_options):
     remote = ray.remote(num_cpus=1)(run_spec)
 
     def rows():
-        waiting = [remote.remote(spec, index, navigator_options) for spec in pending]
+        waiting = [remote.remote(spec, index, navigator_options, detection)
+                   for spec in pending]
         while waiting:
             finished, waiting = ray.wait(waiting, num_returns=1)
             yield ray.get(finished[0])

@@ -34,7 +34,7 @@ def squared_radius_bound(radius):
     return bound
 
 
-def hit_runs(geometry, rows, cols, centres, hits_x, hits_y, safety_radius):
+def hit_runs(geometry, rows, cols, centres, hits_x, hits_y, safety_radius, return_hits=False):
     """
     Find f1 (eq. 1-2) as runs of cells within the safety radius of each hit point.
 
@@ -54,11 +54,15 @@ def hit_runs(geometry, rows, cols, centres, hits_x, hits_y, safety_radius):
         Map-frame hit points [m].
     safety_radius : float
         ``r`` [m], finite and non-negative.
+    return_hits : bool
+        Also return which hit each run belongs to.
 
     Returns
     -------
     starts, ends : (R,) ndarray of int64
         Half-open runs ``[start, end)`` of window positions with f1 = 1; runs may overlap.
+    hit_index : (R,) ndarray of int64
+        Only with ``return_hits``: the index into ``hits_x`` of each run's hit.
 
     """
     res = geometry.resolution
@@ -68,6 +72,7 @@ def hit_runs(geometry, rows, cols, centres, hits_x, hits_y, safety_radius):
     slack = safety_radius + res
     near = ((hits_x >= x_centres[0] - slack) & (hits_x <= x_centres[-1] + slack)
             & (hits_y >= y_centres[0] - slack) & (hits_y <= y_centres[-1] + slack))
+    near_index = np.flatnonzero(near)
     hx = hits_x[near][:, None]                                   # (K, 1)
     hy = hits_y[near][:, None]
     # Rows whose centre can lie within r of the hit, one spare on each side for rounding.
@@ -91,7 +96,33 @@ def hit_runs(geometry, rows, cols, centres, hits_x, hits_y, safety_radius):
     last = np.minimum(last, cols.stop - 1)
     keep = (first <= last) & (rr >= rows.start) & (rr < rows.stop)
     row_base = (rr[keep] - rows.start) * n_cols - cols.start
+    if return_hits:
+        hit_index = np.broadcast_to(near_index[:, None], keep.shape)[keep]
+        return row_base + first[keep], row_base + last[keep] + 1, hit_index
     return row_base + first[keep], row_base + last[keep] + 1
+
+
+def run_cover(starts, ends, shape):
+    """
+    Mark the window cells that lie in at least one run.
+
+    Parameters
+    ----------
+    starts, ends : (R,) ndarray of int64
+        Half-open runs ``[start, end)`` of flat window positions, as from ``hit_runs``; runs
+        may overlap.
+    shape : (int, int)
+        The window's ``(n_rows, n_cols)``.
+
+    Returns
+    -------
+    covered : (n_rows, n_cols) ndarray of bool
+
+    """
+    size = shape[0] * shape[1]
+    open_runs = np.cumsum(np.bincount(starts, minlength=size + 1)
+                          - np.bincount(ends, minlength=size + 1))
+    return (open_runs[:size] > 0).reshape(shape)
 
 
 def crossing_toggles(rows, cols, centres, vertices_x, vertices_y):
@@ -137,7 +168,7 @@ def crossing_toggles(rows, cols, centres, vertices_x, vertices_y):
     return row * n_cols + np.searchsorted(x_centres, x_cross, side='left')
 
 
-def scan_input(geometry, rows, cols, points, safety_radius):
+def scan_input(geometry, rows, cols, points, safety_radius, runs=None):
     """
     FSM input of every cell of a window: ``HIT`` where f1, else ``INSIDE`` where f2, else 0.
 
@@ -151,6 +182,9 @@ def scan_input(geometry, rows, cols, points, safety_radius):
         The scan's polygon vertices and hits in the map frame.
     safety_radius : float
         ``r`` [m].
+    runs : (starts, ends, ...), optional
+        f1's runs of these hits at ``safety_radius`` over this window, from ``hit_runs``, when
+        the caller has them already.
 
     Returns
     -------
@@ -161,8 +195,10 @@ def scan_input(geometry, rows, cols, points, safety_radius):
     n_rows = rows.stop - rows.start
     n_cols = cols.stop - cols.start
     centres = geometry.window_centres(rows, cols)
-    starts, ends = hit_runs(geometry, rows, cols, centres, points.hits_x, points.hits_y,
-                            safety_radius)
+    if runs is None:
+        runs = hit_runs(geometry, rows, cols, centres, points.hits_x, points.hits_y,
+                        safety_radius)
+    starts, ends = runs[0], runs[1]
     toggles = crossing_toggles(rows, cols, centres, points.vertices_x, points.vertices_y)
     # Events along the flat window: f1 coverage changes by +1/-1, f2 parity flips.
     position = np.concatenate((starts, ends, toggles))
