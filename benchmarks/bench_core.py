@@ -17,7 +17,9 @@ import argparse
 import math
 import os
 import statistics
+import subprocess
 import sys
+import tempfile
 import time
 
 import numpy as np
@@ -80,6 +82,27 @@ def bench_update(cells, resolution, scan_kind, repeats, reference_cells, rng):
     rr, cc = np.array(sample).T
     mismatches = int(np.count_nonzero(before[rr, cc] != grid.labels[rr, cc]))
     return core_ms, 1e3 * per_cell * cells * cells, mismatches
+
+
+def kernel_start_seconds():
+    """
+    Time a fresh process's import of the core plus `jit.warm_up`, with an empty cache, then warm.
+
+    Returns
+    -------
+    cold, warm : (float, float)
+        ``(import, warm_up)`` wall times [s] of the first process (empty cache: compiles) and
+        of a second one (loads the cache the first wrote).
+
+    """
+    code = ('import time; started = time.perf_counter(); from dpn_navigator.core import jit; '
+            'imported = time.perf_counter() - started; print(imported, jit.warm_up())')
+    with tempfile.TemporaryDirectory() as cache:
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+        runs = [subprocess.run([sys.executable, '-c', code], env=env, check=True,
+                               capture_output=True, text=True).stdout.split()
+                for _ in range(2)]
+    return tuple(tuple(float(value) for value in run) for run in runs)
 
 
 def bench_astar(kind, size, instances, repeats, rng):
@@ -176,17 +199,23 @@ def bench_recorded_calls(calls, repeats):
     return ratios, core_ms, previous_ms, same
 
 
-def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[1])
-    parser.add_argument('--quick', action='store_true', help='fewer repetitions')
-    parser.add_argument('--seed', type=int, default=1)
-    args = parser.parse_args(argv)
-    rng = np.random.default_rng(args.seed)
-    print(f'Kernels compiled or loaded from the cache in {jit.warm_up():.2f} s '
+def bench_start():
+    """Print the kernels' cold and warm start times."""
+    (cold_import, cold_compile), (warm_import, warm_load) = kernel_start_seconds()
+    print('| kernels at process start (fresh process: import of the core, then jit.warm_up) '
+          '| import [s] | warm-up [s] | total [s] |')
+    print('|---|---|---|---|')
+    print(f'| cold: empty cache, compiles | {cold_import:.2f} | {cold_compile:.2f} '
+          f'| {cold_import + cold_compile:.2f} |')
+    print(f'| warm: cache written by the cold run | {warm_import:.2f} | {warm_load:.2f} '
+          f'| {warm_import + warm_load:.2f} |')
+    print(f'\nThis process: kernels ready in {jit.warm_up():.2f} s '
           f'(cache: {jit.cache_dir() or "numba default"})')
     print()
-    repeats = 20 if args.quick else 200
 
+
+def bench_updates(rng, repeats):
+    """Print the table of ``LabelGrid.update`` times."""
     print('| LabelGrid.update, 640 beams, 180 deg, 30 m, r = 0.6 m | scan | core median [ms] '
           '| literal reference [ms] (extrapolated) | ratio | sampled cells equal |')
     print('|---|---|---|---|---|---|')
@@ -199,6 +228,10 @@ def main(argv=None):
                   f'| {ref_ms:,.0f} | {ref_ms / core_ms:,.0f}x '
                   f'| {sample - mismatches}/{sample} |')
     print()
+
+
+def bench_astars(rng, repeats, quick):
+    """Print the tables of ``astar`` times, synthetic and recorded."""
     print('| astar, corner to corner | instances | core median [ms] (range) '
           '| previous heapq A* median [ms] | ratio | same paths | tuple A* median [ms] '
           '| ratio | path costs |')
@@ -226,12 +259,28 @@ def main(argv=None):
             continue
         shapes = sorted({np.shape(args[0]) for args, _ in recorded}, key=np.prod)
         ratios, core_ms, previous_ms, same = bench_recorded_calls(
-            recorded, 3 if args.quick else 11)
+            recorded, 3 if quick else 11)
         print(f'| {kind} | {len(recorded)} '
               f'| {shapes[0][0]}x{shapes[0][1]} to {shapes[-1][0]}x{shapes[-1][1]} '
               f'| {statistics.median(core_ms):.3f} | {statistics.median(previous_ms):.3f} '
               f'| {statistics.median(ratios):.1f}x ({min(ratios):.1f}x to {max(ratios):.1f}x) '
               f'| {same}/{len(recorded)} |')
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[1])
+    parser.add_argument('--quick', action='store_true', help='fewer repetitions')
+    parser.add_argument('--seed', type=int, default=1)
+    parser.add_argument('--only', choices=('start', 'update', 'astar'),
+                        help='run one part: kernel start times, LabelGrid.update or astar')
+    args = parser.parse_args(argv)
+    rng = np.random.default_rng(args.seed)
+    if args.only in (None, 'start'):
+        bench_start()
+    if args.only in (None, 'update'):
+        bench_updates(rng, 20 if args.quick else 200)
+    if args.only in (None, 'astar'):
+        bench_astars(rng, 20 if args.quick else 200, args.quick)
 
 
 if __name__ == '__main__':

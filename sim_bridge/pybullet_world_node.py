@@ -25,6 +25,7 @@ import math
 from builtin_interfaces.msg import Time
 from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
 from dpn_navigator.conversions import make_laser_scan, pose_to_odometry, twist_to_velocity
+from dpn_navigator.core import jit
 from dpn_navigator.qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS
 from dpn_navigator.spin import run_node
 from geometry_msgs.msg import Twist
@@ -101,6 +102,9 @@ class PybulletWorldNode(Node):
         config = WorldConfig(physics_rate=physics_rate, scan_rate=scan_rate,
                              n_wanderers=wanderers, seed=seed, gui=gui,
                              laser=LaserConfig(noise_std=noise))
+        # The wanderers plan with the core's A* kernel: compile (or load) it before the first
+        # tick rather than in the middle of one.
+        jit.warm_up()
         self.world = World(scenario, config, start=start)
         self.goal = scenario.tasks[task].goal
         self.command = (0.0, 0.0)

@@ -391,6 +391,6 @@ def _checked_wanderer_grid(grid, scenario, wanderer_config):
     coarse = (-(-geometry.shape[0] // grid.factor), -(-geometry.shape[1] // grid.factor))
     if grid.clear.shape != coarse or grid.geometry.origin != geometry.origin or \
             not math.isclose(grid.geometry.resolution, grid.factor * geometry.resolution):
-        raise ValueError('wanderer_grid is not a grid of this scenario\'s map: build it with '
+        raise ValueError("wanderer_grid is not a grid of this scenario's map: build it with "
                          'wanderer_clearance_grid(scenario, config.wanderer)')
     return grid

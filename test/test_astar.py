@@ -617,9 +617,3 @@ def test_cell_cost_is_not_modified():
     before = cost.copy()
     astar(blocked, (0, 0), (4, 0), cell_cost=cost, cut_corners=False)
     np.testing.assert_array_equal(cost, before)
-
-
-def test_warm_up_compiles_the_kernel():
-    from dpn_navigator.core import jit
-    assert jit.warm_up() >= 0.0
-    assert astar_module._search.signatures

@@ -20,9 +20,9 @@ import multiprocessing
 import os
 import time
 
-from ..core import jit
 from .episode import run_episode, task_setup
 from .episode_log import EpisodeLog
+from ..core import jit
 
 
 @dataclass(frozen=True)

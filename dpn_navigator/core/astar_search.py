@@ -115,21 +115,19 @@ def astar(blocked, start, goal, cell_cost=None, cut_corners=True):
     grid = _as_blocked_grid(blocked)
     start = _as_cell(start, grid.shape, 'start')
     goal = _as_cell(goal, grid.shape, 'goal')
-    extra_cost = None if cell_cost is None else _as_cell_cost(cell_cost, grid.shape)
+    if cell_cost is not None:
+        extra_flat, max_extra = _as_cell_cost(cell_cost, grid.shape)
     if start == goal:
         return [start]
     if grid[goal]:
         return None
     rows, cols = grid.shape
-    max_extra = 0.0 if extra_cost is None else float(extra_cost.max())
+    if cell_cost is None:
+        extra_flat, max_extra = np.zeros(1, dtype=np.float64), 0.0  # never read
     diag_cost, bits = _fixed_point_diagonal_cost(rows, cols, max_extra)
-    if extra_cost is None:
-        extra_flat = np.zeros(1, dtype=np.float64)  # never read
-    else:
-        extra_flat = np.ascontiguousarray(extra_cost).reshape(-1)
     flat_path = _search(np.ascontiguousarray(grid).reshape(-1), rows, cols,
                         start[0] * cols + start[1], goal[0] * cols + goal[1],
-                        extra_flat, extra_cost is not None, bool(cut_corners), diag_cost,
+                        extra_flat, cell_cost is not None, bool(cut_corners), diag_cost,
                         math.ldexp(1.0, bits), math.ldexp(1.0, -bits),
                         np.zeros(rows * cols, dtype=np.uint8),
                         np.empty(rows * cols, dtype=np.float64),
@@ -141,7 +139,7 @@ def astar(blocked, start, goal, cell_cost=None, cut_corners=True):
 
 
 def warm_up_astar():
-    """Compile (or load from the cache) the A* kernel with one tiny search."""
+    """Compile (or load from the cache) the A* kernels with one tiny search."""
     astar(np.zeros((2, 2), dtype=bool), (0, 0), (1, 1), cell_cost=np.zeros((2, 2)))
 
 
@@ -406,16 +404,40 @@ def _as_blocked_grid(blocked):
 
 
 def _as_cell_cost(cell_cost, shape):
-    """Check ``cell_cost`` against the grid's shape; return it as float64."""
+    """
+    Check ``cell_cost`` against the grid's shape.
+
+    Returns
+    -------
+    cost : (rows * cols,) ndarray of float64
+        Row-major, C-contiguous.
+    max_cost : float
+        Its largest value.
+
+    """
     try:
         cost = np.asarray(cell_cost, dtype=np.float64)
     except (TypeError, ValueError) as exc:
         raise ValueError(f'cell_cost must be an array of numbers: {exc}') from exc
     if cost.shape != shape:
         raise ValueError(f"cell_cost must have the grid's shape {shape}, got {cost.shape}")
-    if not (np.isfinite(cost).all() and (cost >= 0.0).all()):
+    cost = np.ascontiguousarray(cost).reshape(-1)
+    max_cost = _largest_if_finite_and_non_negative(cost)
+    if max_cost < 0.0:
         raise ValueError('cell_cost must be finite and non-negative')
-    return cost
+    return cost, max_cost
+
+
+@kernel
+def _largest_if_finite_and_non_negative(values):
+    """Return the largest of ``values``, or -1.0 if one is NaN, infinite or negative."""
+    largest = 0.0
+    for value in values:
+        if not (0.0 <= value < np.inf):
+            return -1.0
+        if value > largest:
+            largest = value
+    return largest
 
 
 def _as_cell(cell, shape, name):
