@@ -2,8 +2,9 @@
 The heapq A* that `dpn_navigator.core.astar` replaced: the oracle of its compiled kernel.
 
 This is the core's A* as it was before the kernel (main at e53c505), unchanged but for its
-name, `reference_astar`: plain Python over flat cell indices, with numpy working out for the
-whole grid up front which moves are legal from each cell, and the heuristic. The tests check
+name, `reference_astar`, and for using the core's own input checks, step costs and fixed-point
+diagonal cost: plain Python over flat cell indices, with numpy working out for the whole grid
+up front which moves are legal from each cell, and the heuristic. The tests check
 that the kernel returns the very same path (not only the same cost) on every instance, and
 ``benchmarks/bench_core.py`` times the two against each other.
 
@@ -17,21 +18,16 @@ costs 1 along a row or column and sqrt(2) along a diagonal. A diagonal move from
 from array import array
 import heapq
 import math
-import operator
 
+# Input checks and the fixed-point diagonal cost are the core's own: what this twin checks is
+# the search.
+from dpn_navigator.core.astar_search import (_as_blocked_grid, _as_cell, _as_cell_cost,
+                                             _fixed_point_diagonal_cost, ORTHOGONAL_STEP_COST)
 import numpy as np
-
-#: Cost of a move along a row or a column [cells].
-ORTHOGONAL_STEP_COST = 1.0
-#: Cost of a diagonal move [cells].
-DIAGONAL_STEP_COST = math.sqrt(2.0)
 
 # Bit k of a cell's orthogonal (diagonal) move mask is set when move k of this tuple is legal.
 _ORTHOGONAL_MOVES = ((0, 1), (1, 0), (0, -1), (-1, 0))
 _DIAGONAL_MOVES = ((1, 1), (1, -1), (-1, 1), (-1, -1))
-
-# Mantissa bits of a float64, counting the implicit one.
-_FLOAT_BITS = 53
 
 # g-score of an expanded cell: below every real cost, so no move improves on it.
 _CLOSED = -1.0
@@ -39,60 +35,17 @@ _CLOSED = -1.0
 
 def reference_astar(blocked, start, goal, cell_cost=None, cut_corners=True):
     """
-    Find a least-cost 8-connected path between two cells of an occupancy grid.
+    Find a least-cost 8-connected path as `dpn_navigator.core.astar` did before its kernel.
 
-    Parameters
-    ----------
-    blocked : (rows, cols) array_like of bool
-        True (or nonzero) where a cell cannot be entered. Integer and finite float arrays are
-        read as ``blocked != 0``.
-    start, goal : (int, int)
-        Cells ``(row, col)`` to plan from and to. ``start`` may be blocked (say by the
-        inflated footprint of the robot that stands there): the path may leave it, but no
-        other cell of the path is blocked.
-    cell_cost : (rows, cols) array_like of float, optional
-        Extra cost of entering each cell [cells], finite and non-negative, e.g. a penalty
-        for cells next to obstacles. A move then costs its step cost plus the extra cost of
-        the cell it enters. None (the default) is the same as all zeros, only faster.
-    cut_corners : bool
-        Whether a diagonal move may pass one blocked cell (True, the default) or needs both
-        cells beside it free.
-
-    Returns
-    -------
-    path : list of (int, int) or None
-        Cells from ``start`` to ``goal`` inclusive, each an 8-neighbour of the one before,
-        with least total cost (1 per orthogonal move, sqrt(2) per diagonal move, see
-        `path_cost`, plus the ``cell_cost`` of every cell entered). ``[start]`` when
-        ``start == goal`` (blocked or not); otherwise None when ``goal`` is blocked or cannot
-        be reached.
-
-    Raises
-    ------
-    ValueError
-        If ``blocked`` is not a non-empty 2-D array of bool or numbers, if ``start`` or
-        ``goal`` is not a pair of integers inside the grid, or if ``cell_cost`` is not a
-        finite, non-negative array of the grid's shape.
+    Parameters, result and errors are those of `dpn_navigator.core.astar`.
 
     Notes
     -----
-    A* with the octile distance as heuristic, which is admissible and consistent for these
-    move costs, and a binary heap (`heapq`) with lazy deletion. Ties in f are broken towards
-    the smaller heuristic, which on open ground expands little more than the path itself.
-    Before the loop, numpy works out for the whole grid which moves are legal from each cell
-    (inside the grid, free target, corner rule) as two 4-bit masks, and the heuristic of each
-    cell; the loop then walks a tuple of flat-index offsets per cell, with no bounds or
-    obstacle checks.
-
-    For the ties to be exact the search adds costs in fixed point: the diagonal cost is
-    sqrt(2) rounded to a multiple of ``2**-m``, with ``m`` as large as lets every g, h and f
-    on the grid fit the float64 mantissa (``m = 36`` for 200 x 200, 31 for 1000 x 1000). Sums
-    are then exact and equal-cost paths compare equal. Two paths of ``a`` and ``a'``
-    orthogonal and ``b`` and ``b'`` diagonal moves are still ordered as under sqrt(2)
-    whenever ``|b - b'| * (|a - a'| + sqrt(2) * |b - b'|) < 2**(m + 1)``, which holds for
-    every pair of paths on grids of up to about 100 000 cells: there the path is exactly
-    optimal. On larger grids it is within ``|b - b'| * 2**-(m + 1)`` of optimal, the size of
-    the float64 rounding error of summing that many steps.
+    A* with the octile distance as heuristic and a binary heap (`heapq`) with lazy deletion,
+    ordered by ``(f, h, flat index)``. Before the loop, numpy works out for the whole grid which
+    moves are legal from each cell (inside the grid, free target, corner rule) as two 4-bit
+    masks, and the heuristic of each cell; the loop then walks a tuple of flat-index offsets
+    per cell, with no bounds or obstacle checks. Costs add in the core's fixed point.
 
     Examples
     --------
@@ -101,14 +54,12 @@ def reference_astar(blocked, start, goal, cell_cost=None, cut_corners=True):
     ...                     [0, 0, 0]], dtype=bool)
     >>> reference_astar(blocked, (0, 0), (2, 0))
     [(0, 0), (0, 1), (1, 2), (2, 1), (2, 0)]
-    >>> reference_astar(blocked, (0, 0), (1, 0)) is None
-    True
 
     """
     grid = _as_blocked_grid(blocked)
     start = _as_cell(start, grid.shape, 'start')
     goal = _as_cell(goal, grid.shape, 'goal')
-    extra_cost = None if cell_cost is None else _as_cell_cost(cell_cost, grid.shape)
+    extra_cost = None if cell_cost is None else _as_cell_cost(cell_cost, grid.shape)[0]
     if start == goal:
         return [start]
     if grid[goal]:
@@ -198,65 +149,6 @@ def _search_with_cell_cost(start, goal, cols, ortho_mask, diag_mask, ortho_moves
     return None
 
 
-def _as_blocked_grid(blocked):
-    """Check ``blocked`` and return it as a (rows, cols) ndarray of bool."""
-    try:
-        grid = np.asarray(blocked)
-    except (TypeError, ValueError) as exc:
-        raise ValueError(
-            f'blocked must be a 2-D array of bool, could not convert it: {exc}') from exc
-    if grid.ndim != 2:
-        raise ValueError(
-            f'blocked must be a 2-D (rows, cols) array, got {grid.ndim} dimension(s) of shape '
-            f'{grid.shape}')
-    if grid.size == 0:
-        raise ValueError(f'blocked is an empty grid of shape {grid.shape}; give at least 1 x 1')
-    kind = grid.dtype.kind
-    if kind == 'b':
-        return grid
-    if kind in 'iu':
-        return grid != 0
-    if kind == 'f':
-        if not np.isfinite(grid).all():
-            raise ValueError('blocked holds NaN or infinite values; give a bool array')
-        return grid != 0
-    raise ValueError(f'blocked must be an array of bool (or numbers), got dtype {grid.dtype}')
-
-
-def _as_cell_cost(cell_cost, shape):
-    """Check ``cell_cost`` against the grid's shape; return it as float64."""
-    try:
-        cost = np.asarray(cell_cost, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f'cell_cost must be an array of numbers: {exc}') from exc
-    if cost.shape != shape:
-        raise ValueError(f"cell_cost must have the grid's shape {shape}, got {cost.shape}")
-    if not (np.isfinite(cost).all() and (cost >= 0.0).all()):
-        raise ValueError('cell_cost must be finite and non-negative')
-    return cost
-
-
-def _as_cell(cell, shape, name):
-    """Check that ``cell`` is an integer pair inside a grid of ``shape``; return it as ints."""
-    try:
-        row, col = cell
-    except (TypeError, ValueError):
-        raise ValueError(f'{name} must be a (row, col) pair of integers, got {cell!r}') from None
-    try:
-        if isinstance(row, (bool, np.bool_)) or isinstance(col, (bool, np.bool_)):
-            raise TypeError
-        row = operator.index(row)
-        col = operator.index(col)
-    except TypeError:
-        raise ValueError(f'{name} must be a (row, col) pair of integers, got {cell!r}') from None
-    rows, cols = shape
-    if not (0 <= row < rows and 0 <= col < cols):
-        raise ValueError(
-            f'{name} {(row, col)} is outside the grid: row must be in [0, {rows}) and col in '
-            f'[0, {cols})')
-    return (row, col)
-
-
 def _move_masks(grid, cut_corners=True):
     """
     Which moves are legal from each cell, as two flat bit masks.
@@ -301,29 +193,6 @@ def _move_offsets(moves, cols):
     offsets = [dr * cols + dc for dr, dc in moves]
     return [tuple(offset for bit, offset in enumerate(offsets) if mask >> bit & 1)
             for mask in range(1 << len(moves))]
-
-
-def _fixed_point_diagonal_cost(rows, cols, max_extra=0.0):
-    """
-    Sqrt(2) rounded so that path costs on a (rows, cols) grid add exactly in float64.
-
-    Every g, h and f of the search is a sum of at most ``rows * cols + rows + cols`` moves,
-    each costing at most ``sqrt(2) + max_extra``, so at most ``max_cost`` below. With the
-    diagonal cost (and every extra cell cost) a multiple of ``2**-m`` and
-    ``max_cost * 2**m <= 2**52``, all of them are multiples of ``2**-m`` that float64 holds
-    exactly, so their sums are exact too.
-
-    Returns
-    -------
-    diag_cost : float
-        The rounded sqrt(2).
-    m : int
-        The number of fraction bits.
-
-    """
-    max_cost = (DIAGONAL_STEP_COST + max_extra) * (rows * cols + rows + cols)
-    m = _FLOAT_BITS - 1 - math.ceil(math.log2(max_cost))
-    return math.ldexp(round(math.ldexp(DIAGONAL_STEP_COST, m)), -m), m
 
 
 def _octile_distance(rows, cols, goal, diag_cost):
