@@ -90,13 +90,23 @@ def kernel_start_seconds():
 
     Returns
     -------
-    cold, warm : (float, float)
-        ``(import, warm_up)`` wall times [s] of the first process (empty cache: compiles) and
-        of a second one (loads the cache the first wrote).
+    cold, warm : (float, float, float, float)
+        ``(import wall, warm-up wall, import CPU, warm-up CPU)`` times [s] of the first process
+        (empty cache: compiles) and of a second one (loads the cache the first wrote). CPU
+        time (user + system) is what the work costs; wall time also holds the waits of a
+        loaded machine.
 
     """
-    code = ('import time; started = time.perf_counter(); from dpn_navigator.core import jit; '
-            'imported = time.perf_counter() - started; print(imported, jit.warm_up())')
+    code = ('import resource, time\n'
+            'def now():\n'
+            '    usage = resource.getrusage(resource.RUSAGE_SELF)\n'
+            '    return time.perf_counter(), usage.ru_utime + usage.ru_stime\n'
+            'wall0, cpu0 = now()\n'
+            'from dpn_navigator.core import jit\n'
+            'wall1, cpu1 = now()\n'
+            'jit.warm_up()\n'
+            'wall2, cpu2 = now()\n'
+            'print(wall1 - wall0, wall2 - wall1, cpu1 - cpu0, cpu2 - cpu1)\n')
     with tempfile.TemporaryDirectory() as cache:
         env = dict(os.environ, NUMBA_CACHE_DIR=cache)
         runs = [subprocess.run([sys.executable, '-c', code], env=env, check=True,
@@ -201,14 +211,13 @@ def bench_recorded_calls(calls, repeats):
 
 def bench_start():
     """Print the kernels' cold and warm start times."""
-    (cold_import, cold_compile), (warm_import, warm_load) = kernel_start_seconds()
+    cold, warm = kernel_start_seconds()
     print('| kernels at process start (fresh process: import of the core, then jit.warm_up) '
-          '| import [s] | warm-up [s] | total [s] |')
-    print('|---|---|---|---|')
-    print(f'| cold: empty cache, compiles | {cold_import:.2f} | {cold_compile:.2f} '
-          f'| {cold_import + cold_compile:.2f} |')
-    print(f'| warm: cache written by the cold run | {warm_import:.2f} | {warm_load:.2f} '
-          f'| {warm_import + warm_load:.2f} |')
+          '| import wall [s] | warm-up wall [s] | import CPU [s] | warm-up CPU [s] |')
+    print('|---|---|---|---|---|')
+    for what, times in (('cold: empty cache, compiles', cold),
+                        ('warm: cache written by the cold run', warm)):
+        print(f'| {what} | ' + ' | '.join(f'{value:.2f}' for value in times) + ' |')
     print(f'\nThis process: kernels ready in {jit.warm_up():.2f} s '
           f'(cache: {jit.cache_dir() or "numba default"})')
     print()
