@@ -2,7 +2,8 @@
 #
 #   make setup   .venv (python3 -m venv) with every pin of requirements.txt and of the optional
 #                requirements-ray.txt (so the Ray backend's test runs); re-runs only when they
-#                change
+#                change. Then builds the TFMessage-only tf2_msgs stand-in (fallback/tf2_msgs,
+#                about 30 s) into .venv, since PyPI has no tf2_msgs wheel (docs/setup.md)
 #   make build   colcon build into build/ install/ log/
 #   make test    build, then colcon test (pytest output on the console) and colcon test-result;
 #                fails if any test fails or errors
@@ -18,7 +19,8 @@
 #   make clean   remove build/ install/ log/;  make distclean  also removes .venv/
 #
 # Needs only python3.11 with its venv module (Debian/Ubuntu: apt-get install python3-venv; a
-# python.org or pyenv build has it), make and bash: everything else comes from PyPI. The ROS 2
+# python.org or pyenv build has it), make, bash and a C compiler (for the tf2_msgs stand-in):
+# everything else, CMake included, comes from PyPI. The ROS 2
 # Jazzy wheels on PyPI are built for CPython 3.11 only.
 #
 # Knobs: PYTHON (interpreter for the venv), ROS_DOMAIN_ID (default 42), COLCON_BUILD_ARGS (e.g.
@@ -36,6 +38,10 @@ VENV := $(ROOT)/.venv
 VENV_BIN := $(VENV)/bin
 # Stamp of the last successful install of requirements.txt into .venv.
 REQUIREMENTS_STAMP := $(VENV)/.requirements.stamp
+# The tf2_msgs stand-in: sources, its build directory, and the stamp of its install into .venv.
+TF2_MSGS_SOURCES := $(wildcard $(ROOT)/fallback/tf2_msgs/*.* $(ROOT)/fallback/tf2_msgs/msg/*)
+TF2_MSGS_BUILD := $(VENV)/build/tf2_msgs
+TF2_MSGS_STAMP := $(VENV)/.tf2_msgs.stamp
 
 # colcon and everything it starts run with the venv's python.
 export PATH := $(VENV_BIN):$(PATH)
@@ -60,7 +66,7 @@ SOURCE_INSTALL := source $(ROOT)/install/setup.bash
 help:
 	@sed -n '1,/^$$/s/^# \{0,1\}//p' $(ROOT)/Makefile
 
-setup: $(REQUIREMENTS_STAMP)
+setup: $(REQUIREMENTS_STAMP) $(TF2_MSGS_STAMP)
 
 $(VENV_BIN)/python:
 	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info[:2] != (3, 11))' || { \
@@ -70,9 +76,24 @@ $(VENV_BIN)/python:
 	  echo "make: '$(PYTHON) -m venv' failed; on Debian/Ubuntu: apt-get install python3-venv" >&2; \
 	  exit 1; }
 
-$(REQUIREMENTS_STAMP): $(ROOT)/requirements.txt $(ROOT)/requirements-ray.txt | $(VENV_BIN)/python
+$(REQUIREMENTS_STAMP): $(ROOT)/requirements.txt $(ROOT)/requirements-ray.txt \
+    $(ROOT)/requirements-tf2-fallback.txt | $(VENV_BIN)/python
 	$(VENV_BIN)/python -m pip install --progress-bar off -r $(ROOT)/requirements.txt \
-	  -r $(ROOT)/requirements-ray.txt
+	  -r $(ROOT)/requirements-ray.txt -r $(ROOT)/requirements-tf2-fallback.txt
+	touch $@
+
+# tf2_msgs (TFMessage only, the standard definition) built with the wheels' rosidl generators and
+# installed into .venv, an ament prefix like the one the ROS wheels install into: rclpy, the
+# ament index and the loader find it there with no environment to source. fallback/ holds a
+# COLCON_IGNORE, so a colcon build of this repository (the apt Jazzy path) never sees it.
+$(TF2_MSGS_STAMP): $(TF2_MSGS_SOURCES) $(REQUIREMENTS_STAMP)
+	rm -rf $(TF2_MSGS_BUILD)
+	$(VENV_BIN)/cmake -S $(ROOT)/fallback/tf2_msgs -B $(TF2_MSGS_BUILD) \
+	  -DCMAKE_INSTALL_PREFIX=$(VENV) -DCMAKE_PREFIX_PATH=$(VENV) \
+	  -DPython3_EXECUTABLE=$(VENV_BIN)/python -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF
+	$(VENV_BIN)/cmake --build $(TF2_MSGS_BUILD) -j 2
+	$(VENV_BIN)/cmake --install $(TF2_MSGS_BUILD)
+	$(VENV_BIN)/python -c 'from tf2_msgs.msg import TFMessage'
 	touch $@
 
 build: setup

@@ -66,7 +66,7 @@ def node_rtf(wanderers, domain_id, log_dir, seconds=15.0):
     node = Node('rtf_probe', context=context)
     samples = []
     node.create_subscription(
-        DiagnosticStatus, '/sim/status',
+        DiagnosticStatus, '/compabot/sim/status',
         lambda msg: samples.append((time.monotonic(), float(
             {kv.key: kv.value for kv in msg.values}['time']))), LATCHED_QOS)
     executor = SingleThreadedExecutor(context=context)

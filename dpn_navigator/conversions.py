@@ -10,14 +10,14 @@ tested in memory. Array fields use the fast paths (``np.frombuffer`` in,
 from array import array
 import math
 
-from geometry_msgs.msg import Point, Pose, Quaternion, Twist
-from nav_msgs.msg import OccupancyGrid, Odometry
+from geometry_msgs.msg import Point, Pose, PoseStamped, Quaternion, Twist
+from nav_msgs.msg import OccupancyGrid, Odometry, Path
 import numpy as np
 from sensor_msgs.msg import LaserScan
 from std_msgs.msg import ColorRGBA
 from visualization_msgs.msg import Marker
 
-from .core.cell_label import OCCUPANCY_VALUE
+from .core.cell_label import CellLabel, OCCUPANCY_MOBILE_OBSTACLE, OCCUPANCY_VALUE
 
 
 def yaw_to_quaternion(yaw):
@@ -148,7 +148,8 @@ def make_laser_scan(ranges, angle_min, angle_increment, range_min, range_max, st
     return msg
 
 
-def labels_to_occupancy_grid(labels, resolution, origin, stamp, frame_id='map'):
+def labels_to_occupancy_grid(labels, resolution, origin, stamp, frame_id='map',
+                             load_time=None, mobile_value=OCCUPANCY_MOBILE_OBSTACLE):
     """
     Build an ``OccupancyGrid`` from cell labels.
 
@@ -161,26 +162,42 @@ def labels_to_occupancy_grid(labels, resolution, origin, stamp, frame_id='map'):
     origin : (float, float)
         Map-frame position of cell (0, 0)'s lower-left corner [m].
     stamp : builtin_interfaces.msg.Time
-        Header stamp and map load time.
+        Header stamp.
     frame_id : str
         The map's frame.
+    load_time : builtin_interfaces.msg.Time or None
+        ``info.map_load_time``: when the map was started; None: ``stamp``.
+    mobile_value : int
+        Value of mobile-obstacle cells, 1 to 100.
 
     Returns
     -------
     OccupancyGrid
-        ``data`` holds -1, 0, 100 or 70 per cell (``OCCUPANCY_VALUE``), row-major.
+        ``data`` holds -1, 0, 100 or ``mobile_value`` per cell (``OCCUPANCY_VALUE``),
+        row-major.
+
+    Raises
+    ------
+    ValueError
+        When ``mobile_value`` is not in 1..100.
 
     """
+    values = OCCUPANCY_VALUE
+    if mobile_value != OCCUPANCY_MOBILE_OBSTACLE:
+        if not 1 <= mobile_value <= 100:
+            raise ValueError(f'mobile_value must be in 1..100, got {mobile_value!r}')
+        values = OCCUPANCY_VALUE.copy()
+        values[CellLabel.MOBILE_OBSTACLE] = mobile_value
     msg = OccupancyGrid()
     msg.header.stamp = stamp
     msg.header.frame_id = frame_id
-    msg.info.map_load_time = stamp
+    msg.info.map_load_time = stamp if load_time is None else load_time
     msg.info.resolution = float(resolution)
     msg.info.height, msg.info.width = (int(n) for n in labels.shape)
     msg.info.origin.position.x = float(origin[0])
     msg.info.origin.position.y = float(origin[1])
     msg.info.origin.orientation.w = 1.0
-    msg.data = array('b', np.take(OCCUPANCY_VALUE, labels).tobytes())
+    msg.data = array('b', np.take(values, labels).tobytes())
     return msg
 
 
@@ -270,3 +287,36 @@ def sphere_marker(xy, namespace, marker_id, rgba, diameter, stamp, frame_id='map
 def marker_points(marker):
     """Return a marker's points as an (N, 2) float64 ndarray [m]."""
     return np.array([(p.x, p.y) for p in marker.points], dtype=np.float64).reshape(-1, 2)
+
+
+def points_to_path(points_xy, stamp, frame_id='map'):
+    """
+    Build a ``nav_msgs/Path`` through planar points, each pose facing the next point.
+
+    Parameters
+    ----------
+    points_xy : (N, 2) array_like of float
+        Waypoints in ``frame_id`` [m]; N may be 0 (an empty path: no plan).
+    stamp : builtin_interfaces.msg.Time
+        Stamp of the header and of every pose.
+    frame_id : str
+        Frame of the points.
+
+    Returns
+    -------
+    Path
+
+    """
+    points = np.asarray(points_xy, dtype=float).reshape(-1, 2)
+    msg = Path()
+    msg.header.stamp = stamp
+    msg.header.frame_id = frame_id
+    headings = np.arctan2(*np.diff(points, axis=0)[:, ::-1].T) if len(points) > 1 else []
+    for index, (x, y) in enumerate(points.tolist()):
+        pose = PoseStamped()
+        pose.header = msg.header
+        pose.pose.position.x, pose.pose.position.y = x, y
+        yaw = headings[min(index, len(headings) - 1)] if len(headings) else 0.0
+        pose.pose.orientation = yaw_to_quaternion(float(yaw))
+        msg.poses.append(pose)
+    return msg

@@ -163,12 +163,13 @@ class EpisodeMonitor(Node):
         self.episode = Episode()
         self.create_subscription(DiagnosticStatus, '/compabot/status', self.on_dpn_status,
                                  LATCHED_QOS)
-        self.create_subscription(DiagnosticStatus, '/sim/status', self.on_sim_status,
+        self.create_subscription(DiagnosticStatus, '/compabot/sim/status', self.on_sim_status,
                                  LATCHED_QOS)
         self.create_subscription(Odometry, '/compabot/odom', self.on_odom, SENSOR_QOS)
         self.create_subscription(OccupancyGrid, '/compabot/map', self.on_map, LATCHED_QOS)
         self.create_subscription(MarkerArray, '/compabot/marker', self.on_marker, LATCHED_QOS)
-        self.create_subscription(MarkerArray, '/sim/wanderers', self.on_wanderers, COMMAND_QOS)
+        self.create_subscription(MarkerArray, '/compabot/sim/wanderers', self.on_wanderers,
+                                 COMMAND_QOS)
         self.create_subscription(Twist, '/compabot/cmd_vel', self.on_cmd_vel, COMMAND_QOS)
 
     def on_dpn_status(self, msg):

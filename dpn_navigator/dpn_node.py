@@ -1,13 +1,17 @@
 """
 The ``dpn`` node: ROS 2 wrapper of the navigator core.
 
-Subscribes to ``/compabot/scan`` (``sensor_msgs/LaserScan``), ``/compabot/odom``
-(``nav_msgs/Odometry``, the base pose in frame ``map``) and ``/compabot/goal_pose``
-(``geometry_msgs/PoseStamped``). Publishes ``/compabot/map`` (``nav_msgs/OccupancyGrid``,
-latched), ``/compabot/cmd_vel`` (``geometry_msgs/Twist``), ``/compabot/odom_real``
-(``nav_msgs/Odometry``: the pose in use), ``/compabot/marker``
-(``visualization_msgs/MarkerArray``: planned path red, executed path yellow, goal green) and
-``/compabot/status`` (``diagnostic_msgs/DiagnosticStatus``, latched: status, reason, counters).
+Topic names are relative to the node's namespace, ``compabot`` unless one is given
+(``-r __ns:=/robot2``). Subscribes to ``scan`` (``sensor_msgs/LaserScan``, in frame
+``laser_frame``), ``odom`` (``nav_msgs/Odometry``, the base pose, taken as the pose in the map
+frame: the simulator's odometry is drift-free and ``map -> odom`` the identity) and
+``goal_pose`` (``geometry_msgs/PoseStamped``, in ``map_frame``). Publishes ``map``
+(``nav_msgs/OccupancyGrid``, latched), ``cmd_vel`` (``geometry_msgs/Twist``, or
+``TwistStamped`` with ``cmd_vel_stamped``), ``plan`` (``nav_msgs/Path``, latched),
+``odom_real`` (``nav_msgs/Odometry``: the pose in use), ``marker``
+(``visualization_msgs/MarkerArray``: planned path red, executed path yellow, goal green),
+``status`` (``diagnostic_msgs/DiagnosticStatus``, latched: status, reason, counters) and the
+same status on ``/diagnostics`` (``DiagnosticArray``).
 
 Malformed scans, odometry and goals are rejected, counted and warned about (throttled); the node
 keeps running. When scans or odometry are older than ``sensor_timeout`` the robot is stopped.
@@ -19,20 +23,22 @@ import math
 import statistics
 import time
 
-from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
-from geometry_msgs.msg import PoseStamped, Twist
-from nav_msgs.msg import OccupancyGrid, Odometry
+from diagnostic_msgs.msg import DiagnosticStatus
+from geometry_msgs.msg import PoseStamped
+from nav_msgs.msg import OccupancyGrid, Odometry, Path
 import numpy as np
 from rclpy.node import Node
 from sensor_msgs.msg import LaserScan
 from visualization_msgs.msg import MarkerArray
 
+from .command_publisher import CommandPublisher
 from .conversions import (labels_to_occupancy_grid, laser_scan_fields, line_strip_marker,
-                          odometry_to_pose, pose_to_odometry, sphere_marker,
-                          velocity_to_twist)
+                          odometry_to_pose, points_to_path, pose_to_odometry, sphere_marker)
 from .core import jit, Navigator, NavigatorStatus
 from .core.scan_polygon import check_scan
+from .diagnostics import diagnostic_status, DiagnosticsPublisher
 from .dpn_params import declare_parameters
+from .names import DEFAULT_NAMESPACE
 from .qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS
 from .spin import run_node
 
@@ -50,12 +56,15 @@ class DpnNode(Node):
     """Map, plan and follow from scans and odometry; publish map, commands and markers."""
 
     def __init__(self, **node_kwargs):
+        node_kwargs.setdefault('namespace', DEFAULT_NAMESPACE)
         super().__init__('dpn', **node_kwargs)
         self.params = declare_parameters(self)
         # Compile (or load) the kernels now, so that the first scan does not wait for them.
         compile_seconds = jit.warm_up()
         self.navigator = Navigator(self.params.navigator)
         self.rejected = {'scan': 0, 'odometry': 0, 'goal': 0}
+        self.scan_frame_mismatches = 0
+        self.map_load_time = None
         self.pose = None
         self.velocity = (0.0, 0.0)
         self.last_scan_time = None
@@ -66,15 +75,16 @@ class DpnNode(Node):
         self.stale = False
         self.last_status = None
         self.trail = []
-        self.map_pub = self.create_publisher(OccupancyGrid, '/compabot/map', LATCHED_QOS)
-        self.cmd_pub = self.create_publisher(Twist, '/compabot/cmd_vel', COMMAND_QOS)
-        self.odom_real_pub = self.create_publisher(Odometry, '/compabot/odom_real', COMMAND_QOS)
-        self.marker_pub = self.create_publisher(MarkerArray, '/compabot/marker', LATCHED_QOS)
-        self.status_pub = self.create_publisher(DiagnosticStatus, '/compabot/status',
-                                                LATCHED_QOS)
-        self.create_subscription(LaserScan, '/compabot/scan', self.on_scan, SENSOR_QOS)
-        self.create_subscription(Odometry, '/compabot/odom', self.on_odom, SENSOR_QOS)
-        self.create_subscription(PoseStamped, '/compabot/goal_pose', self.on_goal, COMMAND_QOS)
+        self.map_pub = self.create_publisher(OccupancyGrid, 'map', LATCHED_QOS)
+        self.cmd_pub = CommandPublisher(self, 'cmd_vel', self.params.cmd_vel_stamped,
+                                        self.params.base_frame)
+        self.odom_real_pub = self.create_publisher(Odometry, 'odom_real', COMMAND_QOS)
+        self.marker_pub = self.create_publisher(MarkerArray, 'marker', LATCHED_QOS)
+        self.plan_pub = self.create_publisher(Path, 'plan', LATCHED_QOS)
+        self.diagnostics = DiagnosticsPublisher(self, 'status')
+        self.create_subscription(LaserScan, 'scan', self.on_scan, SENSOR_QOS)
+        self.create_subscription(Odometry, 'odom', self.on_odom, SENSOR_QOS)
+        self.create_subscription(PoseStamped, 'goal_pose', self.on_goal, COMMAND_QOS)
         self.create_timer(WATCHDOG_PERIOD, self.on_watchdog)
         self.create_timer(STATUS_PERIOD, self.publish_status)
         if self.params.goal is not None:
@@ -110,9 +120,15 @@ class DpnNode(Node):
         self.publish_status()
 
     def on_goal(self, msg):
-        """Take a goal from ``/compabot/goal_pose`` (RViz's 2D Goal Pose)."""
-        if msg.header.frame_id not in ('', 'map'):
-            self.reject('goal', f'frame {msg.header.frame_id!r} is not map')
+        """
+        Take a goal from ``goal_pose`` (RViz's 2D Goal Pose).
+
+        The goal must be in ``map_frame``; an empty frame id is taken as ``map_frame``. Its
+        orientation is ignored: the navigator reaches a position.
+        """
+        map_frame = self.params.map_frame
+        if msg.header.frame_id not in ('', map_frame):
+            self.reject('goal', f'frame {msg.header.frame_id!r} is not {map_frame!r}')
             return
         self.set_goal(msg.pose.position.x, msg.pose.position.y)
 
@@ -136,6 +152,12 @@ class DpnNode(Node):
         """Fold the scan into the map, decide the command, publish."""
         received = time.perf_counter()
         now = self.now_seconds()
+        laser_frame = self.params.laser_frame
+        if laser_frame and msg.header.frame_id != laser_frame:
+            self.scan_frame_mismatches += 1
+            self.reject('scan', f'frame {msg.header.frame_id!r} is not the laser frame '
+                        f'{laser_frame!r} (set laser_frame, or laser_frame:="" to accept any)')
+            return
         fields = laser_scan_fields(msg)
         try:
             if self.pose is None:
@@ -144,7 +166,7 @@ class DpnNode(Node):
                 self.get_logger().info('waiting for odometry',
                                        throttle_duration_sec=WARN_THROTTLE)
                 return
-            self.navigator.observe(self.pose, **fields)
+            self.navigator.observe(self.pose, **fields, stamp=now)
         except ValueError as error:
             self.reject('scan', error)
             return
@@ -159,8 +181,10 @@ class DpnNode(Node):
             self.scan_to_map_ms.append(1e3 * (time.perf_counter() - received))
         out = self.navigator.decide(now, self.pose)
         if not self.sensors_stale(now):
-            self.cmd_pub.publish(velocity_to_twist(out.command.linear, out.command.angular))
-        self.odom_real_pub.publish(pose_to_odometry(self.pose, self.velocity, stamp))
+            self.cmd_pub.publish(out.command.linear, out.command.angular)
+        self.odom_real_pub.publish(pose_to_odometry(
+            self.pose, self.velocity, stamp, frame_id=self.params.map_frame,
+            child_frame_id=self.params.base_frame))
         status_changed = out.status is not self.last_status
         if status_changed:
             self.publish_status()
@@ -172,32 +196,35 @@ class DpnNode(Node):
     def publish_map(self, stamp):
         """Publish the labelled grid as an ``OccupancyGrid``."""
         geometry = self.navigator.grid.geometry
+        if self.map_load_time is None:
+            self.map_load_time = stamp
         self.map_pub.publish(labels_to_occupancy_grid(
-            self.navigator.grid.labels, geometry.resolution, geometry.origin, stamp))
+            self.navigator.grid.labels, geometry.resolution, geometry.origin, stamp,
+            frame_id=self.params.map_frame, load_time=self.map_load_time,
+            mobile_value=self.params.map_mobile_value))
 
     def publish_markers(self, stamp):
-        """Publish the planned path, the executed path and the goal."""
+        """Publish the planned path (as markers and as a ``Path``), the executed path, the goal."""
+        frame = self.params.map_frame
         markers = MarkerArray()
         path = self.navigator.path_xy
-        markers.markers.append(line_strip_marker(
-            np.zeros((0, 2)) if path is None else path, 'planned_path', 0, RED, 0.1, stamp))
+        path = np.zeros((0, 2)) if path is None else path
+        markers.markers.append(line_strip_marker(path, 'planned_path', 0, RED, 0.1, stamp,
+                                                 frame_id=frame))
         markers.markers.append(line_strip_marker(self.trail, 'executed_path', 1, YELLOW, 0.08,
-                                                 stamp))
+                                                 stamp, frame_id=frame))
         if self.navigator.goal is not None:
             markers.markers.append(sphere_marker(self.navigator.goal, 'goal', 2, GREEN, 0.4,
-                                                 stamp))
+                                                 stamp, frame_id=frame))
         self.marker_pub.publish(markers)
+        self.plan_pub.publish(points_to_path(path, stamp, frame))
 
     def publish_status(self):
-        """Publish status, reason and counters as a latched ``DiagnosticStatus``."""
+        """Publish status, reason and counters (latched ``status`` and ``/diagnostics``)."""
         status = self.navigator.status
         self.last_status = status
-        msg = DiagnosticStatus()
-        msg.name = 'dpn'
-        msg.hardware_id = 'compabot'
-        msg.level = (DiagnosticStatus.WARN if self.stale or status is NavigatorStatus.NO_PATH
-                     else DiagnosticStatus.OK)
-        msg.message = 'sensors stale' if self.stale else status.value
+        level = (DiagnosticStatus.WARN if self.stale or status is NavigatorStatus.NO_PATH
+                 else DiagnosticStatus.OK)
         goal = self.navigator.goal
         values = {
             'status': status.value, 'reason': self.navigator.reason,
@@ -208,13 +235,15 @@ class DpnNode(Node):
             'rejected_scans': self.rejected['scan'],
             'rejected_odometry': self.rejected['odometry'],
             'rejected_goals': self.rejected['goal'],
+            'scan_frame_mismatches': self.scan_frame_mismatches,
             'sensors_stale': self.stale,
             # Wall time from the scan callback's start to the map's publication [ms].
             'scan_to_map_ms_median': (f'{statistics.median(self.scan_to_map_ms):.3f}'
                                       if self.scan_to_map_ms else ''),
         }
-        msg.values = [KeyValue(key=k, value=str(v)) for k, v in values.items()]
-        self.status_pub.publish(msg)
+        self.diagnostics.publish(diagnostic_status(
+            self.get_fully_qualified_name(), self.get_namespace().strip('/') or 'dpn', level,
+            'sensors stale' if self.stale else status.value, values))
 
     def sensors_stale(self, now):
         """Tell whether the latest scan or odometry is older than ``sensor_timeout``."""
@@ -226,7 +255,7 @@ class DpnNode(Node):
         """Stop the robot while scans or odometry are stale."""
         stale = self.sensors_stale(self.now_seconds())
         if stale:
-            self.cmd_pub.publish(velocity_to_twist(0.0, 0.0))
+            self.cmd_pub.publish(0.0, 0.0)
             if self.navigator.goal is not None:
                 self.get_logger().warning('scan or odometry stale: stopping',
                                           throttle_duration_sec=WARN_THROTTLE)
@@ -237,4 +266,4 @@ class DpnNode(Node):
 
 def main(args=None):
     """Run the ``dpn`` node: ``ros2 run dpn_navigator dpn``."""
-    run_node(DpnNode, args)
+    return run_node(DpnNode, args)

@@ -1,24 +1,27 @@
 """
 Parameters of the ``dpn`` node: declared with descriptors and ranges, read once.
 
-Defaults are those of ``config/dpn.yaml``; the node turns them into the core's frozen
-``NavigatorConfig`` and never passes itself into the core.
+Defaults are those of ``config/dpn.yaml`` (the Husky on back_and_forth, task 0; a test keeps
+them equal); the node turns them into the core's frozen ``NavigatorConfig`` and never passes
+itself into the core. Number parameters take integers too (``-p map_width:=25``).
 
 """
 
 from dataclasses import dataclass
 import math
 
-from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
+from rcl_interfaces.msg import IntegerRange, ParameterDescriptor
 
 from .core import FollowerConfig, NavigatorConfig
+from .core.cell_label import OCCUPANCY_MOBILE_OBSTACLE
+from .parameter_declaration import declare_number
 
 BIG = 1e6   # bound of the "any value" ranges [m]
 
 # name: (default, description, (low, high), read_only)
 FLOAT_PARAMETERS = {
-    'map_width': (40.0, 'Width W of the environment along x [m].', (0.1, BIG), True),
-    'map_height': (30.0, 'Height H of the environment along y [m].', (0.1, BIG), True),
+    'map_width': (25.0, 'Width W of the environment along x [m].', (0.1, BIG), True),
+    'map_height': (20.0, 'Height H of the environment along y [m].', (0.1, BIG), True),
     'origin_x': (0.0, "Map-frame x of the environment's lower-left corner [m].",
                  (-BIG, BIG), True),
     'origin_y': (0.0, "Map-frame y of the environment's lower-left corner [m].",
@@ -33,9 +36,21 @@ FLOAT_PARAMETERS = {
     'forget_obstacles_after': (10.0, 'With no path for this long, forget the obstacle cells '
                                'out of view and plan again [s]; 0: never (the paper).',
                                (0.0, 3600.0), True),
-    'goal_x': (math.nan, 'Goal x in the map frame [m]; NaN: wait for /compabot/goal_pose.',
+    'free_evidence_radius': (0.6, 'Conservative free space: explored -> mobile only for cells '
+                             'whose disc of this radius once lay inside one scan polygon, '
+                             'else steady [m]; 0: the paper.', (0.0, 5.0), True),
+    'moving_object_size': (0.7, 'Object-level relabelling: steady cells of scan-segment hits '
+                           'within this distance of a hit in surely-free space become mobile '
+                           '[m]; 0: off.', (0.0, 10.0), True),
+    'evidence_margin': (0.15, 'A hit shows motion only within free_evidence_radius minus '
+                        'this of a cell surely seen free [m].', (0.0, 5.0), True),
+    'segment_gap': (0.3, 'Consecutive laser hits farther apart than this are different '
+                    'objects [m].', (0.01, 10.0), True),
+    'mobile_expiry': (5.0, 'Mobile cells no hit confirmed for this long and out of view go '
+                      'back to explored [s]; 0: never (the paper).', (0.0, 3600.0), True),
+    'goal_x': (2.0, 'Goal x in the map frame [m]; NaN: wait for a goal on goal_pose.',
                None, True),
-    'goal_y': (math.nan, 'Goal y in the map frame [m]; NaN: wait for /compabot/goal_pose.',
+    'goal_y': (18.0, 'Goal y in the map frame [m]; NaN: wait for a goal on goal_pose.',
                None, True),
     'max_linear_speed': (1.0, 'Forward speed limit [m/s].', (0.01, 5.0), True),
     'max_angular_speed': (1.5, 'Turn rate limit [rad/s].', (0.01, 10.0), True),
@@ -43,7 +58,7 @@ FLOAT_PARAMETERS = {
                        True),
     'lookahead_distance': (0.6, 'How far ahead on the path the robot aims [m].', (0.1, 10.0),
                            True),
-    'laser_x': (0.0, 'Laser position on the base, forward [m].', (-10.0, 10.0), True),
+    'laser_x': (0.337, 'Laser position on the base, forward [m].', (-10.0, 10.0), True),
     'laser_y': (0.0, 'Laser position on the base, left [m].', (-10.0, 10.0), True),
     'laser_yaw': (0.0, 'Laser heading on the base [rad].', (-math.pi, math.pi), True),
     'sensor_timeout': (0.5, 'Stop the robot when scan or odometry is older than this [s].',
@@ -51,6 +66,20 @@ FLOAT_PARAMETERS = {
     'map_publish_period': (0.0, 'Publish the map at most this often [s]; 0: every scan.',
                            (0.0, 60.0), True),
 }
+
+# name: (default, description); read-only, typed by the default.
+OTHER_PARAMETERS = {
+    'map_frame': ('map', 'Frame of the map, the plan and the markers; goals in another frame are '
+                  'rejected (an empty goal frame means this one).'),
+    'laser_frame': ('laser', 'Frame the scans must be in (laser_x/_y/_yaw place it on the '
+                    "base); scans in another frame are rejected and counted; '': any."),
+    'base_frame': ('base_link', 'Frame of the robot base: header of TwistStamped commands.'),
+    'cmd_vel_stamped': (False, 'Send geometry_msgs/TwistStamped on cmd_vel instead of Twist '
+                        "(Jazzy's diff_drive_controller takes TwistStamped)."),
+    'map_mobile_value': (OCCUPANCY_MOBILE_OBSTACLE, 'OccupancyGrid value of mobile-obstacle '
+                         'cells in map, 1 to 100 (steady obstacles are 100).'),
+}
+MOBILE_VALUE_RANGE = (1, 100)
 
 
 @dataclass(frozen=True)
@@ -61,6 +90,11 @@ class DpnParameters:
     goal: tuple          # (x, y) [m], or None
     sensor_timeout: float
     map_publish_period: float
+    map_frame: str = 'map'
+    laser_frame: str = 'laser'
+    base_frame: str = 'base_link'
+    cmd_vel_stamped: bool = False
+    map_mobile_value: int = OCCUPANCY_MOBILE_OBSTACLE
 
 
 def declare_parameters(node):
@@ -74,16 +108,18 @@ def declare_parameters(node):
     Raises
     ------
     ValueError
-        When the values do not make a valid navigator configuration.
+        When a value is not a number where one is due, is out of range, or the values do not
+        make a valid navigator configuration.
 
     """
-    values = {}
-    for name, (default, description, bounds, read_only) in FLOAT_PARAMETERS.items():
-        descriptor = ParameterDescriptor(description=description, read_only=read_only)
-        if bounds is not None:
-            descriptor.floating_point_range = [
-                FloatingPointRange(from_value=bounds[0], to_value=bounds[1], step=0.0)]
-        values[name] = float(node.declare_parameter(name, default, descriptor).value)
+    values = {name: declare_number(node, name, default, description, bounds, read_only)
+              for name, (default, description, bounds, read_only) in FLOAT_PARAMETERS.items()}
+    for name, (default, description) in OTHER_PARAMETERS.items():
+        descriptor = ParameterDescriptor(description=description, read_only=True)
+        if name == 'map_mobile_value':
+            descriptor.integer_range = [IntegerRange(
+                from_value=MOBILE_VALUE_RANGE[0], to_value=MOBILE_VALUE_RANGE[1], step=1)]
+        values[name] = node.declare_parameter(name, default, descriptor).value
     follower = FollowerConfig(
         max_linear_speed=values['max_linear_speed'],
         max_angular_speed=values['max_angular_speed'],
@@ -95,10 +131,15 @@ def declare_parameters(node):
         safety_radius=values['safety_radius'], footprint_radius=values['footprint_radius'],
         obstacle_proximity_cost=values['obstacle_proximity_cost'],
         forget_obstacles_after=values['forget_obstacles_after'],
+        free_evidence_radius=values['free_evidence_radius'],
+        moving_object_size=values['moving_object_size'],
+        evidence_margin=values['evidence_margin'], segment_gap=values['segment_gap'],
+        mobile_expiry=values['mobile_expiry'],
         laser_offset=(values['laser_x'], values['laser_y'], values['laser_yaw']),
         follower=follower)
     goal = None
     if math.isfinite(values['goal_x']) and math.isfinite(values['goal_y']):
         goal = (values['goal_x'], values['goal_y'])
-    return DpnParameters(navigator, goal, values['sensor_timeout'],
-                         values['map_publish_period'])
+    return DpnParameters(
+        navigator, goal, values['sensor_timeout'], values['map_publish_period'],
+        **{name: values[name] for name in OTHER_PARAMETERS})

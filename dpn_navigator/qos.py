@@ -16,3 +16,12 @@ LATCHED_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
 COMMAND_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10,
                          reliability=ReliabilityPolicy.RELIABLE,
                          durability=DurabilityPolicy.VOLATILE)
+
+#: ``/tf``: reliable, volatile, depth 100, as tf2_ros's ``DynamicBroadcasterQoS``.
+TF_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=100,
+                    reliability=ReliabilityPolicy.RELIABLE,
+                    durability=DurabilityPolicy.VOLATILE)
+
+#: ``/tf_static``: reliable, transient local, depth 1, as tf2_ros's ``StaticBroadcasterQoS``;
+#: every static transform of a publisher goes in its one latched message.
+TF_STATIC_QOS = LATCHED_QOS

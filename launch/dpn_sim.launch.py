@@ -4,7 +4,9 @@ Start the pybullet world and the dpn navigator, with RViz on request.
 ``ros2 launch dpn_navigator dpn_sim.launch.py [gui:=true] [wanderers:=3] [rviz:=true]``
 
 Parameters come from ``config/pybullet_world.yaml`` and ``config/dpn.yaml``; both nodes run on
-the world's simulated ``/clock``.
+the world's simulated ``/clock``, in their default namespace ``compabot`` (topics
+``/compabot/scan`` and so on). RViz shows ``config/dpn.rviz``: map, plan, markers, laser scan,
+TF and the robot's base frame.
 """
 
 from launch import LaunchDescription
@@ -35,7 +37,6 @@ def generate_launch_description():
         package='rviz2', executable='rviz2', name='rviz2',
         arguments=['-d', PathJoinSubstitution([config, 'dpn.rviz'])],
         parameters=[{'use_sim_time': True}],
-        remappings=[('/goal_pose', '/compabot/goal_pose')],
         condition=IfCondition(LaunchConfiguration('rviz')))
     return LaunchDescription([
         DeclareLaunchArgument('gui', default_value='false',

@@ -99,6 +99,9 @@ class LaserScan:
         Valid return interval [m].
     pose : (float, float, float)
         The laser's true pose in the map frame at the scan ``(x, y, yaw)`` [m, m, rad].
+    hit_body : (n_beams,) ndarray of int64, or None
+        Ground truth: the pybullet body id each beam hit, -1 for none (also beyond
+        ``range_max``); for measuring, never for the navigator.
 
     """
 
@@ -110,6 +113,7 @@ class LaserScan:
     range_min: float
     range_max: float
     pose: tuple
+    hit_body: np.ndarray = None
 
 
 class Laser:
@@ -178,13 +182,16 @@ class Laser:
             physicsClientId=self.client)
         if len(results) != n:
             raise RuntimeError(f'rayTestBatch returned {len(results)} results for {n} rays')
-        hit = np.fromiter(map(_OBJECT_ID, results), dtype=np.int64, count=n) >= 0
+        hit_body = np.fromiter(map(_OBJECT_ID, results), dtype=np.int64, count=n)
+        hit = hit_body >= 0
         ranges = cfg.range_max * np.fromiter(map(_HIT_FRACTION, results), dtype=np.float64,
                                              count=n)
         if cfg.noise_std > 0.0:
             ranges += self.rng.normal(0.0, cfg.noise_std, n)
-        ranges[~hit | (ranges >= cfg.range_max)] = math.inf
+        no_return = ~hit | (ranges >= cfg.range_max)
+        ranges[no_return] = math.inf
+        hit_body[no_return] = -1
         ranges[hit & (ranges < cfg.range_min)] = -math.inf
         return LaserScan(stamp, ranges.astype(np.float32), cfg.angle_min, cfg.angle_max,
                          cfg.angle_increment, cfg.range_min, cfg.range_max,
-                         (float(x), float(y), float(yaw)))
+                         (float(x), float(y), float(yaw)), hit_body)

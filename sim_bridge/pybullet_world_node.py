@@ -1,18 +1,19 @@
 """
 The ``pybullet_world`` node: the pybullet world over ROS 2, standing in for Gazebo.
 
-Publishes ``/compabot/scan`` (``sensor_msgs/LaserScan``, frame ``laser``, sensor-data QoS),
-``/compabot/odom`` (``nav_msgs/Odometry``: the Husky's true pose and velocity, frame ``map``,
-child ``base_link``), ``/clock`` (``rosgraph_msgs/Clock``, simulated time, every tick),
-``/sim/status`` (``diagnostic_msgs/DiagnosticStatus``, latched: simulated time, contact counts,
-rejected commands) and ``/sim/wanderers`` (``visualization_msgs/MarkerArray``, one cylinder per
-P3-AT). Subscribes to ``/compabot/cmd_vel`` (``geometry_msgs/Twist``): non-finite commands are
+Topic names are relative to the node's namespace, ``compabot`` unless one is given
+(``-r __ns:=/robot2``). Publishes ``scan`` (``sensor_msgs/LaserScan``, frame ``laser``,
+sensor-data QoS), ``odom`` (``nav_msgs/Odometry``: the Husky's pose and velocity, frame
+``odom``, child ``base_link``; drift-free, so ``odom`` coincides with ``map``), ``sim/status``
+(``diagnostic_msgs/DiagnosticStatus``, latched: simulated time, contact counts, rejected
+commands; also on ``/diagnostics``) and ``sim/wanderers`` (``visualization_msgs/MarkerArray``,
+one cylinder per P3-AT, ground truth in ``map``). Global: ``/clock`` (``rosgraph_msgs/Clock``,
+simulated time, every tick), ``/tf`` (``map -> odom`` from ground truth, standing in for a
+localiser, and ``odom -> base_link``, at every odometry stamp) and ``/tf_static``
+(``base_link -> laser``); see ``sim_bridge.robot_frames``. Subscribes to ``cmd_vel``
+(``geometry_msgs/Twist``, or ``TwistStamped`` with ``cmd_vel_stamped``): non-finite commands are
 ignored with a warning and counted, the rest clamped to the Husky's limits; with no command for
 ``cmd_timeout`` seconds of simulated time the Husky stops, as its base controller does.
-
-No TF is published (tf2 is not available from PyPI): the map, markers and odometry are all in
-frame ``map``; a consumer that needs ``laser`` in ``map`` composes the odometry pose with
-``sim_bridge.husky.LASER_MOUNT``.
 
 The world advances one physics tick per wall-clock timer period
 ``1 / (physics_rate * real_time_factor)``; when the CPU cannot keep up it runs as fast as it
@@ -23,20 +24,24 @@ can.
 import math
 
 from builtin_interfaces.msg import Time
-from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
-from dpn_navigator.conversions import make_laser_scan, pose_to_odometry, twist_to_velocity
+from diagnostic_msgs.msg import DiagnosticStatus
+from dpn_navigator.command_publisher import command_to_velocity, command_type
+from dpn_navigator.conversions import make_laser_scan, pose_to_odometry
 from dpn_navigator.core import jit
-from dpn_navigator.qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS
+from dpn_navigator.diagnostics import diagnostic_status, DiagnosticsPublisher
+from dpn_navigator.names import DEFAULT_NAMESPACE
+from dpn_navigator.parameter_declaration import declare_number
+from dpn_navigator.qos import COMMAND_QOS, SENSOR_QOS
 from dpn_navigator.spin import run_node
-from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
-from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
+from rcl_interfaces.msg import IntegerRange, ParameterDescriptor
 from rclpy.node import Node
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import LaserScan
 from visualization_msgs.msg import Marker, MarkerArray
 
 from .laser import LaserConfig
+from .robot_frames import FrameNames, RobotFramePublisher
 from .scenario import load_scenario
 from .world import World, WorldConfig
 
@@ -50,11 +55,8 @@ def seconds_to_time(seconds):
     return Time(sec=nanoseconds // 1_000_000_000, nanosec=nanoseconds % 1_000_000_000)
 
 
-def _descriptor(description, float_range=None, int_range=None):
+def _descriptor(description, int_range=None):
     descriptor = ParameterDescriptor(description=description, read_only=True)
-    if float_range is not None:
-        descriptor.floating_point_range = [
-            FloatingPointRange(from_value=float_range[0], to_value=float_range[1], step=0.0)]
     if int_range is not None:
         descriptor.integer_range = [
             IntegerRange(from_value=int_range[0], to_value=int_range[1], step=1)]
@@ -65,14 +67,15 @@ class PybulletWorldNode(Node):
     """Run a pybullet world and exchange its sensors and commands over ROS topics."""
 
     def __init__(self, **node_kwargs):
+        node_kwargs.setdefault('namespace', DEFAULT_NAMESPACE)
         super().__init__('pybullet_world', **node_kwargs)
         declare = self.declare_parameter
         scenario_name = declare('scenario', 'back_and_forth', _descriptor(
             'Built-in scenario name or a map_server yaml path.')).value
         task = declare('task', 0, _descriptor('Which start/goal pair of the scenario.',
                                               int_range=(0, 1000))).value
-        start = [declare(name, math.nan, _descriptor(
-            f"Override the task start {axis} (spawn pose); NaN: the task's.")).value
+        start = [declare_number(
+            self, name, math.nan, f"Override the task start {axis} (spawn pose); NaN: the task's.")
             for name, axis in (('start_x', 'x [m]'), ('start_y', 'y [m]'),
                                ('start_yaw', 'yaw [rad]'))]
         wanderers = declare('wanderers', 3, _descriptor(
@@ -80,18 +83,28 @@ class PybulletWorldNode(Node):
         seed = declare('seed', 0, _descriptor('Seed of the wanderers and the laser noise.',
                                               int_range=(0, 2**31 - 1))).value
         gui = declare('gui', False, _descriptor('Open the pybullet GUI window.')).value
-        self.real_time_factor = declare('real_time_factor', 1.0, _descriptor(
-            '1.0 = wall-clock pace; higher runs faster.', float_range=(0.01, 1000.0))).value
-        physics_rate = declare('physics_rate', 50.0, _descriptor(
-            'Physics ticks per simulated second [Hz].', float_range=(1.0, 1000.0))).value
-        scan_rate = declare('scan_rate', 10.0, _descriptor(
-            'Scans per simulated second [Hz]; must divide physics_rate.',
-            float_range=(0.1, 1000.0))).value
-        noise = declare('laser_noise', 0.0, _descriptor(
-            'Standard deviation of Gaussian range noise [m].', float_range=(0.0, 1.0))).value
-        self.cmd_timeout = declare('cmd_timeout', 0.5, _descriptor(
-            'Stop when no cmd_vel came for this long [s, simulated].',
-            float_range=(0.01, 60.0))).value
+        self.real_time_factor = declare_number(
+            self, 'real_time_factor', 1.0, '1.0 = wall-clock pace; higher runs faster.',
+            (0.01, 1000.0))
+        physics_rate = declare_number(
+            self, 'physics_rate', 50.0, 'Physics ticks per simulated second [Hz].',
+            (1.0, 1000.0))
+        scan_rate = declare_number(
+            self, 'scan_rate', 10.0, 'Scans per simulated second [Hz]; must divide '
+            'physics_rate.', (0.1, 1000.0))
+        noise = declare_number(self, 'laser_noise', 0.0,
+                               'Standard deviation of Gaussian range noise [m].', (0.0, 1.0))
+        self.cmd_timeout = declare_number(
+            self, 'cmd_timeout', 0.5, 'Stop when no cmd_vel came for this long [s, simulated].',
+            (0.01, 60.0))
+        cmd_vel_stamped = declare('cmd_vel_stamped', False, _descriptor(
+            'Take geometry_msgs/TwistStamped on cmd_vel instead of Twist.')).value
+        self.frames = FrameNames(*(declare(f'{key}_frame', default, _descriptor(
+            f'Frame id of the {what}.')).value for key, default, what in (
+                ('map', 'map', 'map (fixed world frame)'),
+                ('odom', 'odom', 'odometry frame'),
+                ('base', 'base_link', 'robot base'),
+                ('laser', 'laser', 'laser (scan frame)'))))
 
         scenario = load_scenario(scenario_name)
         if task >= len(scenario.tasks):
@@ -109,12 +122,15 @@ class PybulletWorldNode(Node):
         self.goal = scenario.tasks[task].goal
         self.command = (0.0, 0.0)
         self.last_command_time = -math.inf
-        self.scan_pub = self.create_publisher(LaserScan, '/compabot/scan', SENSOR_QOS)
-        self.odom_pub = self.create_publisher(Odometry, '/compabot/odom', SENSOR_QOS)
+        self.scan_pub = self.create_publisher(LaserScan, 'scan', SENSOR_QOS)
+        self.odom_pub = self.create_publisher(Odometry, 'odom', SENSOR_QOS)
         self.clock_pub = self.create_publisher(Clock, '/clock', COMMAND_QOS)
-        self.status_pub = self.create_publisher(DiagnosticStatus, '/sim/status', LATCHED_QOS)
-        self.wanderer_pub = self.create_publisher(MarkerArray, '/sim/wanderers', COMMAND_QOS)
-        self.create_subscription(Twist, '/compabot/cmd_vel', self.on_cmd_vel, COMMAND_QOS)
+        self.diagnostics = DiagnosticsPublisher(self, 'sim/status')
+        self.wanderer_pub = self.create_publisher(MarkerArray, 'sim/wanderers', COMMAND_QOS)
+        self.robot_frames = RobotFramePublisher(self, self.frames, config.laser.mount,
+                                                config.laser.height)
+        self.create_subscription(command_type(cmd_vel_stamped), 'cmd_vel', self.on_cmd_vel,
+                                 COMMAND_QOS)
         self.create_timer(1.0 / (physics_rate * self.real_time_factor), self.on_tick)
         self.get_logger().info(
             f'{scenario.name}: task {task}, start {start}, goal {self.goal}, '
@@ -123,7 +139,7 @@ class PybulletWorldNode(Node):
     def on_cmd_vel(self, msg):
         """Keep the latest finite command; ignore and count a non-finite one."""
         try:
-            self.command = twist_to_velocity(msg)
+            self.command = command_to_velocity(msg)
         except ValueError as error:
             self.world.rejected_commands += 1
             self.get_logger().warning(
@@ -143,7 +159,12 @@ class PybulletWorldNode(Node):
         world.step(v, omega)
         stamp = seconds_to_time(world.time)
         self.clock_pub.publish(Clock(clock=stamp))
-        self.odom_pub.publish(pose_to_odometry(world.husky_pose, world.husky_velocity, stamp))
+        pose = world.husky_pose
+        frames = self.frames
+        self.odom_pub.publish(pose_to_odometry(pose, world.husky_velocity, stamp,
+                                               frame_id=frames.odom, child_frame_id=frames.base))
+        # Drift-free odometry: the odometry pose is the true pose.
+        self.robot_frames.publish(pose, pose, stamp)
 
     def publish_scan(self):
         """Publish the scan of this tick, the wanderers and the status."""
@@ -152,7 +173,7 @@ class PybulletWorldNode(Node):
         stamp = seconds_to_time(scan.stamp)
         self.scan_pub.publish(make_laser_scan(
             scan.ranges, scan.angle_min, scan.angle_increment, scan.range_min, scan.range_max,
-            stamp, frame_id='laser', scan_time=1.0 / world.config.scan_rate))
+            stamp, frame_id=self.frames.laser, scan_time=1.0 / world.config.scan_rate))
         self.publish_wanderers(stamp)
         self.publish_status()
 
@@ -163,7 +184,7 @@ class PybulletWorldNode(Node):
         for index, (x, y) in enumerate(self.world.wanderer_positions.tolist()):
             marker = Marker()
             marker.header.stamp = stamp
-            marker.header.frame_id = 'map'
+            marker.header.frame_id = self.frames.map
             marker.ns = 'wanderers'
             marker.id = index
             marker.type = Marker.CYLINDER
@@ -192,11 +213,9 @@ class PybulletWorldNode(Node):
             'goal_y': f'{self.goal[1]:.3f}',
             'wanderers': len(world.wanderer_positions),
         }
-        msg = DiagnosticStatus(name='pybullet_world', hardware_id='sim',
-                               level=DiagnosticStatus.OK,
-                               message=f't = {world.time:.1f} s, {contacts.events} contacts')
-        msg.values = [KeyValue(key=k, value=str(v)) for k, v in values.items()]
-        self.status_pub.publish(msg)
+        self.diagnostics.publish(diagnostic_status(
+            self.get_fully_qualified_name(), 'sim', DiagnosticStatus.OK,
+            f't = {world.time:.1f} s, {contacts.events} contacts', values))
 
     def destroy_node(self):
         """Close the pybullet client with the node."""
@@ -206,4 +225,4 @@ class PybulletWorldNode(Node):
 
 def main(args=None):
     """Run the ``pybullet_world`` node: ``ros2 run sim_bridge pybullet_world``."""
-    run_node(PybulletWorldNode, args)
+    return run_node(PybulletWorldNode, args)

@@ -124,6 +124,7 @@ class World:
         self._scan = None
         # Wanderers whose ray twin lags behind their body (see `_place_moved_wanderers`).
         self._stale_ray_twins = set()
+        self._wanderer_of_body = None
         wander_seed, noise_seed = np.random.SeedSequence(config.seed).spawn(2)
         if wanderer_grid is None:
             grid = wanderer_clearance_grid(scenario, config.wanderer)
@@ -190,6 +191,26 @@ class World:
     def wanderer_radius(self):
         """Return the radius of the circle around a wanderer's footprint [m]."""
         return self._wanderers.radius
+
+    def scan_wanderer_beams(self):
+        """
+        Return which wanderer each beam of the current scan hit (ground truth, for measuring).
+
+        Returns
+        -------
+        wanderer : (n_beams,) ndarray of int64
+            Index of the wanderer (as in `wanderer_positions`) beam ``i`` hit; -1 where it hit a
+            wall or returned nothing.
+
+        """
+        if self._wanderer_of_body is None:
+            bodies = self.scene.wanderer_ray_bodies
+            # Indexed by body id; the last entry answers -1 (no hit) with -1.
+            self._wanderer_of_body = np.full(max(bodies, default=0) + 2, -1, dtype=np.int64)
+            self._wanderer_of_body[bodies] = np.arange(len(bodies))
+        hit_body = self.scan().hit_body
+        known = hit_body < self._wanderer_of_body.shape[0] - 1
+        return np.where(known, self._wanderer_of_body[np.where(known, hit_body, -1)], -1)
 
     @property
     def occupied(self):

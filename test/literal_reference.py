@@ -163,3 +163,115 @@ def tuple_astar(blocked, start, goal):
                     parent[(nr, nc)] = cell
                     heapq.heappush(frontier, (cost + heuristic((nr, nc)), (nr, nc)))
     return None
+
+
+def literal_surely_free(cx, cy, vertices, hits, safety_radius, radius):
+    """
+    The centre is inside the polygon (f1 = 0, f2 = 1) and no boundary point is within radius.
+
+    A boundary point is within ``radius`` when a vertex is (eq. 1's distance), or when the
+    centre projects onto an edge and its distance from the edge's line is at most ``radius``.
+    """
+    if literal_f1(cx, cy, hits, safety_radius) or not literal_f2(cx, cy, vertices):
+        return False
+    count = len(vertices)
+    for a in range(count):
+        xa, ya = vertices[a]
+        xb, yb = vertices[(a + 1) % count]
+        if literal_f1(cx, cy, [(xa, ya)], radius):
+            return False
+        ex = xb - xa
+        ey = yb - ya
+        length2 = ex * ex + ey * ey
+        if length2 > 0.0:
+            dot = (cx - xa) * ex + (cy - ya) * ey
+            cross = (cx - xa) * ey - (cy - ya) * ex
+            if 0.0 <= dot <= length2 and abs(cross) / math.sqrt(length2) <= radius:
+                return False
+    return True
+
+
+def literal_moving_hits(hits, beams, evidence, segment_gap, object_size):
+    """A hit is moving when a hit with evidence is in its segment within object_size of arc."""
+    count = len(hits)
+    segment = [0] * count
+    arc = [0.0] * count
+    for k in range(1, count):
+        dx = hits[k][0] - hits[k - 1][0]
+        dy = hits[k][1] - hits[k - 1][1]
+        step = math.sqrt(dx * dx + dy * dy)
+        cut = step > segment_gap or beams[k] != beams[k - 1] + 1
+        segment[k] = segment[k - 1] + (1 if cut else 0)
+        arc[k] = arc[k - 1] + step
+    return [any(evidence[j] and segment[j] == segment[k] and abs(arc[k] - arc[j]) <= object_size
+                for j in range(count)) for k in range(count)]
+
+
+def literal_update_with_rule(labels, seen_free, last_hit, origin, resolution, pose, ranges,
+                             angle_min, angle_increment, range_min, range_max, safety_radius,
+                             rule, stamp, last_stamp, path=None):
+    """
+    The dpn label rule over every cell, in place; return (replan, new last_stamp).
+
+    ``seen_free`` (bool) and ``last_hit`` (float) are updated in place when their rule is on.
+    """
+    vertices, hits = literal_scan_points(
+        pose, ranges, angle_min, angle_increment, range_min, range_max)
+    beams = [i for i, reading in enumerate(ranges)
+             if math.isfinite(float(reading)) and range_min <= float(reading) < range_max]
+    x0, y0 = origin
+    rows, cols = labels.shape
+
+    def centre(i, j):
+        return x0 + (j + 0.5) * resolution, y0 + (i + 0.5) * resolution
+
+    moving = [False] * len(hits)
+    if rule.moving_object_size > 0.0:
+        evidence = []
+        for hx, hy in hits:
+            evidence.append(any(
+                seen_free[i, j] and literal_f1(
+                    *centre(i, j), [(hx, hy)],
+                    max(rule.free_evidence_radius - rule.evidence_margin, 0.0))
+                for i in range(rows) for j in range(cols)))
+        moving = literal_moving_hits(hits, beams, evidence, rule.segment_gap,
+                                     rule.moving_object_size)
+    moving_hits = [h for h, m in zip(hits, moving) if m]
+    if rule.mobile_expiry > 0.0:
+        if stamp < last_stamp:
+            np.minimum(last_hit, stamp, out=last_hit)
+        last_stamp = stamp
+    on_path = set() if path is None else {(int(r), int(c)) for r, c in path}
+    replan = False
+    newly_seen = []
+    for i in range(rows):
+        for j in range(cols):
+            cx, cy = centre(i, j)
+            f1 = literal_f1(cx, cy, hits, safety_radius)
+            f2 = 0 if f1 else literal_f2(cx, cy, vertices)
+            old = int(labels[i, j])
+            new = FSM.get((old, f1, f2), old)
+            if rule.free_evidence_radius > 0.0:
+                if f1 and rule.moving_object_size > 0.0:
+                    # Object level: hit cells are mobile near a moving object, else steady.
+                    new = MOBILE if literal_f1(cx, cy, moving_hits, safety_radius) else STEADY
+                elif rule.moving_object_size > 0.0 and new == STEADY and literal_f1(
+                        cx, cy, moving_hits, safety_radius + rule.moving_object_size):
+                    new = MOBILE                 # where the moving object may have been
+                elif f1 and old == EXPLORED and not seen_free[i, j]:
+                    new = STEADY                 # conservative free space
+                if literal_surely_free(cx, cy, vertices, hits, safety_radius,
+                                       rule.free_evidence_radius):
+                    newly_seen.append((i, j))
+            if rule.mobile_expiry > 0.0:
+                if f1:
+                    last_hit[i, j] = stamp
+                elif (not f2 and new == MOBILE
+                      and stamp - last_hit[i, j] >= rule.mobile_expiry):
+                    new = EXPLORED
+            labels[i, j] = new
+            if (i, j) in on_path and old in (NON_EXPLORED, EXPLORED) and new in (STEADY, MOBILE):
+                replan = True
+    for i, j in newly_seen:
+        seen_free[i, j] = True
+    return replan, last_stamp

@@ -4,7 +4,7 @@ The installed ``dpn-benchmark`` on the smoke profile, 2 maps: CSV schema, determ
 Each run is a process of its own, started from the executable ``ros2 run dpn_navigator
 dpn-benchmark`` resolves. Episodes are deterministic for a seed, so two runs of the same
 protocol must log the same rows, whatever the number of workers or the backend (local processes
-or Ray); only ``wall_time`` may differ.
+or Ray); only ``wall_time`` and ``detection_wall_time`` may differ.
 
 """
 
@@ -13,7 +13,8 @@ import os
 import shutil
 import subprocess
 
-from dpn_navigator.benchmark.episode_log import COLUMNS, FAILURES, read_log, row_key
+from dpn_navigator.benchmark.episode_log import (COLUMNS, DETECTION_COLUMNS, FAILURES,
+                                                 read_log, row_key)
 from dpn_navigator.benchmark.protocol import plan_episodes, PROFILES
 from dpn_navigator.demo import installed_executable
 import pytest
@@ -32,9 +33,9 @@ def benchmark(*args, timeout=600):
 
 
 def without_wall_time(rows):
-    """Return the rows sorted by key, without the one column that may differ between runs."""
-    return sorted(({k: v for k, v in row.items() if k != 'wall_time'} for row in rows),
-                  key=lambda row: tuple(map(str, row_key(row))))
+    """Return the rows sorted by key, without the two columns that may differ between runs."""
+    return sorted(({k: v for k, v in row.items() if k not in ('wall_time', 'detection_wall_time')}
+                   for row in rows), key=lambda row: tuple(map(str, row_key(row))))
 
 
 @pytest.fixture(scope='module')
@@ -64,6 +65,11 @@ def test_smoke_run_logs_every_episode_with_the_schema(smoke_run):
         assert row['replans'] >= 1 and row['wall_time'] > 0.0
         assert min(row['wall_contacts'], row['wanderer_contacts'], row['path_length'],
                    row['walls_labelled_mobile'], row['ghost_obstacles']) >= 0
+        # The detection measures are on: every scan measured, every plan given a cause.
+        assert row['scans'] >= 10 * row['time'] and 0.0 < row['detection_wall_time']
+        assert sum(row[f'replans_{cause}'] for cause in
+                   ('wall', 'wanderer', 'no_path_retry', 'other')) == row['replans']
+        assert (row['wanderer_hit_recall'] is None) == (row['wanderers'] == 0)
     # Without wanderers, nothing can stop the robot on these maps.
     assert all(row['success'] for row in rows if row['wanderers'] == 0)
     assert 'ran 6 episodes (0 already logged)' in done.stdout
@@ -71,6 +77,8 @@ def test_smoke_run_logs_every_episode_with_the_schema(smoke_run):
     summary = (out / 'summary.md').read_text()
     assert '| 3 back_and_forth |' in summary and '| 27 tunnel |' in summary
     assert (out / 'success_rate.png').read_bytes()[:4] == b'\x89PNG'
+    assert '| dpn | 10 | 2 |' in summary                   # the detection table
+    assert (out / 'detection.png').read_bytes()[:4] == b'\x89PNG'
 
 
 def test_same_seed_same_rows_on_one_worker(smoke_run, tmp_path):
@@ -107,6 +115,22 @@ def test_ray_backend_logs_the_same_rows(smoke_run, tmp_path):
                 if row['map'] == 'back_and_forth' and row['wanderers'] in (0, 5)]
     assert without_wall_time(read_log(tmp_path / 'episodes.csv')) == \
         without_wall_time(expected)
+
+
+def test_without_detection_the_same_episode_logs_the_same_outcome(smoke_run, tmp_path):
+    out, _ = smoke_run
+    done = benchmark(*SMOKE, '--maps', 'back_and_forth', '--wanderers', '5', '--no-detection',
+                     '--out', str(tmp_path))
+    assert done.returncode == 0, done.stderr
+    (plain,) = read_log(tmp_path / 'episodes.csv')
+    (measured,) = [row for row in read_log(out / 'episodes.csv')
+                   if row['map'] == 'back_and_forth' and row['wanderers'] == 5]
+    measures = DETECTION_COLUMNS + ('detection_wall_time',)
+    assert all(plain[name] is None for name in measures)
+    assert {k: v for k, v in without_wall_time([plain])[0].items() if k not in measures} == \
+        {k: v for k, v in without_wall_time([measured])[0].items() if k not in measures}
+    assert 'No episode with detection measures.' in (tmp_path / 'summary.md').read_text()
+    assert not (tmp_path / 'detection.png').exists()
 
 
 def test_a_log_is_not_resumed_with_another_navigator(smoke_run):

@@ -2,7 +2,8 @@
 
 import csv
 
-from dpn_navigator.benchmark.episode_log import COLUMNS, EpisodeLog, read_log, row_key
+from dpn_navigator.benchmark.episode_log import (COLUMNS, DETECTION_COLUMNS, EpisodeLog,
+                                                 read_log, row_key)
 from dpn_navigator.benchmark.protocol import (episode_seed, MAX_WANDERERS, NAVIGATORS,
                                               plan_episodes, PROFILES, resolve_maps)
 from dpn_navigator.benchmark.report import (cell_stats, map_order, save_success_figure,
@@ -120,6 +121,27 @@ def test_log_round_trip_and_resume_after_a_cut_short_line(tmp_path):
         lines = list(csv.reader(stream))
     assert lines[0] == list(COLUMNS) and len(lines) == 4
     assert [row['seed'] for row in read_log(path)] == [1, 2, 3]
+
+
+def test_detection_columns_round_trip_with_undefined_ratios_empty(tmp_path):
+    path = tmp_path / 'episodes.csv'
+    measured = make_row(seed=1, scans=11, mobile_visible=0, mobile_precision=None,
+                        wanderer_hit_recall=0.8125, detection_wall_time=0.25)
+    with EpisodeLog(path) as log:
+        log.append(measured)
+        log.append(make_row(seed=2, **dict.fromkeys(DETECTION_COLUMNS + (
+            'detection_wall_time',))))
+    with open(path, newline='') as stream:
+        lines = list(csv.reader(stream))
+    assert lines[1][COLUMNS.index('mobile_precision')] == ''
+    assert lines[1][COLUMNS.index('scans')] == '11'
+    assert all(lines[2][COLUMNS.index(name)] == '' for name in DETECTION_COLUMNS)
+    first, second = read_log(path)
+    assert first['scans'] == 11 and first['mobile_precision'] is None
+    assert first['wanderer_hit_recall'] == 0.8125 and first['detection_wall_time'] == 0.25
+    assert isinstance(first['replans_wall'], int)
+    assert isinstance(first['steady_ghosts_mean'], float)
+    assert all(second[name] is None for name in DETECTION_COLUMNS)
 
 
 @pytest.mark.parametrize(('text', 'match'), [

@@ -1,15 +1,17 @@
 """Tests of the dpn node in one process: real topics over DDS, scans ray-cast in a room."""
 
 import math
+from pathlib import Path as FilePath
 import time
 
-from diagnostic_msgs.msg import DiagnosticStatus
-from dpn_navigator.conversions import (make_laser_scan, marker_points, occupancy_grid_values,
-                                       pose_to_odometry)
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
+from dpn_navigator.conversions import (labels_to_occupancy_grid, make_laser_scan,
+                                       marker_points, occupancy_grid_values, pose_to_odometry)
+from dpn_navigator.core.cell_label import CellLabel
 from dpn_navigator.dpn_node import DpnNode
 from dpn_navigator.qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS
-from geometry_msgs.msg import PoseStamped, Twist
-from nav_msgs.msg import OccupancyGrid, Odometry
+from geometry_msgs.msg import PoseStamped, Twist, TwistStamped
+from nav_msgs.msg import OccupancyGrid, Odometry, Path
 from node_harness import executor_for, spin_until
 import numpy as np
 import pytest
@@ -19,6 +21,7 @@ from scan_scenes import ANGLE_INCREMENT, ANGLE_MIN, RANGE_MIN, ray_cast
 from sensor_msgs.msg import LaserScan
 from visualization_msgs.msg import MarkerArray
 
+REPO = FilePath(__file__).resolve().parents[1]
 RANGE_MAX = 10.0
 POSE = (2.0, 6.0, 0.0)
 
@@ -32,14 +35,14 @@ def room():
 class Probe(Node):
     """Publish what the dpn node listens to; record what it publishes."""
 
-    def __init__(self, context):
+    def __init__(self, context, command_type=Twist):
         super().__init__('probe', context=context)
         self.scan_pub = self.create_publisher(LaserScan, '/compabot/scan', SENSOR_QOS)
         self.odom_pub = self.create_publisher(Odometry, '/compabot/odom', SENSOR_QOS)
         self.goal_pub = self.create_publisher(PoseStamped, '/compabot/goal_pose', COMMAND_QOS)
         self.received = {'map': [], 'cmd': [], 'status': [], 'marker': []}
         topics = ((OccupancyGrid, '/compabot/map', 'map', LATCHED_QOS),
-                  (Twist, '/compabot/cmd_vel', 'cmd', COMMAND_QOS),
+                  (command_type, '/compabot/cmd_vel', 'cmd', COMMAND_QOS),
                   (DiagnosticStatus, '/compabot/status', 'status', LATCHED_QOS),
                   (MarkerArray, '/compabot/marker', 'marker', LATCHED_QOS))
         for msg_type, topic, key, qos in topics:
@@ -64,7 +67,7 @@ class Probe(Node):
 def nodes(ros_context):
     overrides = [Parameter('map_width', value=12.0), Parameter('map_height', value=12.0),
                  Parameter('goal_x', value=10.0), Parameter('goal_y', value=6.0),
-                 Parameter('sensor_timeout', value=0.3)]
+                 Parameter('sensor_timeout', value=0.3), Parameter('laser_x', value=0.0)]
     dpn = DpnNode(context=ros_context, parameter_overrides=overrides)
     probe = Probe(ros_context)
     with executor_for(ros_context, dpn, probe) as executor:
@@ -152,3 +155,109 @@ def test_stale_sensors_stop_the_robot(nodes):
         probe.send()
         spin_until(executor, lambda: False, timeout=0.05)
     assert spin_until(executor, lambda: any(c.linear.x > 0.0 for c in probe.received['cmd']))
+
+
+def test_plan_diagnostics_map_load_time_and_frame_checks(nodes):
+    dpn, probe, executor = nodes
+    plans, arrays = [], []
+    probe.create_subscription(Path, '/compabot/plan', plans.append, LATCHED_QOS)
+    probe.create_subscription(DiagnosticArray, '/diagnostics', arrays.append, COMMAND_QOS)
+    wait_for_discovery(executor, probe)
+    for _ in range(4):
+        probe.send()
+        spin_until(executor, lambda: False, timeout=0.05)
+    assert spin_until(executor, lambda: plans and len(probe.received['map']) >= 2 and arrays)
+    poses = plans[-1].poses
+    assert plans[-1].header.frame_id == 'map' and len(poses) >= 2
+    assert (poses[-1].pose.position.x, poses[-1].pose.position.y) == pytest.approx((10.0, 6.0))
+    load_times = {(m.info.map_load_time.sec, m.info.map_load_time.nanosec)
+                  for m in probe.received['map']}
+    stamps = {(m.header.stamp.sec, m.header.stamp.nanosec) for m in probe.received['map']}
+    assert len(load_times) == 1 and len(stamps) >= 2
+    assert arrays[-1].status[0].name == '/compabot/dpn'
+    # A scan in another frame than laser_frame is rejected and counted.
+    probe.send(header=make_laser_scan(np.ones(640), ANGLE_MIN, ANGLE_INCREMENT, RANGE_MIN,
+                                      RANGE_MAX, probe.get_clock().now().to_msg(),
+                                      frame_id='base_scan').header)
+    assert spin_until(executor, lambda: dpn.scan_frame_mismatches == 1)
+    assert dpn.rejected['scan'] == 1
+    # A goal in another frame is rejected; an empty frame means the map frame.
+    goal = PoseStamped()
+    goal.header.frame_id = 'odom'
+    goal.pose.position.x, goal.pose.position.y = 3.0, 3.0
+    probe.goal_pub.publish(goal)
+    assert spin_until(executor, lambda: dpn.rejected['goal'] == 1)
+    goal.header.frame_id = ''
+    probe.goal_pub.publish(goal)
+    assert spin_until(executor, lambda: dpn.navigator.goal == (3.0, 3.0))
+    assert spin_until(executor, lambda: probe.status_value('scan_frame_mismatches') == '1')
+
+
+def test_stamped_commands_integer_parameters_and_mobile_value(ros_context):
+    overrides = [Parameter('map_width', value=12), Parameter('map_height', value=12),
+                 Parameter('goal_x', value=10), Parameter('goal_y', value=6.0),
+                 Parameter('cmd_vel_stamped', value=True),
+                 Parameter('map_mobile_value', value=99)]
+    dpn = DpnNode(context=ros_context, parameter_overrides=overrides)
+    assert (dpn.params.navigator.width, dpn.params.goal) == (12.0, (10.0, 6.0))
+    assert isinstance(dpn.params.navigator.width, float)
+    probe = Probe(ros_context, command_type=TwistStamped)
+    stamped = probe.received['cmd']
+    with executor_for(ros_context, dpn, probe) as executor:
+        wait_for_discovery(executor, probe)
+        for _ in range(4):
+            probe.send()
+            spin_until(executor, lambda: False, timeout=0.05)
+        assert spin_until(executor, lambda: stamped and probe.received['map'])
+    assert stamped[-1].header.frame_id == 'base_link'
+    assert any(cmd.twist.linear.x > 0.0 for cmd in stamped)
+    dpn.navigator.grid.labels[0, 0] = CellLabel.MOBILE_OBSTACLE
+    grid = labels_to_occupancy_grid(dpn.navigator.grid.labels, 0.5, (0.0, 0.0),
+                                    probe.get_clock().now().to_msg(),
+                                    mobile_value=dpn.params.map_mobile_value)
+    assert occupancy_grid_values(grid)[0, 0] == 99
+
+
+@pytest.mark.parametrize('value, match', [
+    ('abc', 'map_width must be a number'),
+    (0, r'map_width = 0.0 is outside \[0.1'),
+])
+def test_bad_number_parameters_get_a_one_line_error(ros_context, value, match):
+    with pytest.raises(ValueError, match=match):
+        DpnNode(context=ros_context, parameter_overrides=[Parameter('map_width', value=value)])
+
+
+def test_two_namespaced_navigators_do_not_hear_each_other(ros_context):
+    config = str(REPO / 'config' / 'dpn.yaml')
+    pair = [DpnNode(context=ros_context, cli_args=[
+        '--ros-args', '-r', f'__ns:=/{ns}', '--params-file', config,
+        '-p', 'map_width:=12.0', '-p', 'map_height:=12.0', '-p', 'goal_x:=10.0',
+        '-p', 'goal_y:=6.0', '-p', 'laser_x:=0.0']) for ns in ('robot1', 'robot2')]
+    # The /**/dpn key of the params file still applies in a namespace.
+    assert all(n.params.navigator.resolution == 0.5 and n.params.map_frame == 'map'
+               for n in pair)
+    assert [n.get_fully_qualified_name() for n in pair] == ['/robot1/dpn', '/robot2/dpn']
+    probe = Node('pair_probe', context=ros_context)
+    scan_pub = probe.create_publisher(LaserScan, '/robot1/scan', SENSOR_QOS)
+    odom_pub = probe.create_publisher(Odometry, '/robot1/odom', SENSOR_QOS)
+    maps = {'robot1': [], 'robot2': [], 'compabot': []}
+    for ns, received in maps.items():
+        probe.create_subscription(OccupancyGrid, f'/{ns}/map', received.append, LATCHED_QOS)
+    with executor_for(ros_context, *pair, probe) as executor:
+        assert spin_until(executor, lambda: scan_pub.get_subscription_count() == 1
+                          and odom_pub.get_subscription_count() == 1)
+        for _ in range(4):
+            stamp = probe.get_clock().now().to_msg()
+            odom_pub.publish(pose_to_odometry(POSE, (0.0, 0.0), stamp))
+            scan_pub.publish(make_laser_scan(ray_cast(room(), POSE, 0.05, RANGE_MAX),
+                                             ANGLE_MIN, ANGLE_INCREMENT, RANGE_MIN, RANGE_MAX,
+                                             stamp))
+            spin_until(executor, lambda: False, timeout=0.05)
+        assert spin_until(executor, lambda: maps['robot1'])
+        spin_until(executor, lambda: False, timeout=0.5)
+        topics = {name for name, _ in probe.get_publisher_names_and_types_by_node(
+            'dpn', '/robot2')}
+    assert {'/robot2/map', '/robot2/cmd_vel', '/robot2/plan', '/robot2/status'} <= topics
+    assert pair[0].pose is not None and pair[1].pose is None
+    assert not maps['robot2'] and not maps['compabot']
+    assert pair[1].navigator.grid.labels.max() == CellLabel.NON_EXPLORED

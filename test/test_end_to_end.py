@@ -2,17 +2,24 @@
 End to end: the installed executables, as ``ros2 run`` resolves them, in processes of their own.
 
 The pybullet world (back_and_forth, 2 wanderers) and the dpn navigator talk over real DDS in a
-domain of this test's own; a monitor node in the test process watches the topics.
+domain of this test's own; a monitor node in the test process watches the topics, and reads
+``/tf`` and ``/tf_static`` as any TF consumer would.
 """
 
 import math
+import subprocess
 
-from dpn_navigator.demo import installed_executable, run_episode, stop_nodes
-from dpn_navigator.qos import LATCHED_QOS
-from nav_msgs.msg import OccupancyGrid
+from diagnostic_msgs.msg import DiagnosticArray
+from dpn_navigator.demo import installed_executable, ros_environment, run_episode, stop_nodes
+from dpn_navigator.qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS, TF_QOS, TF_STATIC_QOS
+from nav_msgs.msg import OccupancyGrid, Path
 import numpy as np
+import pytest
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
+from sensor_msgs.msg import LaserScan
+from tf2_msgs.msg import TFMessage
+from tf_chain import FrameChain
 
 TIME_LIMIT = 150.0      # simulated [s]; the task's shortest path is about 29 m
 
@@ -21,6 +28,24 @@ def test_executables_are_where_ros2_run_looks():
     for package, name in (('dpn_navigator', 'dpn'), ('sim_bridge', 'pybullet_world')):
         path = installed_executable(package, name)
         assert path.parts[-3:] == ('lib', package, name)
+
+
+@pytest.mark.parametrize('package, name, parameter', [
+    ('dpn_navigator', 'dpn', 'map_width:=abc'),
+    ('sim_bridge', 'pybullet_world', 'physics_rate:=0'),
+    ('sim_bridge', 'pybullet_world', 'wanderers:=many'),
+    ('dpn_navigator', 'dpn', 'map_width:=2e6'),
+])
+def test_a_bad_parameter_ends_the_process_with_one_line(
+        ros_domain_id, package, name, parameter):
+    result = subprocess.run(
+        [str(installed_executable(package, name)), '--ros-args', '-p', parameter],
+        env=ros_environment(ros_domain_id), capture_output=True, text=True, timeout=60)
+    output = result.stdout + result.stderr
+    assert result.returncode == 1, output
+    assert 'Traceback' not in output
+    (line,) = [line for line in output.splitlines() if 'cannot start: ' in line]
+    assert parameter.split(':=')[0] in line
 
 
 def test_robot_reaches_the_goal_over_ros(ros_domain_id, tmp_path):
@@ -57,6 +82,42 @@ def test_robot_reaches_the_goal_over_ros(ros_domain_id, tmp_path):
         assert episode.commands > 100
         assert 0.0 <= episode.min_linear and episode.max_linear <= 1.0
         assert episode.max_angular <= 1.5
+        # TF from another process: map -> odom -> base_link -> laser resolves at scan stamps.
+        frames, scans, plans, diagnostics = FrameChain(), [], [], {}
+        late.create_subscription(TFMessage, '/tf', lambda m: frames.add(m, False), TF_QOS)
+        late.create_subscription(TFMessage, '/tf_static', lambda m: frames.add(m, True),
+                                 TF_STATIC_QOS)
+        late.create_subscription(LaserScan, '/compabot/scan', scans.append, SENSOR_QOS)
+        late.create_subscription(Path, '/compabot/plan', plans.append, LATCHED_QOS)
+        late.create_subscription(
+            DiagnosticArray, '/diagnostics',
+            lambda m: diagnostics.update((s.name, s) for s in m.status), COMMAND_QOS)
+        resolved, errors = [], []
+
+        def resolve():
+            # A scan can arrive before its transforms (or, at first, /tf_static): try it again
+            # on the next round, and keep the last error for the report.
+            for scan in list(scans):
+                try:
+                    resolved.append(frames.lookup('map', scan.header.frame_id,
+                                                  scan.header.stamp))
+                    scans.remove(scan)
+                except LookupError as error:
+                    errors.append(error)
+            return len(resolved) >= 3 and plans and len(diagnostics) >= 2
+
+        for _ in range(400):
+            executor.spin_once(timeout_sec=0.05)
+            if resolve():
+                break
+        assert len(resolved) >= 3, (f'{len(resolved)} scans resolved; frames {frames.parents}; '
+                                    f'last error: {errors[-1:]}')
+        assert frames.parents == {'odom': 'map', 'base_link': 'odom', 'laser': 'base_link'}
+        laser_z = [translation[2] for translation, _ in resolved]
+        assert laser_z == [laser_z[0]] * len(laser_z) and laser_z[0] > 0.0
+        assert math.dist(resolved[-1][0][:2], goal) < 1.0      # the robot waits at the goal
+        assert plans and plans[-1].header.frame_id == 'map'
+        assert {'/compabot/dpn', '/compabot/pybullet_world'} <= set(diagnostics)
         late.destroy_node()
     finally:
         stop_nodes(processes)

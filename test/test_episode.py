@@ -2,6 +2,7 @@
 
 import math
 
+from dpn_navigator.benchmark.detection import DETECTION_FIELDS
 from dpn_navigator.benchmark.episode import (
     map_quality, run_episode, shortest_path_length, task_setup)
 from dpn_navigator.core import CellLabel, GridGeometry
@@ -63,3 +64,23 @@ def test_running_out_of_time_is_a_timeout(back_and_forth):
     assert not result.success and result.failure == 'timeout'
     assert result.time == pytest.approx(5.0, abs=0.11)
     assert set(result.as_row()) >= {'scenario', 'success', 'failure', 'ghost_obstacles'}
+
+
+def test_detection_measures_do_not_change_the_episode(back_and_forth):
+    measured = run_episode(back_and_forth, 1, wanderers=3, seed=1, time_limit=25.0)
+    plain = run_episode(back_and_forth, 1, wanderers=3, seed=1, time_limit=25.0,
+                        detection=False)
+    assert plain.detection is None and plain.detection_wall_time is None
+    outcome = {name: value for name, value in plain.as_row().items()
+               if name not in DETECTION_FIELDS + ('detection_wall_time',)}
+    assert {name: measured.as_row()[name] for name in outcome} == outcome
+    assert all(plain.as_row()[name] is None for name in DETECTION_FIELDS)
+    detection = measured.detection
+    assert detection.scans == round(measured.time * 10)     # 10 Hz, up to the time limit
+    assert 0 < measured.detection_wall_time < 25.0
+    assert (detection.replans_wall + detection.replans_wanderer
+            + detection.replans_no_path_retry + detection.replans_other) == measured.replans
+    assert 0.0 <= detection.mobile_precision <= 1.0
+    assert 0.0 <= detection.wanderer_hit_recall <= 1.0
+    assert 0 <= detection.wall_cells_ever_mobile <= detection.wall_cells_seen
+    assert detection.wall_cells_seen > 0

@@ -3,10 +3,10 @@
 import math
 
 from dpn_navigator.core.cell_label import CellLabel, OCCUPANCY_VALUE, TRANSITION
-from dpn_navigator.core.label_grid import LabelGrid
+from dpn_navigator.core.label_grid import LabelGrid, LabelRule, PAPER_RULE
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from literal_reference import FSM, literal_update
+from literal_reference import FSM, literal_update, literal_update_with_rule
 import numpy as np
 from numpy.testing import assert_array_equal
 import pytest
@@ -240,3 +240,161 @@ def test_dense_640_beam_scan_equals_the_literal_reference():
         got = grid.update(pose, ranges, safety_radius=0.6, path=path, **SCAN)
         assert_array_equal(grid.labels, expected)
         assert got == want
+
+
+def test_last_window_holds_the_updates_window_and_fsm_input():
+    grid = LabelGrid(width=10.0, height=10.0, resolution=0.5)
+    rows, cols, cell_input = grid.last_window
+    assert cell_input.shape == (0, 0) and rows.start == rows.stop
+    ranges, scan = wall_scan(3.0)
+    grid.update((2.0, 5.0, 0.0), ranges, safety_radius=0.3, **scan)
+    rows, cols, cell_input = grid.last_window
+    assert cell_input.shape == (rows.stop - rows.start, cols.stop - cols.start)
+    assert cell_input.dtype == np.uint8
+    row = grid.geometry.world_to_cell(0.0, 5.0)[0] - rows.start
+    assert cell_input[row, 9 - cols.start] == 2 and cell_input[row, 5 - cols.start] == 1
+    # Every label that changed lies in the window, where the input was not (0, 0).
+    changed = np.argwhere(grid.labels != N)
+    assert np.all((changed[:, 0] >= rows.start) & (changed[:, 0] < rows.stop))
+    assert np.all(cell_input[changed[:, 0] - rows.start, changed[:, 1] - cols.start] != 0)
+    grid.update((-50.0, -50.0, 0.0), ranges, safety_radius=0.3, **scan)   # misses the grid
+    assert grid.last_window[2].shape == (0, 0)
+
+
+# The dpn rule against its literal twin: each addition alone and all together.
+RULES = {
+    'free_evidence': LabelRule(free_evidence_radius=0.5),
+    'objects': LabelRule(free_evidence_radius=0.5, moving_object_size=0.7, segment_gap=0.6),
+    'expiry': LabelRule(mobile_expiry=1.0),
+    'all': LabelRule(free_evidence_radius=0.75, moving_object_size=1.0, segment_gap=1.1,
+                     mobile_expiry=0.5),
+}
+
+
+@settings(max_examples=120)
+@given(case=scans(), rule_name=st.sampled_from(sorted(RULES)),
+       stamps=st.lists(st.sampled_from([0.0, 0.25, 0.5, 1.0, 2.0, 3.5]), min_size=3,
+                       max_size=3))
+def test_rule_update_equals_the_literal_twin(case, rule_name, stamps):
+    rule = RULES[rule_name]
+    grid = LabelGrid(case['cols'] * case['resolution'], case['rows'] * case['resolution'],
+                     case['resolution'], case['origin'], rule)
+    rng = np.random.default_rng(case['path_seed'])
+    labels = rng.integers(0, 4, grid.labels.shape).astype(np.uint8)
+    seen_free = rng.random(grid.labels.shape) < 0.4
+    last_hit = np.where(rng.random(grid.labels.shape) < 0.5, -math.inf,
+                        rng.choice([0.0, 0.5, 1.0], grid.labels.shape))
+    grid.labels[...] = labels
+    if grid.seen_free is not None:
+        grid.seen_free[...] = seen_free
+    if grid.last_hit is not None:
+        grid.last_hit[...] = last_hit
+    path = np.argwhere(rng.random(grid.labels.shape) < 0.3)
+    scan = {k: case[k] for k in ('angle_min', 'angle_increment', 'range_min', 'range_max',
+                                 'safety_radius')}
+    last_stamp = -math.inf
+    for step, stamp in enumerate(stamps[:case['rounds']]):
+        x, y, yaw = case['pose']
+        pose = (x + 0.25 * step, y - 0.5 * step, yaw + math.pi / 4 * step)
+        want, last_stamp = literal_update_with_rule(
+            labels, seen_free, last_hit, case['origin'], case['resolution'], pose,
+            case['ranges'], rule=rule, stamp=stamp, last_stamp=last_stamp, path=path, **scan)
+        got = grid.update(pose, case['ranges'], path=path, stamp=stamp, **scan)
+        assert_array_equal(grid.labels, labels)
+        if grid.seen_free is not None:
+            assert_array_equal(grid.seen_free, seen_free)
+        if grid.last_hit is not None:
+            assert_array_equal(grid.last_hit, last_hit)
+        assert got == want
+
+
+def test_paper_rule_is_the_default_and_keeps_no_evidence():
+    grid = LabelGrid(width=10.0, height=10.0)
+    assert grid.rule == PAPER_RULE == LabelRule()
+    assert grid.seen_free is None and grid.last_hit is None
+
+
+def test_grazing_wall_is_steady_under_conservative_free_space():
+    # A wall along y = 0.5 seen first from far at a grazing angle (hits about 2 m apart):
+    # the chords between hits run along the wall, so the cells next to it are explored.
+    # Seen again from close by, the paper calls them mobile; the dpn rule keeps them steady.
+    results = {}
+    for name, rule in (('paper', PAPER_RULE), ('dpn', LabelRule(free_evidence_radius=0.6))):
+        grid = LabelGrid(width=30.0, height=10.0, rule=rule)
+        far, far_scan = grazing_wall_scan((1.0, 4.0), 0.5)
+        grid.update((1.0, 4.0, 0.0), far, safety_radius=0.6, **far_scan)
+        near, near_scan = grazing_wall_scan((15.0, 1.3), 0.5)
+        grid.update((15.0, 1.3, 0.0), near, safety_radius=0.6, **near_scan)
+        results[name] = grid.labels.copy()
+    wall_row = 1                                 # centres at y = 0.75, 0.25 m from the wall
+    assert np.count_nonzero(results['paper'][wall_row] == M) >= 3
+    assert not np.any(results['dpn'] == M)
+    assert np.count_nonzero(results['dpn'] == S) >= np.count_nonzero(results['paper'] == S)
+
+
+def grazing_wall_scan(position, wall_y, beams=91):
+    """A laser at ``position`` facing +x, a wall along ``y = wall_y`` below it [m]."""
+    angles = -math.pi / 2 + np.arange(beams) * (math.pi / (beams - 1))
+    height = position[1] - wall_y
+    with np.errstate(divide='ignore'):
+        ranges = np.where(np.sin(angles) < 0.0, height / -np.sin(angles), np.inf)
+    ranges[ranges >= 29.0] = np.inf
+    return ranges, {'angle_min': -math.pi / 2, 'angle_increment': math.pi / (beams - 1),
+                    'range_min': 0.1, 'range_max': 29.0}
+
+
+def test_object_moving_into_surely_free_space_is_mobile_all_over():
+    rule = LabelRule(free_evidence_radius=0.6, moving_object_size=0.7)
+    grid = LabelGrid(width=12.0, height=12.0, rule=rule)
+    laser = (1.0, 6.0, 0.0)
+    empty = np.full(181, np.inf)
+    scan = {'angle_min': -math.pi / 2, 'angle_increment': math.pi / 180, 'range_min': 0.1,
+            'range_max': 8.0}
+    grid.update(laser, empty, safety_radius=0.6, **scan)          # open space, seen free
+    assert grid.seen_free[grid.geometry.world_to_cell(5.0, 6.0)]
+    # A 0.5 m box now stands at x = 5 m, half in space seen free, half beyond the range.
+    ranges = empty.copy()
+    ranges[85:96] = 4.0
+    grid.update(laser, ranges, safety_radius=0.6, **scan)
+    hit_cells = grid.labels[grid.geometry.world_to_cell(4.75, 6.0)]
+    assert hit_cells == M
+    rows, cols, cell_input = grid.last_window
+    window = grid.labels[rows, cols]
+    assert np.all(window[cell_input == 2] == M)                   # every hit cell of it
+    # Without object-level relabelling the cells not surely seen free would be steady.
+
+
+def test_wall_hits_never_turn_mobile_without_evidence():
+    rule = LabelRule(free_evidence_radius=0.6, moving_object_size=0.7)
+    grid = LabelGrid(width=10.0, height=10.0, rule=rule)
+    ranges, scan = wall_scan(3.0)
+    for step in range(3):
+        grid.update((2.0 + 0.3 * step, 5.0, 0.0), ranges - 0.3 * step, safety_radius=0.6,
+                    **scan)
+    assert np.count_nonzero(grid.labels == S) > 10
+    assert not np.any(grid.labels == M)
+
+
+def test_unconfirmed_mobile_cells_out_of_view_expire():
+    rule = LabelRule(mobile_expiry=2.0)
+    grid = LabelGrid(width=10.0, height=10.0, rule=rule)
+    ranges, scan = wall_scan(3.0)
+    grid.labels[1, 1] = M                                 # behind the laser: never seen
+    grid.last_hit[1, 1] = 0.0
+    grid.update((5.0, 5.0, 0.0), ranges, safety_radius=0.3, stamp=1.9, **scan)
+    assert grid.labels[1, 1] == M
+    grid.update((5.0, 5.0, 0.0), ranges, safety_radius=0.3, stamp=2.0, **scan)
+    assert grid.labels[1, 1] == E
+    with pytest.raises(ValueError, match='needs a finite scan stamp'):
+        grid.update((5.0, 5.0, 0.0), ranges, safety_radius=0.3, **scan)
+
+
+@pytest.mark.parametrize(('kwargs', 'message'), [
+    ({'free_evidence_radius': -0.1}, 'free_evidence_radius must be finite'),
+    ({'mobile_expiry': math.nan}, 'mobile_expiry must be finite'),
+    ({'segment_gap': 0.0}, 'segment_gap must be positive'),
+    ({'moving_object_size': 1.0}, 'moving_object_size needs free_evidence_radius'),
+])
+def test_bad_rule_raises(kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        LabelRule(**kwargs)

@@ -7,6 +7,7 @@ file it uses must exist and hold parameters that the nodes declare.
 
 import ast
 from pathlib import Path
+import re
 
 import yaml
 
@@ -43,16 +44,43 @@ def test_launch_file_names_the_real_executables_and_config_files():
                for n in tree.body)
 
 
-def test_parameter_files_hold_only_declared_parameters():
-    from dpn_navigator.dpn_params import FLOAT_PARAMETERS
+def test_parameter_files_hold_every_declared_parameter_at_its_code_default():
+    from dpn_navigator.dpn_params import FLOAT_PARAMETERS, OTHER_PARAMETERS
     dpn = yaml.safe_load((REPO / 'config' / 'dpn.yaml').read_text())
-    assert set(dpn['dpn']['ros__parameters']) == set(FLOAT_PARAMETERS)
+    # Keyed /**/dpn, so that a namespace (-r __ns:=/robot2) does not drop the file.
+    assert list(dpn) == ['/**/dpn']
+    values = dpn['/**/dpn']['ros__parameters']
+    assert set(values) == set(FLOAT_PARAMETERS) | set(OTHER_PARAMETERS)
+    defaults = {name: spec[0] for name, spec in {**FLOAT_PARAMETERS, **OTHER_PARAMETERS}.items()}
+    assert values == defaults
     world = yaml.safe_load((REPO / 'config' / 'pybullet_world.yaml').read_text())
+    assert list(world) == ['/**/pybullet_world']
     source = (REPO / 'sim_bridge' / 'pybullet_world_node.py').read_text()
-    for name in world['pybullet_world']['ros__parameters']:
-        assert f"'{name}'" in source, f'{name} is not declared by pybullet_world'
+    for name in world['/**/pybullet_world']['ros__parameters']:
+        assert f"'{name}'" in source or f"'{name[:-len('_frame')]}'" in source, \
+            f'{name} is not declared by pybullet_world'
+
+
+def test_rviz_config_shows_map_plan_scan_tf_and_robot():
     rviz = yaml.safe_load((REPO / 'config' / 'dpn.rviz').read_text())
-    topics = {d['Topic']['Value'] for d in rviz['Visualization Manager']['Displays']
-              if 'Topic' in d}
-    assert {'/compabot/map', '/compabot/marker', '/compabot/odom_real'} <= topics
+    displays = rviz['Visualization Manager']['Displays']
+    topics = {d['Class'].split('/')[-1]: d['Topic']['Value'] for d in displays if 'Topic' in d}
+    assert topics['Map'] == '/compabot/map'
+    assert topics['Path'] == '/compabot/plan'
+    assert topics['LaserScan'] == '/compabot/scan'
+    assert topics['Odometry'] == '/compabot/odom_real'
+    classes = {d['Class'] for d in displays}
+    assert {'rviz_default_plugins/TF', 'rviz_default_plugins/Axes'} <= classes
     assert rviz['Visualization Manager']['Global Options']['Fixed Frame'] == 'map'
+
+
+def test_every_parameter_is_in_the_reference_table():
+    from dpn_navigator.dpn_params import FLOAT_PARAMETERS, OTHER_PARAMETERS
+    table = {'dpn': set(), 'pybullet_world': set()}
+    for line in (REPO / 'docs' / 'ros_reference.md').read_text().splitlines():
+        cells = [c.strip() for c in line.split('|')]
+        if len(cells) > 3 and cells[1] in table:
+            table[cells[1]].update(re.findall(r'`([a-z_]+)`', cells[2]))
+    assert table['dpn'] == set(FLOAT_PARAMETERS) | set(OTHER_PARAMETERS)
+    world = yaml.safe_load((REPO / 'config' / 'pybullet_world.yaml').read_text())
+    assert table['pybullet_world'] == set(world['/**/pybullet_world']['ros__parameters'])

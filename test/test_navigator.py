@@ -2,7 +2,8 @@
 
 import math
 
-from dpn_navigator.core import CellLabel, Navigator, NavigatorConfig, NavigatorStatus
+from dpn_navigator.core import (CellLabel, Navigator, NavigatorConfig, NavigatorStatus,
+                                ReplanCause)
 from dpn_navigator.core.navigator import touches_blocked
 import numpy as np
 import pytest
@@ -113,7 +114,8 @@ def block_behind(navigator, x0, x1, label):
 def test_obstacles_out_of_view_are_forgotten_when_stuck(forget_after, label, unblocked_at,
                                                         forgotten_as):
     occupied = walled_room()
-    navigator = Navigator(config(forget_obstacles_after=forget_after))
+    # Ghost expiry would clear the mobile band on its own: this test is about forgetting.
+    navigator = Navigator(config(forget_obstacles_after=forget_after, mobile_expiry=0.0))
     navigator.set_goal(2.0, 6.0)                     # behind the robot, which looks east
     block_behind(navigator, 3.5, 4.5, label)
     geometry = navigator.grid.geometry
@@ -241,7 +243,7 @@ def test_observe_then_decide_is_the_same_as_step():
         ranges = ray_cast(occupied, pose, TRUTH_RES, RANGE_MAX)
         scan = (ranges, ANGLE_MIN, ANGLE_INCREMENT, RANGE_MIN, RANGE_MAX)
         expected = stepped.step(step * DT, pose, *scan)
-        split.observe(pose, *scan)
+        split.observe(pose, *scan, stamp=step * DT)
         got = split.decide(step * DT, pose)
         assert got == expected
         np.testing.assert_array_equal(split.grid.labels, stepped.grid.labels)
@@ -249,3 +251,27 @@ def test_observe_then_decide_is_the_same_as_step():
         pose = (pose[0] + v * math.cos(pose[2]) * DT, pose[1] + v * math.sin(pose[2]) * DT,
                 pose[2] + w * DT)
     assert stepped.replans >= 2 and split.replans == stepped.replans
+
+
+def test_each_plan_reports_its_cause():
+    occupied = walled_room()
+    navigator = Navigator(config())
+    navigator.set_goal(10.0, 6.0)
+    pose, outputs, _ = drive(navigator, occupied, (2.0, 6.0, 0.0), 5)
+    assert outputs[0].replan_cause is ReplanCause.OTHER          # the first path
+    assert all(out.replan_cause is ReplanCause.NONE for out in outputs[1:])
+    add_box(occupied, 5.0, 5.0, 6.0, 7.0)                      # something steps onto the path
+    _, outputs, _ = drive(navigator, occupied, pose, 20)
+    assert outputs[0].replan_cause is ReplanCause.FLAG
+    assert all((out.replan_cause is ReplanCause.NONE) == (not out.replanned)
+               for out in outputs)
+    # A wall right across the room: no path; the retries say so.
+    occupied = walled_room()
+    add_box(occupied, 7.0, 0.0, 7.5, 12.0)
+    navigator = Navigator(config())
+    navigator.set_goal(10.0, 6.0)
+    _, outputs, _ = drive(navigator, occupied, (2.0, 6.0, 0.0), 300)
+    causes = [out.replan_cause for out in outputs if out.replanned]
+    assert causes[0] is ReplanCause.OTHER
+    assert ReplanCause.NO_PATH_RETRY in causes
+    assert len(causes) == navigator.replans

@@ -1,5 +1,8 @@
 """
-The installed package: both ROS package names in the ament index, and the manifest's dependencies.
+The installed package: both ROS names in the index, their manifests, launch files, dependencies.
+
+Both ROS package names are in the ament index with manifests of their own, the installed share
+directory holds what the launch file references, and every run-time import is declared.
 
 The install tests need ``colcon build`` first. ``colcon test`` runs pytest with the package's
 install prefix on AMENT_PREFIX_PATH (and its site-packages on PYTHONPATH), and sets COLCON=1:
@@ -7,9 +10,11 @@ there they must run. Run by hand without that environment, they look in this rep
 install/ directory, and skip if it holds no build.
 """
 
+import ast
 from importlib import metadata
 import os
 from pathlib import Path
+import sys
 from xml.etree import ElementTree
 
 from ament_index_python.packages import get_package_prefix
@@ -25,12 +30,23 @@ MARKER_DIR = Path('share', 'ament_index', 'resource_index', 'packages')
 
 EXEC_DEPENDS = {
     'rclpy', 'sensor_msgs', 'nav_msgs', 'geometry_msgs', 'visualization_msgs', 'std_msgs',
-    'diagnostic_msgs', 'python3-yaml',
+    'diagnostic_msgs', 'python3-yaml', 'tf2_msgs', 'rcl_interfaces', 'builtin_interfaces',
+    'ament_index_python', 'launch', 'launch_ros', 'rviz2',
     'rosgraph_msgs', 'python3-numpy', 'python3-pybullet-pip',
 }
 TEST_DEPENDS = {
-    'ament_flake8', 'ament_index_python', 'ament_pep257', 'python3-hypothesis', 'python3-pytest',
+    'ament_flake8', 'ament_pep257', 'python3-hypothesis', 'python3-pytest',
 }
+#: rosdep keys of the Python modules the code imports that are not ROS packages.
+PYTHON_MODULE_KEYS = {
+    'numpy': 'python3-numpy', 'yaml': 'python3-yaml', 'pybullet': 'python3-pybullet-pip',
+    'pybullet_data': 'python3-pybullet-pip', 'matplotlib': 'python3-matplotlib',
+    'tqdm': 'python3-tqdm',
+}
+#: Imported only on request, by an optional feature: Ray (``dpn-benchmark --backend ray``,
+#: requirements-ray.txt) has no rosdep key.
+OPTIONAL_MODULES = {'ray'}
+SOURCE_DIRS = ('dpn_navigator', 'sim_bridge', 'launch')
 
 
 def _has_marker(prefix):
@@ -77,11 +93,12 @@ def test_package_is_registered_with_the_install_prefix(install_prefix, package):
     assert Path(get_package_prefix(package)) == install_prefix
     share = Path(get_package_share_directory(package))
     assert share == install_prefix / 'share' / package
-    assert _manifest(share / 'package.xml').findtext('name') == PACKAGE
+    assert _manifest(share / 'package.xml').findtext('name') == package
 
 
 @pytest.mark.parametrize('pattern, subdir', [
     ('config/*.yaml', 'config'),
+    ('config/*.rviz', 'config'),
     ('launch/*.launch.py', 'launch'),
 ])
 def test_config_and_launch_files_are_installed(install_prefix, pattern, subdir):
@@ -114,3 +131,60 @@ def test_manifest_declares_the_package_and_its_dependencies():
     test_depends = {e.text for e in root.iter('test_depend')}
     assert EXEC_DEPENDS <= exec_depends, f'missing exec_depend: {EXEC_DEPENDS - exec_depends}'
     assert TEST_DEPENDS <= test_depends, f'missing test_depend: {TEST_DEPENDS - test_depends}'
+
+
+def test_sim_bridge_has_a_manifest_of_its_own(install_prefix):
+    root = _manifest(REPO / 'package.xml')
+    sim_bridge = _manifest(Path(get_package_share_directory('sim_bridge')) / 'package.xml')
+    assert sim_bridge.get('format') == '3'
+    assert sim_bridge.findtext('name') == 'sim_bridge'
+    assert 'pybullet' in sim_bridge.findtext('description')
+    for field in ('version', 'license', 'maintainer'):
+        assert sim_bridge.findtext(field) == root.findtext(field), field
+    depends = {e.text for e in sim_bridge.iter('exec_depend')}
+    # The distribution installs sim_bridge: rosdep must install its dependencies from the root.
+    assert depends - {PACKAGE} <= {e.text for e in root.iter('exec_depend')}
+    assert _runtime_dependencies(['sim_bridge']) <= depends | {PACKAGE}
+
+
+def test_installed_share_holds_everything_the_launch_file_references(install_prefix):
+    share = Path(get_package_share_directory(PACKAGE))
+    launch = share / 'launch' / 'dpn_sim.launch.py'
+    tree = ast.parse(launch.read_text())
+    # PathJoinSubstitution([FindPackageShare('dpn_navigator'), 'config']) + [config, '<file>'].
+    files = [n.value for n in ast.walk(tree) if isinstance(n, ast.Constant)
+             and isinstance(n.value, str) and n.value.endswith(('.yaml', '.rviz'))]
+    assert {'dpn.yaml', 'pybullet_world.yaml', 'dpn.rviz'} <= set(files)
+    for name in files:
+        assert (share / 'config' / name).is_file(), f'{name} is not installed in {share}/config'
+    assert 'Apache License' in (share / 'LICENSE').read_text()
+
+
+def _imported_modules(paths):
+    for path in paths:
+        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+            if isinstance(node, ast.Import):
+                yield from (alias.name.split('.')[0] for alias in node.names)
+            elif isinstance(node, ast.ImportFrom) and node.level == 0:
+                yield node.module.split('.')[0]
+
+
+def _runtime_dependencies(dirs):
+    """Return the rosdep keys of what the code under ``dirs`` imports (not stdlib, not ours)."""
+    paths = [p for d in dirs for p in (REPO / d).rglob('*.py')]
+    modules = set(_imported_modules(paths))
+    modules -= set(sys.stdlib_module_names) | {'dpn_navigator', 'sim_bridge'} | OPTIONAL_MODULES
+    return {PYTHON_MODULE_KEYS.get(m, m) for m in modules}
+
+
+def test_every_runtime_import_is_declared():
+    exec_depends = {e.text for e in _manifest(REPO / 'package.xml').iter('exec_depend')}
+    needed = _runtime_dependencies(SOURCE_DIRS)
+    assert {'rclpy', 'tf2_msgs', 'launch_ros', 'python3-numpy'} <= needed   # the scan works
+    assert needed <= exec_depends, f'imported, not exec_depend: {needed - exec_depends}'
+
+
+def test_license_file_matches_the_manifest():
+    text = (REPO / 'LICENSE').read_text()
+    assert _manifest(REPO / 'package.xml').findtext('license') == 'Apache-2.0'
+    assert 'Apache License' in text and 'Version 2.0, January 2004' in text

@@ -514,3 +514,27 @@ def test_husky_can_back_away_from_a_wanderer_that_moved_into_it(back_and_forth):
         for _ in range(50):                              # 1 s backwards at 0.5 m/s
             world.step(-0.5, 0.0)
         assert math.dist(world.husky_pose[:2], (x, y)) > 0.2
+
+
+def test_scan_wanderer_beams_name_the_wanderer_each_beam_hit():
+    scenario = room()
+    config = WorldConfig(n_wanderers=2, seed=2, wanderer=WandererConfig(speed_range=(0.0, 0.0)))
+    with World(scenario, config) as probe:
+        targets = probe.wanderer_positions
+    heading = math.atan2(targets[0, 1] - 6.0, targets[0, 0] - 6.0)   # face wanderer 0
+    with World(scenario, config, start=(6.0, 6.0, heading)) as world:
+        scan = world.scan()
+        beam_wanderer = world.scan_wanderer_beams()
+        assert beam_wanderer.shape == (640,) and np.any(beam_wanderer == 0)
+        angles = scan.pose[2] + scan.angle_min + scan.angle_increment * np.arange(640)
+        hit_x = scan.pose[0] + scan.ranges * np.cos(angles)
+        hit_y = scan.pose[1] + scan.ranges * np.sin(angles)
+        for i in (0, 1):
+            on = beam_wanderer == i
+            distance = np.hypot(hit_x[on] - targets[i, 0], hit_y[on] - targets[i, 1])
+            assert np.all(distance <= world.wanderer_radius + 1e-6)
+        # The other beams end on a wall (or nowhere), far from both wanderers.
+        off = (beam_wanderer < 0) & np.isfinite(scan.ranges)
+        assert np.all(wall_distance(scenario, np.column_stack((hit_x[off], hit_y[off])))
+                      < 0.2)
+        assert np.all(scan.hit_body[~np.isfinite(scan.ranges)] == -1)

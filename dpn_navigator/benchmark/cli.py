@@ -9,7 +9,9 @@ Examples::
 
 Episodes are appended to ``OUT/episodes.csv`` as they finish; running the same command again
 skips the episodes already there. At the end ``OUT/summary.md`` and ``OUT/success_rate.png``
-are written from the whole log, and with ``--strip`` a Fig. 9-style strip of one episode.
+are written from the whole log, with ``OUT/detection.png`` (the map as a detector against the
+wanderer count, ``detection_report``), and with ``--strip`` a Fig. 9-style strip of one
+episode.
 
 """
 
@@ -19,6 +21,7 @@ from pathlib import Path
 import sys
 import time
 
+from .detection_report import detection_stats, save_detection_figure
 from .episode_log import read_log
 from .protocol import NAVIGATORS, plan_episodes, PROFILES, resolve_maps
 from .report import save_success_figure, summary_markdown
@@ -45,8 +48,8 @@ def build_parser():
     parser.add_argument('--repeats', type=int, help='repetitions of each configuration')
     parser.add_argument('--navigator', choices=sorted(NAVIGATORS), default='dpn',
                         help="dpn: as shipped; paper: without this project's additions (A* "
-                             'proximity cost, forgetting unseen obstacles when stuck) '
-                             '(default: %(default)s)')
+                             'proximity cost, forgetting unseen obstacles when stuck, the '
+                             'label rules of docs/detection.md) (default: %(default)s)')
     parser.add_argument('--seed', type=int, default=0,
                         help='base seed of the episode seeds (default: %(default)s)')
     parser.add_argument('--out', default='benchmark_out', type=Path,
@@ -63,6 +66,9 @@ def build_parser():
     parser.add_argument('--strip', action='store_true',
                         help="also rerun the first map's first task with the most wanderers and "
                              'draw strip.png, a Fig. 9-style strip of map snapshots')
+    parser.add_argument('--no-detection', action='store_true',
+                        help='skip the detection measures (about 8-10 %% of episode time; see '
+                             'docs/detection.md): their columns are left empty')
     parser.add_argument('--no-progress', action='store_true', help='no progress bar')
     return parser
 
@@ -92,7 +98,8 @@ def main(argv=None):
         stats = run_protocol(specs, log_path, workers=args.workers,
                              ray_address=args.ray_address, index=args.index,
                              progress=not args.no_progress,
-                             navigator_options=NAVIGATORS[args.navigator])
+                             navigator_options=NAVIGATORS[args.navigator],
+                             detection=not args.no_detection)
     except ValueError as exc:
         parser.exit(2, f'dpn-benchmark: error: {exc}\n')
     except KeyboardInterrupt:
@@ -105,11 +112,17 @@ def main(argv=None):
           f'worker, {stats.episodes_per_hour:.0f} episodes per hour')
     rows = read_log(log_path)
     title = f'dpn benchmark, {args.navigator} navigator'
-    (args.out / 'summary.md').write_text(summary_markdown(rows, title=title))
+    summary = summary_markdown(rows, title=title, navigator=args.navigator)
+    (args.out / 'summary.md').write_text(summary)
     if rows:
         save_success_figure(args.out / 'success_rate.png', rows,
                             title=f'Success rate per map, {args.navigator} navigator')
     print(f'wrote {args.out / "summary.md"} and {args.out / "success_rate.png"}')
+    if detection_stats(rows) is not None:
+        save_detection_figure(args.out / 'detection.png', {args.navigator: rows},
+                              title=f'Detection against wanderer count, {args.navigator} '
+                                    'navigator')
+        print(f'wrote {args.out / "detection.png"}')
     if args.strip and specs:
         strip = args.out / 'strip.png'
         write_strip(strip, specs, args.index, navigator_options=NAVIGATORS[args.navigator])

@@ -18,12 +18,16 @@ Episode rules:
 
 """
 
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass, field
 import math
+import time
 
 import numpy as np
 
+from .detection import DETECTION_FIELDS, DetectionMeter
+from .ground_truth import wall_belt, wanderer_hit_points
 from ..core import astar, CellLabel, Navigator, NavigatorConfig, NavigatorStatus, path_cost
+from ..core.pose2d import compose
 
 #: The Husky's half width [m]: the clearance of the reference shortest path.
 HUSKY_HALF_WIDTH = 0.35
@@ -64,6 +68,11 @@ class EpisodeResult:
         classification errors; see ``map_quality``).
     ghost_obstacles : int
         Cells labelled mobile obstacle at the end that no wall or wanderer explains.
+    detection : DetectionResult or None
+        The map measured as a detector, scan by scan (``detection.DetectionMeter``); None
+        when the episode ran without it.
+    detection_wall_time : float or None
+        Wall-clock time spent measuring it [s]; left out of comparisons, as it varies.
 
     """
 
@@ -83,10 +92,16 @@ class EpisodeResult:
     wanderer_contacts: int
     walls_labelled_mobile: int
     ghost_obstacles: int
+    detection: object = None
+    detection_wall_time: float = field(default=None, compare=False)
 
     def as_row(self):
-        """Return the result as a flat dict, for CSV writing."""
-        return asdict(self)
+        """Return the result as a flat dict, for CSV writing (detection fields None if off)."""
+        row = {name: getattr(self, name) for name in self.__dataclass_fields__}
+        detection = row.pop('detection')
+        row.update(detection.as_row() if detection is not None else
+                   dict.fromkeys(DETECTION_FIELDS))
+        return row
 
 
 def shortest_path_length(scenario, task):
@@ -212,7 +227,8 @@ def map_quality(labels, geometry, truth_occupied, truth_geometry, wanderer_xy, w
 
 
 def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
-                time_limit=None, recorder=None, navigator_options=None, setup=None):
+                time_limit=None, recorder=None, navigator_options=None, detection=True,
+                setup=None):
     """
     Run one episode in lockstep and measure it.
 
@@ -236,6 +252,9 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
     recorder : callable, optional
         Called as ``recorder(world, navigator)`` once per scan, after the navigator has
         processed it (e.g. an `EpisodeRecorder`); must not change either.
+    detection : bool
+        Measure the map as a detector after every scan (``EpisodeResult.detection``); it
+        reads the navigator and the world and changes neither.
     setup : TaskSetup, optional
         This scenario's and task's setup (`task_setup`), when the caller keeps it between
         episodes (a benchmark worker does); computed here by default.
@@ -266,9 +285,26 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
                wanderer_grid=setup.wanderer_grid) as world:
         scan = world.scan()
         last_xy = world.husky_pose[:2]
+        meter = None
+        if detection:
+            started = time.perf_counter()
+            meter = DetectionMeter(
+                navigator.grid.geometry,
+                wall_belt(scenario.occupied, scenario.geometry, navigator.grid.geometry,
+                          navigator_config.safety_radius),
+                world.wanderer_radius, navigator_config.safety_radius)
+            detection_time = time.perf_counter() - started
         while world.time < time_limit:
+            if meter is not None:
+                path = navigator.path
+                path_labels = None if path is None else navigator.grid.labels[path[:, 0],
+                                                                              path[:, 1]]
             out = navigator.step(world.time, world.husky_pose, scan.ranges, scan.angle_min,
                                  scan.angle_increment, scan.range_min, scan.range_max)
+            if meter is not None:
+                started = time.perf_counter()
+                measure_step(meter, navigator, world, scan, out, path, path_labels)
+                detection_time += time.perf_counter() - started
             if recorder is not None:
                 recorder(world, navigator)
             if out.status is NavigatorStatus.GOAL_REACHED:
@@ -298,4 +334,37 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
         shortest_path=round(shortest, 3), replans=navigator.replans,
         forgets=navigator.forgets,
         wall_contacts=contacts.wall_events, wanderer_contacts=contacts.wanderer_events,
-        walls_labelled_mobile=walls_mobile, ghost_obstacles=ghosts)
+        walls_labelled_mobile=walls_mobile, ghost_obstacles=ghosts,
+        detection=None if meter is None else meter.result(),
+        detection_wall_time=None if meter is None else round(detection_time, 3))
+
+
+def measure_step(meter, navigator, world, scan, out, path, path_labels):
+    """
+    Feed one navigator step to a `DetectionMeter`, with the world's ground truth.
+
+    Parameters
+    ----------
+    meter : DetectionMeter
+        The episode's meter.
+    navigator : Navigator
+        After its step on ``scan``.
+    world : sim_bridge.world.World
+        At the scan's tick.
+    scan : sim_bridge.laser.LaserScan
+        The scan the navigator just folded in.
+    out : NavigatorOutput
+        The step's output.
+    path, path_labels : ndarray or None
+        The navigator's path before the step and the labels of its cells then.
+
+    """
+    wanderer_xy = world.wanderer_positions
+    labels = navigator.grid.labels
+    hits = (np.zeros(0), np.zeros(0))
+    if wanderer_xy.shape[0]:
+        hits = wanderer_hit_points(compose(world.husky_pose, navigator.config.laser_offset),
+                                   scan.ranges, scan.angle_min, scan.angle_increment,
+                                   scan.range_min, scan.range_max, world.scan_wanderer_beams())
+    meter.record_scan(labels, navigator.grid.last_window, wanderer_xy, hits)
+    meter.record_replan(out.replan_cause, path, path_labels, labels, wanderer_xy)

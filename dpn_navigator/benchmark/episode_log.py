@@ -15,8 +15,12 @@ Columns (`COLUMNS`), per episode:
 - ``time`` and ``time_limit`` [s, simulated], ``path_length`` and ``shortest_path`` [m],
   ``replans``, ``forgets``, ``wall_contacts``, ``wanderer_contacts``,
   ``walls_labelled_mobile``, ``ghost_obstacles``: see ``dpn_navigator.benchmark.episode``;
-- ``wall_time``: wall-clock seconds the episode took in its worker (the one column that differs
-  between two runs of the same episode).
+- `DETECTION_COLUMNS`: the map measured as a detector (``dpn_navigator.benchmark.detection``,
+  defined in ``docs/detection.md``); a ratio with a zero denominator is an empty field, and
+  every one of them is empty for an episode run without the measures;
+- ``wall_time``: wall-clock seconds the episode took in its worker, and
+  ``detection_wall_time``: the part of it spent on the detection measures (the two columns that
+  differ between two runs of the same episode).
 
 """
 
@@ -24,11 +28,15 @@ import csv
 import io
 import os
 
+from .detection import DETECTION_FIELDS, DetectionResult
+
+#: The detection measures' columns (`DetectionResult` fields); empty when not measured.
+DETECTION_COLUMNS = DETECTION_FIELDS
 #: The log's columns, in file order.
 COLUMNS = ('map', 'number', 'family', 'task', 'wanderers', 'repetition', 'seed', 'success',
            'failure', 'time', 'time_limit', 'path_length', 'shortest_path', 'replans',
            'forgets', 'wall_contacts', 'wanderer_contacts', 'walls_labelled_mobile',
-           'ghost_obstacles', 'wall_time')
+           'ghost_obstacles') + DETECTION_COLUMNS + ('wall_time', 'detection_wall_time')
 #: Columns that identify an episode.
 KEY_COLUMNS = ('map', 'task', 'wanderers', 'repetition', 'seed')
 #: Integer columns (parsed by `read_log`).
@@ -36,6 +44,9 @@ INT_COLUMNS = ('task', 'wanderers', 'repetition', 'seed', 'success', 'replans', 
                'wall_contacts', 'wanderer_contacts', 'walls_labelled_mobile', 'ghost_obstacles')
 #: Float columns (parsed by `read_log`).
 FLOAT_COLUMNS = ('time', 'time_limit', 'path_length', 'shortest_path', 'wall_time')
+#: Detection columns holding counts (int); the others hold float. Empty fields read as None.
+_DETECTION_INT_COLUMNS = tuple(name for name in DETECTION_COLUMNS
+                               if DetectionResult.__dataclass_fields__[name].type is int)
 #: Values of the ``failure`` column.
 FAILURES = ('', 'collision', 'no_path', 'timeout')
 
@@ -58,7 +69,8 @@ def read_log(path):
     -------
     rows : list of dict
         One per complete line, with `INT_COLUMNS` as int, `FLOAT_COLUMNS` as float and
-        ``number`` as int or None. A last line without its newline (cut short) is left out.
+        ``number`` as int or None, the detection columns as int or float, or None where empty.
+        A last line without its newline (cut short) is left out.
 
     Raises
     ------
@@ -99,6 +111,14 @@ def _parse_row(row):
     for column in FLOAT_COLUMNS:
         row[column] = float(row[column])
     row['number'] = int(row['number']) if row['number'] else None
+    for column in DETECTION_COLUMNS + ('detection_wall_time',):
+        text = row[column]
+        if not text:
+            row[column] = None
+        elif column in _DETECTION_INT_COLUMNS:
+            row[column] = int(text)
+        else:
+            row[column] = float(text)
     if row['success'] not in (0, 1) or row['failure'] not in FAILURES:
         raise ValueError(f'bad success/failure {row["success"]!r}/{row["failure"]!r}')
     return row

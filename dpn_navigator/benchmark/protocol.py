@@ -19,10 +19,12 @@ import numpy as np
 
 #: ``--navigator`` choices: overrides of ``NavigatorConfig``'s defaults. ``dpn`` is the
 #: navigator as shipped; ``paper`` turns off what this project added to the paper's method (the
-#: obstacle proximity cost of A* and forgetting unseen obstacles when stuck).
+#: obstacle proximity cost of A*, forgetting unseen obstacles when stuck, and the label rules:
+#: conservative free space, object-level relabelling and ghost expiry).
 NAVIGATORS = {
     'dpn': {},
-    'paper': {'obstacle_proximity_cost': 0.0, 'forget_obstacles_after': 0.0},
+    'paper': {'obstacle_proximity_cost': 0.0, 'forget_obstacles_after': 0.0,
+              'free_evidence_radius': 0.0, 'moving_object_size': 0.0, 'mobile_expiry': 0.0},
 }
 
 #: Largest number of wandering robots an episode may have (the paper's protocol goes to 10).

@@ -2,7 +2,8 @@
 Tables and figures of an episode log: ``summary.md`` and ``success_rate.png`` (the paper's Fig. 7).
 
 Both group the log's rows by map and wanderer count. Maps are ordered by their index number
-(bare map_server maps last, by name).
+(bare map_server maps last, by name). The summary ends with the detection table of
+``detection_report``.
 
 """
 
@@ -10,6 +11,8 @@ from dataclasses import dataclass
 import math
 
 import numpy as np
+
+from .detection_report import detection_markdown
 
 
 @dataclass(frozen=True)
@@ -105,7 +108,7 @@ def group_rows(rows):
     return groups
 
 
-def summary_markdown(rows, title='dpn benchmark'):
+def summary_markdown(rows, title='dpn benchmark', navigator='dpn'):
     """
     Write the summary of an episode log as Markdown.
 
@@ -115,13 +118,15 @@ def summary_markdown(rows, title='dpn benchmark'):
         Rows as `episode_log.read_log` returns them.
     title : str
         The first heading.
+    navigator : str
+        The navigator variant, for the detection table.
 
     Returns
     -------
     text : str
         A success-rate table (map x wanderer count, in %), then per map and wanderer count:
         episodes, success, failures by reason, mean time of successes, mean replans, episodes
-        with contacts and mean label errors.
+        with contacts and mean label errors; then the detection table per wanderer count.
 
     """
     maps = map_order(rows)
@@ -169,7 +174,7 @@ def summary_markdown(rows, title='dpn benchmark'):
                 f'{stats.mean_replans:.1f} | {stats.wall_contacts} / '
                 f'{stats.wanderer_contacts} | {stats.mean_walls_labelled_mobile:.1f} / '
                 f'{stats.mean_ghost_obstacles:.1f} |')
-    return '\n'.join(lines) + '\n'
+    return '\n'.join(lines) + '\n\n' + detection_markdown({navigator: rows})
 
 
 def success_matrix(rows):

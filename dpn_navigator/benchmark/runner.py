@@ -89,7 +89,7 @@ def _task_setup(map_key, index, task):
     return task_setup(_scenario(map_key, index), task, _wanderer_grid(map_key, index))
 
 
-def run_spec(spec, index=None, navigator_options=None):
+def run_spec(spec, index=None, navigator_options=None, detection=True):
     """
     Run one episode and return its log row.
 
@@ -101,6 +101,8 @@ def run_spec(spec, index=None, navigator_options=None):
         The scenario index (the built-in one by default).
     navigator_options : dict, optional
         ``NavigatorConfig`` overrides (see ``protocol.NAVIGATORS``).
+    detection : bool
+        Measure the map as a detector (``run_episode``'s ``detection``).
 
     Returns
     -------
@@ -115,7 +117,7 @@ def run_spec(spec, index=None, navigator_options=None):
                          f'task {spec.task}')
     jit.warm_up()
     result = run_episode(scenario, spec.task, spec.wanderers, spec.seed,
-                         navigator_options=navigator_options,
+                         navigator_options=navigator_options, detection=detection,
                          setup=_task_setup(spec.map_key, index, spec.task))
     row = result.as_row()
     del row['scenario']
@@ -138,7 +140,7 @@ def default_workers():
 
 
 def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, progress=True,
-                 navigator_options=None):
+                 navigator_options=None, detection=True):
     """
     Run the episodes a log does not hold yet and append their rows to it.
 
@@ -160,6 +162,8 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
         Show a tqdm progress bar with the time left on stderr.
     navigator_options : dict, optional
         ``NavigatorConfig`` overrides for every episode (see ``protocol.NAVIGATORS``).
+    detection : bool
+        Measure the map as a detector in every episode (the detection columns).
 
     Returns
     -------
@@ -190,9 +194,9 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
                   dynamic_ncols=True, smoothing=0.05) as bar:
             if ray_address is not None:
                 results, workers = _ray_results(pending, ray_address, index,
-                                                navigator_options)
+                                                navigator_options, detection)
             else:
-                results = _local_results(pending, workers, index, navigator_options)
+                results = _local_results(pending, workers, index, navigator_options, detection)
             for row in results:
                 log.append(row)
                 ran += 1
@@ -206,20 +210,20 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
                     episode_wall_time=spent, workers=workers)
 
 
-def _local_results(pending, workers, index, navigator_options):
+def _local_results(pending, workers, index, navigator_options, detection):
     """Yield the rows of pending episodes from local worker processes, as they finish."""
     if workers == 1 or len(pending) <= 1:
         for spec in pending:
-            yield run_spec(spec, index, navigator_options)
+            yield run_spec(spec, index, navigator_options, detection)
         return
     # spawn: each worker starts clean (its own pybullet client, no forked state).
     context = multiprocessing.get_context('spawn')
     with context.Pool(min(workers, len(pending))) as pool:
         yield from pool.imap_unordered(
-            _run_spec_star, [(spec, index, navigator_options) for spec in pending])
+            _run_spec_star, [(spec, index, navigator_options, detection) for spec in pending])
 
 
-def _ray_results(pending, address, index, navigator_options):
+def _ray_results(pending, address, index, navigator_options, detection):
     """Start the pending episodes on Ray; return a generator of rows and Ray's CPU count."""
     import ray
     if not ray.is_initialized():
@@ -229,7 +233,8 @@ def _ray_results(pending, address, index, navigator_options):
     remote = ray.remote(num_cpus=1)(run_spec)
 
     def rows():
-        waiting = [remote.remote(spec, index, navigator_options) for spec in pending]
+        waiting = [remote.remote(spec, index, navigator_options, detection)
+                   for spec in pending]
         while waiting:
             finished, waiting = ray.wait(waiting, num_returns=1)
             yield ray.get(finished[0])

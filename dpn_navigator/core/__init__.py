@@ -11,10 +11,11 @@ from .cell_label import CellLabel, OCCUPANCY_VALUE
 from .grid_geometry import GridGeometry
 from .label_grid import LabelGrid
 from .navigator import Navigator, NavigatorConfig, NavigatorOutput, NavigatorStatus
+from .navigator import ReplanCause
 from .path_follower import follow_path, FollowerConfig, VelocityCommand
 
 __all__ = [
     'astar', 'CellLabel', 'follow_path', 'FollowerConfig', 'GridGeometry', 'LabelGrid',
     'Navigator', 'NavigatorConfig', 'NavigatorOutput', 'NavigatorStatus', 'OCCUPANCY_VALUE',
-    'path_cost', 'VelocityCommand',
+    'path_cost', 'ReplanCause', 'VelocityCommand',
 ]

@@ -4,15 +4,25 @@ The labelled occupancy grid: per scan, f1 and f2 drive each cell's finite state 
 Only the cells a scan can reach are touched: the window around the scan polygon widened by the
 safety radius. Cells elsewhere see ``(f1, f2) = (0, 0)``, which keeps every state.
 
+A ``LabelRule`` adds evidence to the paper's FSM; its defaults (``PAPER_RULE``) are the paper's
+rule exactly. With ``free_evidence_radius`` an explored cell hit by the laser becomes a mobile
+obstacle only if it was once surely seen free (``free_evidence``), and a steady obstacle
+otherwise; with ``moving_object_size`` the cells a scan hits are labelled by object, mobile
+near an object seen to move and steady elsewhere (``moving_objects``); with ``mobile_expiry`` a
+mobile cell that no hit has confirmed for that long goes back to explored while out of view.
+
 """
 
+from dataclasses import dataclass
 import math
 
 import numpy as np
 
 from .cell_label import blocked_mask, CellLabel, LABEL_DTYPE, ScanInput, TRANSITION
+from .free_evidence import surely_free
 from .grid_geometry import GridGeometry
-from .scan_features import scan_input
+from .moving_objects import moving_object_hits
+from .scan_features import hit_runs, run_cover, scan_input
 from .scan_polygon import check_pose, check_scan, scan_points
 
 # TRANSITION flattened for one-step lookup with index (label << 2) | scan_input.
@@ -21,6 +31,8 @@ for _label in CellLabel:
     for _scan_input in ScanInput:
         _TRANSITION_BY_CODE[(_label << 2) | _scan_input] = TRANSITION[_label, _scan_input]
 _TRANSITION_BY_CODE.setflags(write=False)
+
+_EMPTY_WINDOW = (slice(0, 0), slice(0, 0), np.zeros((0, 0), dtype=LABEL_DTYPE))
 
 
 def check_path(path, shape):
@@ -62,6 +74,67 @@ def check_path(path, shape):
     return cells
 
 
+@dataclass(frozen=True)
+class LabelRule:
+    """
+    What the grid adds to the paper's FSM; the defaults switch everything off (the paper).
+
+    Attributes
+    ----------
+    free_evidence_radius : float
+        Conservative free space [m]. A cell is surely seen free when its disc of this radius
+        lies inside one scan's polygon (``free_evidence.surely_free``); explored -> mobile
+        obstacle then happens only to such cells, and a hit in any other explored cell makes
+        it a steady obstacle. 0 turns it off: every explored cell counts as seen free.
+    moving_object_size : float
+        Object-level relabelling [m]. A hit shows motion when a cell within
+        ``free_evidence_radius - evidence_margin`` of it was once surely seen free; the hits of its scan segment
+        within this distance of it are one moving object (``moving_objects``). Every cell the
+        scan hits (f1 = 1) is then labelled by object: a mobile obstacle when within the
+        safety radius of a moving object's hit, else a steady obstacle, whatever its label
+        was (so the steady cells of an object seen to move become mobile, and mobile cells
+        that only objects not seen to move hit, such as a wall a wanderer stood by, become
+        steady). The steady cells this scan does not hit within ``safety radius +
+        moving_object_size`` of a moving object's hit, where the object was before it was
+        found to move, become mobile too, so that they expire like other mobile cells.
+        0 turns it off. Needs ``free_evidence_radius`` > 0.
+    evidence_margin : float
+        How much closer than ``free_evidence_radius`` a hit must be to a surely-free cell to
+        show motion [m]. The scan polygon's edge between two beams cuts a little into a
+        convex corner facing the laser (up to about half the beam spacing there), so a
+        surely-free disc may reach that far into a wall.
+    segment_gap : float
+        Consecutive hits farther apart than this start a new scan segment [m].
+    mobile_expiry : float
+        Ghost expiry [s]. A mobile obstacle cell that no hit has been within the safety radius
+        of for this long, and that the latest scan does not see (f1 = f2 = 0), goes back to
+        explored. 0 turns it off. Needs the scan's ``stamp``.
+
+    """
+
+    free_evidence_radius: float = 0.0
+    moving_object_size: float = 0.0
+    evidence_margin: float = 0.15
+    segment_gap: float = 0.3
+    mobile_expiry: float = 0.0
+
+    def __post_init__(self):
+        for name in ('free_evidence_radius', 'moving_object_size', 'evidence_margin',
+                     'mobile_expiry'):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value >= 0.0):
+                raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
+        if not (math.isfinite(self.segment_gap) and self.segment_gap > 0.0):
+            raise ValueError(f'segment_gap must be positive, got {self.segment_gap!r} m')
+        if self.moving_object_size > 0.0 and self.free_evidence_radius == 0.0:
+            raise ValueError('moving_object_size needs free_evidence_radius > 0: motion is '
+                             'shown by hits in space surely seen free')
+
+
+#: The paper's rule: f1, f2 and the FSM table, nothing else.
+PAPER_RULE = LabelRule()
+
+
 class LabelGrid:
     """
     Occupancy grid whose cells carry one of the four ``CellLabel`` values.
@@ -74,6 +147,8 @@ class LabelGrid:
         Cell side [m]; the paper uses 0.5.
     origin : (float, float)
         Map-frame position of the lower-left corner [m].
+    rule : LabelRule
+        What to add to the paper's FSM; default ``PAPER_RULE``.
 
     Attributes
     ----------
@@ -81,15 +156,31 @@ class LabelGrid:
         Size and placement; owns every world <-> cell conversion.
     labels : (rows, cols) ndarray of uint8
         Current labels, row ``i`` along y; all ``NON_EXPLORED`` at start. Updated in place.
+    rule : LabelRule
+    seen_free : (rows, cols) ndarray of bool, or None
+        Cells once surely seen free; None unless ``rule.free_evidence_radius`` > 0.
+    last_hit : (rows, cols) ndarray of float64, or None
+        Stamp of the last scan with f1 = 1 on each cell [s], ``-inf`` before any; None unless
+        ``rule.mobile_expiry`` > 0.
+    last_window : (slice, slice, (n_rows, n_cols) ndarray of uint8)
+        The latest update's window and its FSM input (``ScanInput``); empty slices when the
+        scan missed the grid. Cells outside the window had input ``NONE``.
 
     """
 
-    def __init__(self, width, height, resolution=0.5, origin=(0.0, 0.0)):
+    def __init__(self, width, height, resolution=0.5, origin=(0.0, 0.0), rule=PAPER_RULE):
         self.geometry = GridGeometry(width, height, resolution, tuple(origin))
+        self.rule = rule
         self.labels = np.full(self.geometry.shape, CellLabel.NON_EXPLORED, dtype=LABEL_DTYPE)
+        self.seen_free = (np.zeros(self.geometry.shape, dtype=bool)
+                          if rule.free_evidence_radius > 0.0 else None)
+        self.last_hit = (np.full(self.geometry.shape, -math.inf)
+                         if rule.mobile_expiry > 0.0 else None)
+        self._last_stamp = -math.inf
+        self.last_window = _EMPTY_WINDOW
 
     def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
-               safety_radius, path=None, angle_max=None):
+               safety_radius, path=None, angle_max=None, stamp=None):
         """
         Fold one laser scan into the labels and say whether the path needs replanning.
 
@@ -109,18 +200,21 @@ class LabelGrid:
             The planned path as ``(row, col)`` cells.
         angle_max : float, optional
             Angle of the last beam [rad]; when given, the beam count is checked against it.
+        stamp : float, optional
+            Time of the scan [s], any clock; needed with ``rule.mobile_expiry`` > 0.
 
         Returns
         -------
         replan : bool
-            True when a cell of ``path`` went non-explored -> steady obstacle or explored ->
-            mobile obstacle in this update.
+            True when a cell of ``path`` went from free (non-explored or explored) to an
+            obstacle in this update. Under the paper's rule these are exactly its two
+            transitions, non-explored -> steady and explored -> mobile.
 
         Raises
         ------
         ValueError
             For a non-finite pose, malformed scan fields, a negative or non-finite safety
-            radius or a malformed path; the labels are then unchanged.
+            radius, a malformed path or a missing stamp; the labels are then unchanged.
 
         """
         pose = check_pose(pose)
@@ -129,30 +223,110 @@ class LabelGrid:
         if not (math.isfinite(safety_radius) and safety_radius >= 0.0):
             raise ValueError(f'safety_radius must be finite and >= 0, got {safety_radius!r} m')
         path = check_path(path, self.geometry.shape)
+        expiring = self.rule.mobile_expiry > 0.0
+        if expiring:
+            if stamp is None or not math.isfinite(stamp):
+                raise ValueError(f'mobile_expiry needs a finite scan stamp, got {stamp!r}')
+            self._restart_clocks_if_time_went_back(float(stamp))
         points = scan_points(pose, ranges, angle_min, angle_increment, range_min, range_max)
+        # Every cell within r of a hit (f1), within the evidence radius of one, or where an
+        # object seen to move may have been.
+        reach = max(safety_radius, self.rule.free_evidence_radius,
+                    safety_radius + self.rule.moving_object_size)
         rows, cols = self.geometry.cell_window(
-            float(points.vertices_x.min()) - safety_radius,
-            float(points.vertices_x.max()) + safety_radius,
-            float(points.vertices_y.min()) - safety_radius,
-            float(points.vertices_y.max()) + safety_radius)
+            float(points.vertices_x.min()) - reach, float(points.vertices_x.max()) + reach,
+            float(points.vertices_y.min()) - reach, float(points.vertices_y.max()) + reach)
         if rows.start == rows.stop or cols.start == cols.stop:
+            self.last_window = _EMPTY_WINDOW
+            if expiring:
+                self._expire_mobile(float(stamp))
             return False
         cell_input = scan_input(self.geometry, rows, cols, points, safety_radius)
+        self.last_window = (rows, cols, cell_input)
         window = self.labels[rows, cols]
-        if path is not None and path.shape[0]:
-            on_window = ((path[:, 0] >= rows.start) & (path[:, 0] < rows.stop)
-                         & (path[:, 1] >= cols.start) & (path[:, 1] < cols.stop))
-            path_rr = path[on_window, 0] - rows.start
-            path_cc = path[on_window, 1] - cols.start
-            before = window[path_rr, path_cc]
+        before = window.copy()
         # np.take is about twice as fast as fancy indexing for this lookup.
-        window[...] = np.take(_TRANSITION_BY_CODE, (window << 2) | cell_input)
+        window[...] = np.take(_TRANSITION_BY_CODE, (before << 2) | cell_input)
+        if self.rule.free_evidence_radius > 0.0:
+            self._apply_free_evidence(rows, cols, points, safety_radius, before, cell_input,
+                                      window)
+        if expiring:
+            self.last_hit[rows, cols][cell_input == ScanInput.HIT] = stamp
+            self._expire_mobile(float(stamp))
         if path is None or not path.shape[0]:
             return False
-        after = window[path_rr, path_cc]
-        new_obstacle = (((before == CellLabel.NON_EXPLORED) & (after == CellLabel.STEADY_OBSTACLE))
-                        | ((before == CellLabel.EXPLORED) & (after == CellLabel.MOBILE_OBSTACLE)))
+        on_window = ((path[:, 0] >= rows.start) & (path[:, 0] < rows.stop)
+                     & (path[:, 1] >= cols.start) & (path[:, 1] < cols.stop))
+        path_rr = path[on_window, 0] - rows.start
+        path_cc = path[on_window, 1] - cols.start
+        new_obstacle = (~blocked_mask(before[path_rr, path_cc])
+                        & blocked_mask(window[path_rr, path_cc]))
         return bool(new_obstacle.any())
+
+    def _apply_free_evidence(self, rows, cols, points, safety_radius, before, cell_input,
+                             window):
+        """
+        Conservative free space and object-level relabelling over the window, in place.
+
+        ``before`` holds the window's labels before this scan, ``window`` (a view into
+        ``labels``) those after the paper's FSM.
+        """
+        seen_free = self.seen_free[rows, cols]
+        hit = cell_input == ScanInput.HIT
+        window[(before == CellLabel.EXPLORED) & hit & ~seen_free] = CellLabel.STEADY_OBSTACLE
+        if self.rule.moving_object_size > 0.0:
+            near_moving, trail = self._near_moving_objects(rows, cols, points, safety_radius,
+                                                           seen_free)
+            window[hit] = np.where(near_moving[hit], CellLabel.MOBILE_OBSTACLE,
+                                   CellLabel.STEADY_OBSTACLE)
+            window[trail & ~hit & (window == CellLabel.STEADY_OBSTACLE)] = \
+                CellLabel.MOBILE_OBSTACLE
+        seen_free |= surely_free(self.geometry, rows, cols, points,
+                                 self.rule.free_evidence_radius, cell_input)
+
+    def _near_moving_objects(self, rows, cols, points, safety_radius, seen_free):
+        """
+        Window cells within the safety radius of a hit on an object seen to move, and those
+        within ``safety radius + moving_object_size`` of one (where it may have been).
+
+        A hit shows motion when a cell within ``free_evidence_radius - evidence_margin`` of it
+        was once surely seen free (``seen_free``, before this scan): never so for a hit on a
+        steady wall, which would then have been inside that scan's polygon.
+        """
+        centres = self.geometry.window_centres(rows, cols)
+        runs = hit_runs(self.geometry, rows, cols, centres, points.hits_x, points.hits_y,
+                        safety_radius, return_hits=True)
+        evidence_radius = max(self.rule.free_evidence_radius - self.rule.evidence_margin, 0.0)
+        evidence_runs = runs if evidence_radius == safety_radius else hit_runs(
+            self.geometry, rows, cols, centres, points.hits_x, points.hits_y, evidence_radius,
+            return_hits=True)
+        starts, ends, hit_index = evidence_runs
+        seen_before = np.concatenate(([0], np.cumsum(seen_free.ravel())))
+        evidence = np.zeros(points.hits_x.shape[0], dtype=bool)
+        evidence[hit_index[seen_before[ends] > seen_before[starts]]] = True
+        moving = moving_object_hits(points.hits_x, points.hits_y, points.hit_beams, evidence,
+                                    self.rule.segment_gap, self.rule.moving_object_size)
+        starts, ends, hit_index = runs
+        near = run_cover(starts[moving[hit_index]], ends[moving[hit_index]], seen_free.shape)
+        if not moving.any():
+            return near, near
+        trail_starts, trail_ends = hit_runs(
+            self.geometry, rows, cols, centres, points.hits_x[moving], points.hits_y[moving],
+            safety_radius + self.rule.moving_object_size)
+        return near, run_cover(trail_starts, trail_ends, seen_free.shape)
+
+    def _restart_clocks_if_time_went_back(self, stamp):
+        """After a jump back in time (a restarted simulation), no hit is newer than now."""
+        if stamp < self._last_stamp:
+            np.minimum(self.last_hit, stamp, out=self.last_hit)
+        self._last_stamp = stamp
+
+    def _expire_mobile(self, stamp):
+        """Set mobile cells out of view and unconfirmed for ``mobile_expiry`` to explored."""
+        rows, cols, cell_input = self.last_window
+        stale = (self.labels == CellLabel.MOBILE_OBSTACLE) & (stamp - self.last_hit >= self.rule.mobile_expiry)
+        stale[rows, cols] &= cell_input == ScanInput.NONE
+        self.labels[stale] = CellLabel.EXPLORED
 
     def blocked(self):
         """
@@ -166,5 +340,11 @@ class LabelGrid:
         return blocked_mask(self.labels)
 
     def reset(self):
-        """Forget everything: every cell back to ``NON_EXPLORED``."""
+        """Forget everything: every cell back to ``NON_EXPLORED``, no evidence kept."""
         self.labels.fill(CellLabel.NON_EXPLORED)
+        if self.seen_free is not None:
+            self.seen_free.fill(False)
+        if self.last_hit is not None:
+            self.last_hit.fill(-math.inf)
+        self._last_stamp = -math.inf
+        self.last_window = _EMPTY_WINDOW

@@ -16,7 +16,7 @@ import numpy as np
 
 from .astar_search import astar
 from .cell_label import blocked_mask, CellLabel
-from .label_grid import LabelGrid
+from .label_grid import LabelGrid, LabelRule
 from .path_follower import follow_path, FollowerConfig, STOP, VelocityCommand
 from .pose2d import compose
 from .scan_polygon import check_pose
@@ -60,6 +60,15 @@ class NavigatorStatus(enum.Enum):
     NO_PATH = 'no_path'              # no path on the current map; retried as the map changes
 
 
+class ReplanCause(enum.Enum):
+    """Why a step planned a path."""
+
+    NONE = ''                        # no planning in this step
+    FLAG = 'flag'                    # the grid's replan flag: a path cell turned obstacle
+    NO_PATH_RETRY = 'no_path_retry'  # a retry while there was no path
+    OTHER = 'other'                  # no path yet (new goal), a blocked cell ahead, off the path
+
+
 @dataclass(frozen=True)
 class NavigatorConfig:
     """
@@ -100,6 +109,21 @@ class NavigatorConfig:
         kept. Without it, a wanderer that blocked a corridor and then left it out of the
         laser's view (behind the robot, round a corner) would block it for good. 0 turns it
         off: the paper's navigator.
+    free_evidence_radius : float
+        Conservative free space [m]: explored -> mobile obstacle only for cells once surely
+        seen free (their disc of this radius inside one scan's polygon), else a steady
+        obstacle; see ``LabelRule``. 0: the paper's FSM.
+    moving_object_size : float
+        Object-level relabelling [m]: the steady cells of a scan segment's hits within this
+        distance of a hit in surely-free space become mobile; see ``LabelRule``. 0: off.
+    evidence_margin : float
+        A hit shows motion only within ``free_evidence_radius`` minus this of a cell surely
+        seen free [m]; see ``LabelRule``.
+    segment_gap : float
+        Consecutive hits farther apart than this belong to different objects [m].
+    mobile_expiry : float
+        Ghost expiry [s]: mobile cells unconfirmed by any hit for this long and out of view go
+        back to explored; see ``LabelRule``. 0: off.
     follower : FollowerConfig
         Speed limits and gains of the path follower.
 
@@ -116,6 +140,11 @@ class NavigatorConfig:
     obstacle_proximity_cost: float = 1.0
     no_path_retry_period: float = 0.5
     forget_obstacles_after: float = 10.0
+    free_evidence_radius: float = 0.6
+    moving_object_size: float = 0.7
+    evidence_margin: float = 0.15
+    segment_gap: float = 0.3
+    mobile_expiry: float = 5.0
     follower: FollowerConfig = field(default_factory=FollowerConfig)
 
     def __post_init__(self):
@@ -128,6 +157,14 @@ class NavigatorConfig:
             raise ValueError(
                 f'max_path_deviation must be positive, got {self.max_path_deviation!r}')
         check_pose(self.laser_offset, 'laser_offset')
+        self.label_rule()                        # validates the label rule's fields
+
+    def label_rule(self):
+        """Return the grid's ``LabelRule`` from the label fields of this configuration."""
+        return LabelRule(free_evidence_radius=self.free_evidence_radius,
+                         moving_object_size=self.moving_object_size,
+                         evidence_margin=self.evidence_margin, segment_gap=self.segment_gap,
+                         mobile_expiry=self.mobile_expiry)
 
 
 @dataclass(frozen=True)
@@ -144,6 +181,8 @@ class NavigatorOutput:
         Why the status is what it is, for people (empty when active).
     replanned : bool
         True when this step computed a new path.
+    replan_cause : ReplanCause
+        Why it did (``ReplanCause.NONE`` when it did not); the flag wins over a stale path.
 
     """
 
@@ -151,6 +190,7 @@ class NavigatorOutput:
     status: NavigatorStatus
     reason: str = ''
     replanned: bool = False
+    replan_cause: ReplanCause = ReplanCause.NONE
 
 
 class Navigator:
@@ -180,7 +220,8 @@ class Navigator:
 
     def __init__(self, config):
         self.config = config
-        self.grid = LabelGrid(config.width, config.height, config.resolution, config.origin)
+        self.grid = LabelGrid(config.width, config.height, config.resolution, config.origin,
+                              config.label_rule())
         self.path = None
         self.goal = None
         self.status = NavigatorStatus.IDLE
@@ -256,11 +297,12 @@ class Navigator:
             For a malformed scan or pose; the navigator's state is then unchanged.
 
         """
-        self.observe(pose, ranges, angle_min, angle_increment, range_min, range_max, angle_max)
+        self.observe(pose, ranges, angle_min, angle_increment, range_min, range_max, angle_max,
+                     stamp=stamp)
         return self.decide(stamp, pose)
 
     def observe(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
-                angle_max=None):
+                angle_max=None, stamp=None):
         """
         Fold one scan into the map; the next ``decide`` replans if the scan asks for it.
 
@@ -270,6 +312,8 @@ class Navigator:
         ----------
         pose, ranges, angle_min, angle_increment, range_min, range_max, angle_max
             As for ``step``.
+        stamp : float, optional
+            Time of the scan [s]; needed when ``mobile_expiry`` is on.
 
         Raises
         ------
@@ -281,10 +325,10 @@ class Navigator:
         laser_pose = compose(pose, self.config.laser_offset)
         replan = self.grid.update(laser_pose, ranges, angle_min, angle_increment, range_min,
                                   range_max, self.config.safety_radius, path=self.path,
-                                  angle_max=angle_max)
+                                  angle_max=angle_max, stamp=stamp)
         self._replan_requested |= replan
         self._last_scan = (laser_pose, np.array(ranges, dtype=np.float64), angle_min,
-                           angle_increment, range_min, range_max, angle_max)
+                           angle_increment, range_min, range_max, angle_max, stamp)
 
     def decide(self, stamp, pose):
         """
@@ -312,9 +356,14 @@ class Navigator:
         if self.status is NavigatorStatus.GOAL_REACHED:
             return NavigatorOutput(STOP, self.status, self.reason)
         replanned = False
+        cause = ReplanCause.NONE
         if replan_flag or self._path_is_stale(pose):
             if self.path is None and stamp < self._next_retry:
                 return NavigatorOutput(STOP, self.status, self.reason)
+            if self.path is None and self.status is NavigatorStatus.NO_PATH:
+                cause = ReplanCause.NO_PATH_RETRY
+            else:
+                cause = ReplanCause.FLAG if replan_flag else ReplanCause.OTHER
             if self.path is None and self._forget_is_due(stamp):
                 self._forget_unseen_obstacles(pose)
                 self._no_path_since = stamp
@@ -323,15 +372,15 @@ class Navigator:
                 self._next_retry = stamp + self.config.no_path_retry_period
                 if self._no_path_since is None:
                     self._no_path_since = stamp
-                return NavigatorOutput(STOP, self.status, self.reason, replanned)
+                return NavigatorOutput(STOP, self.status, self.reason, replanned, cause)
             self._no_path_since = None
             self._spell_forgets = 0
         command = follow_path(pose, self._path_xy, self.config.follower)
         if command.goal_reached:
             self.status = NavigatorStatus.GOAL_REACHED
             self.reason = 'inside the goal tolerance'
-            return NavigatorOutput(STOP, self.status, self.reason, replanned)
-        return NavigatorOutput(command, self.status, self.reason, replanned)
+            return NavigatorOutput(STOP, self.status, self.reason, replanned, cause)
+        return NavigatorOutput(command, self.status, self.reason, replanned, cause)
 
     def _path_is_stale(self, pose):
         """Tell whether there is no path, a cell ahead on it is blocked, or the robot left it."""
@@ -400,10 +449,10 @@ class Navigator:
         else:
             labels[blocked_mask(labels)] = CellLabel.NON_EXPLORED
         labels[rows, cols] = np.where(near, kept, labels[rows, cols])
-        laser_pose, ranges, angle_min, angle_increment, range_min, range_max, angle_max = \
-            self._last_scan
+        laser_pose, ranges, angle_min, angle_increment, range_min, range_max, angle_max, \
+            stamp = self._last_scan
         self.grid.update(laser_pose, ranges, angle_min, angle_increment, range_min, range_max,
-                         self.config.safety_radius, angle_max=angle_max)
+                         self.config.safety_radius, angle_max=angle_max, stamp=stamp)
         self.forgets += 1
         self._spell_forgets += 1
 

@@ -34,7 +34,7 @@ def squared_radius_bound(radius):
     return bound
 
 
-def hit_runs(geometry, rows, cols, centres, hits_x, hits_y, safety_radius):
+def hit_runs(geometry, rows, cols, centres, hits_x, hits_y, safety_radius, return_hits=False):
     """
     Find f1 (eq. 1-2) as runs of cells within the safety radius of each hit point.
 
@@ -54,11 +54,15 @@ def hit_runs(geometry, rows, cols, centres, hits_x, hits_y, safety_radius):
         Map-frame hit points [m].
     safety_radius : float
         ``r`` [m], finite and non-negative.
+    return_hits : bool
+        Also return which hit each run belongs to.
 
     Returns
     -------
     starts, ends : (R,) ndarray of int64
         Half-open runs ``[start, end)`` of window positions with f1 = 1; runs may overlap.
+    hit_index : (R,) ndarray of int64
+        Only with ``return_hits``: the index into ``hits_x`` of each run's hit.
 
     """
     res = geometry.resolution
@@ -68,6 +72,7 @@ def hit_runs(geometry, rows, cols, centres, hits_x, hits_y, safety_radius):
     slack = safety_radius + res
     near = ((hits_x >= x_centres[0] - slack) & (hits_x <= x_centres[-1] + slack)
             & (hits_y >= y_centres[0] - slack) & (hits_y <= y_centres[-1] + slack))
+    near_index = np.flatnonzero(near)
     hx = hits_x[near][:, None]                                   # (K, 1)
     hy = hits_y[near][:, None]
     # Rows whose centre can lie within r of the hit, one spare on each side for rounding.
@@ -91,7 +96,33 @@ def hit_runs(geometry, rows, cols, centres, hits_x, hits_y, safety_radius):
     last = np.minimum(last, cols.stop - 1)
     keep = (first <= last) & (rr >= rows.start) & (rr < rows.stop)
     row_base = (rr[keep] - rows.start) * n_cols - cols.start
+    if return_hits:
+        hit_index = np.broadcast_to(near_index[:, None], keep.shape)[keep]
+        return row_base + first[keep], row_base + last[keep] + 1, hit_index
     return row_base + first[keep], row_base + last[keep] + 1
+
+
+def run_cover(starts, ends, shape):
+    """
+    Mark the window cells that lie in at least one run.
+
+    Parameters
+    ----------
+    starts, ends : (R,) ndarray of int64
+        Half-open runs ``[start, end)`` of flat window positions, as from ``hit_runs``; runs
+        may overlap.
+    shape : (int, int)
+        The window's ``(n_rows, n_cols)``.
+
+    Returns
+    -------
+    covered : (n_rows, n_cols) ndarray of bool
+
+    """
+    size = shape[0] * shape[1]
+    open_runs = np.cumsum(np.bincount(starts, minlength=size + 1)
+                          - np.bincount(ends, minlength=size + 1))
+    return (open_runs[:size] > 0).reshape(shape)
 
 
 def crossing_toggles(rows, cols, centres, vertices_x, vertices_y):

@@ -35,7 +35,9 @@ class ScanPoints:
     vertices_x, vertices_y : (L + 2,) ndarray of float64
         Closed polygon [m]: the laser position, one vertex per beam, the laser position again.
     hits_x, hits_y : (K,) ndarray of float64
-        Laser hit points of the valid returns [m], ``K <= L``.
+        Laser hit points of the valid returns [m], ``K <= L``, in beam order.
+    hit_beams : (K,) ndarray of int64
+        The beam index of each hit.
 
     """
 
@@ -43,6 +45,7 @@ class ScanPoints:
     vertices_y: np.ndarray
     hits_x: np.ndarray
     hits_y: np.ndarray
+    hit_beams: np.ndarray
 
 
 def check_pose(pose, name='pose'):
@@ -163,4 +166,4 @@ def scan_points(pose, ranges, angle_min, angle_increment, range_min, range_max):
     beam_y = vertices_y[1:-1]
     beam_x[...] = x + reach * np.cos(theta)
     beam_y[...] = y + reach * np.sin(theta)
-    return ScanPoints(vertices_x, vertices_y, beam_x[valid], beam_y[valid])
+    return ScanPoints(vertices_x, vertices_y, beam_x[valid], beam_y[valid], np.flatnonzero(valid))

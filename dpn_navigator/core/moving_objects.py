@@ -1,0 +1,89 @@
+"""
+Objects seen to move: the hits of one scan grouped into objects, and which of them moved.
+
+A wandering robot is not a cell but a compact object. Where one of its hits lands in a cell the
+map once surely saw empty (see ``free_evidence``), the object has moved into that space, and
+so every hit of the same object is a hit on a moving obstacle, even where it lands in space
+never seen before. The scan is cut into segments the usual way for a laser: consecutive valid
+beams whose hit points are at most ``segment_gap`` apart belong to one segment (an invalid or
+no-return beam ends a segment). A hit belongs to a moving object when a hit with motion
+evidence lies in its segment at most ``object_size`` away along the segment; the bound keeps a
+wall that a wanderer touches from being taken along with it.
+
+"""
+
+import numpy as np
+
+
+def scan_segments(hits_x, hits_y, hit_beams, segment_gap):
+    """
+    Segment ids and arc positions of a scan's hits.
+
+    Parameters
+    ----------
+    hits_x, hits_y : (K,) ndarray of float64
+        Hit points in beam order [m].
+    hit_beams : (K,) ndarray of int64
+        Beam index of each hit, increasing.
+    segment_gap : float
+        Largest distance between consecutive hits of one segment [m].
+
+    Returns
+    -------
+    segment : (K,) ndarray of int64
+        Segment id of each hit, non-decreasing from 0.
+    arc : (K,) ndarray of float64
+        Distance along the chain of hits from the first hit [m].
+
+    """
+    dx = np.diff(hits_x)
+    dy = np.diff(hits_y)
+    step = np.sqrt(dx * dx + dy * dy)
+    cut = (step > segment_gap) | (np.diff(hit_beams) != 1)
+    segment = np.concatenate(([0], np.cumsum(cut))).astype(np.int64)
+    arc = np.concatenate(([0.0], np.cumsum(step)))
+    return segment[:hits_x.shape[0]], arc[:hits_x.shape[0]]
+
+
+def moving_object_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_size):
+    """
+    Tell which hits belong to an object seen to move.
+
+    Parameters
+    ----------
+    hits_x, hits_y : (K,) ndarray of float64
+        Hit points in beam order [m].
+    hit_beams : (K,) ndarray of int64
+        Beam index of each hit, increasing.
+    evidence : (K,) ndarray of bool
+        Hits that show motion (they landed where space was surely empty).
+    segment_gap : float
+        Largest distance between consecutive hits of one object [m].
+    object_size : float
+        Largest distance along the segment from a hit with evidence [m].
+
+    Returns
+    -------
+    moving : (K,) ndarray of bool
+        True for the hits of moving objects; ``evidence`` implies ``moving``.
+
+    """
+    count = hits_x.shape[0]
+    if count == 0 or not evidence.any():
+        return np.zeros(count, dtype=bool)
+    segment, arc = scan_segments(hits_x, hits_y, hit_beams, segment_gap)
+    index = np.arange(count)
+    # The nearest hit with evidence before and after each hit (-1 / count when none).
+    before = np.maximum.accumulate(np.where(evidence, index, -1))
+    after = np.minimum.accumulate(np.where(evidence, index, count)[::-1])[::-1]
+    has_before = before >= 0
+    has_after = after < count
+    before_ok = np.zeros(count, dtype=bool)
+    after_ok = np.zeros(count, dtype=bool)
+    b = before[has_before]
+    before_ok[has_before] = ((segment[b] == segment[has_before])
+                             & (arc[has_before] - arc[b] <= object_size))
+    a = after[has_after]
+    after_ok[has_after] = ((segment[a] == segment[has_after])
+                           & (arc[a] - arc[has_after] <= object_size))
+    return before_ok | after_ok

@@ -1,0 +1,57 @@
+"""
+Declare a node's numeric parameters so that ``-p map_width:=25`` works as well as ``25.0``.
+
+rclpy types a parameter by its default: an integer given for a ``double`` parameter would end
+in an ``InvalidParameterTypeException`` traceback. Here a number parameter is declared with
+dynamic typing, so an integer is accepted and read as a float, and anything else is refused with
+a one-line ``ValueError`` that names the parameter, its unit and its range.
+
+"""
+
+import math
+
+from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
+
+
+def declare_number(node, name, default, description, bounds=None, read_only=True):
+    """
+    Declare a floating-point parameter that also takes integers; return its value.
+
+    Parameters
+    ----------
+    node : rclpy.node.Node
+        Node to declare it on.
+    name : str
+        Parameter name.
+    default : float
+        Value when none is given.
+    description : str
+        What it is, with its unit.
+    bounds : (float, float) or None
+        Inclusive range of allowed values; None allows any value, NaN and infinities too.
+    read_only : bool
+        Whether it can change after start-up.
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    ValueError
+        When the given value is not a number or is outside ``bounds``.
+
+    """
+    descriptor = ParameterDescriptor(description=description, read_only=read_only,
+                                     dynamic_typing=True)
+    if bounds is not None:
+        descriptor.floating_point_range = [
+            FloatingPointRange(from_value=bounds[0], to_value=bounds[1], step=0.0)]
+    value = node.declare_parameter(name, float(default), descriptor).value
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ValueError(f'parameter {name} must be a number ({description}), got {value!r}')
+    value = float(value)
+    if bounds is not None and not (math.isfinite(value) and bounds[0] <= value <= bounds[1]):
+        raise ValueError(f'parameter {name} = {value!r} is outside [{bounds[0]}, {bounds[1]}] '
+                         f'({description})')
+    return value

@@ -1,0 +1,107 @@
+"""
+The simulated robot's TF tree (REP 105): what its drivers and a localiser would publish.
+
+``map -> odom -> base_link -> laser``:
+
+- ``base_link -> laser`` is the laser mount (``sim_bridge.husky.LASER_MOUNT`` at
+  ``LASER_HEIGHT``), published once on ``/tf_static``.
+- ``odom -> base_link`` is the wheel odometry, published on ``/tf`` with every odometry
+  message. The simulated odometry is the true pose, so the ``odom`` frame is the ``map`` frame.
+- ``map -> odom`` stands in for a localiser (AMCL, slam_toolbox): computed from ground truth,
+  the true pose composed with the inverse of the odometry pose. It is the identity while the
+  odometry has no drift, and is published on ``/tf`` at the same stamps.
+
+"""
+
+from dataclasses import dataclass
+import math
+
+from dpn_navigator.core.pose2d import compose, wrap_angle
+from dpn_navigator.names import TF_STATIC_TOPIC, TF_TOPIC
+from dpn_navigator.qos import TF_QOS, TF_STATIC_QOS
+from dpn_navigator.tf_messages import tf_message, transform_stamped
+from tf2_msgs.msg import TFMessage
+
+
+@dataclass(frozen=True)
+class FrameNames:
+    """Frame ids of the robot's TF tree, REP 105 names by default."""
+
+    map: str = 'map'          # noqa: A003 (the REP 105 name)
+    odom: str = 'odom'
+    base: str = 'base_link'
+    laser: str = 'laser'
+
+    def __post_init__(self):
+        names = (self.map, self.odom, self.base, self.laser)
+        if not all(isinstance(n, str) and n and not n.startswith('/') for n in names):
+            raise ValueError(f'frame ids must be non-empty and not start with /: {names}')
+        if len(set(names)) != len(names):
+            raise ValueError(f'frame ids must differ from each other: {names}')
+
+
+def inverse_pose(pose):
+    """
+    Return the inverse of a planar pose: where frame A is seen from frame B, given B in A.
+
+    Parameters
+    ----------
+    pose : (float, float, float)
+        ``(x, y, yaw)`` of frame B in frame A [m, m, rad].
+
+    Returns
+    -------
+    (float, float, float)
+        ``(x, y, yaw)`` of frame A in frame B, so that ``compose(pose, inverse) == (0, 0, 0)``.
+
+    """
+    x, y, yaw = pose
+    cos_yaw, sin_yaw = math.cos(yaw), math.sin(yaw)
+    return (-cos_yaw * x - sin_yaw * y, sin_yaw * x - cos_yaw * y, wrap_angle(-yaw))
+
+
+class RobotFramePublisher:
+    """
+    Publish the robot's transforms on ``/tf`` and its laser mount on ``/tf_static``.
+
+    Parameters
+    ----------
+    node : rclpy.node.Node
+        Node the publishers are made on.
+    frames : FrameNames
+        Frame ids.
+    laser_mount : (float, float, float)
+        Laser pose on the base frame ``(x, y, yaw)`` [m, m, rad].
+    laser_height : float
+        Height of the scan plane above the base frame [m].
+
+    """
+
+    def __init__(self, node, frames, laser_mount, laser_height):
+        self.frames = frames
+        self.tf_pub = node.create_publisher(TFMessage, TF_TOPIC, TF_QOS)
+        self.static_pub = node.create_publisher(TFMessage, TF_STATIC_TOPIC, TF_STATIC_QOS)
+        stamp = node.get_clock().now().to_msg()
+        self.static_pub.publish(tf_message(transform_stamped(
+            frames.base, frames.laser, laser_mount, stamp, z=laser_height)))
+
+    def publish(self, true_pose, odom_pose, stamp):
+        """
+        Publish ``map -> odom`` and ``odom -> base_link`` at ``stamp``.
+
+        Parameters
+        ----------
+        true_pose : (float, float, float)
+            Ground-truth base pose in the map frame [m, m, rad].
+        odom_pose : (float, float, float)
+            Odometry's base pose in the odom frame [m, m, rad].
+        stamp : builtin_interfaces.msg.Time
+            Time both hold at.
+
+        """
+        # map -> odom = true * odom^-1: the odom frame's pose in the map frame.
+        odom_in_map = compose(true_pose, inverse_pose(odom_pose))
+        frames = self.frames
+        self.tf_pub.publish(tf_message(
+            transform_stamped(frames.map, frames.odom, odom_in_map, stamp),
+            transform_stamped(frames.odom, frames.base, odom_pose, stamp)))

@@ -1,0 +1,43 @@
+"""
+The ``tf2_msgs/msg/TFMessage`` in use is the standard one, whichever way it was installed.
+
+On an apt Jazzy install it is the real tf2_msgs; on the PyPI path it is the TFMessage-only
+stand-in that ``make setup`` builds from fallback/tf2_msgs into .venv. Either way its RIHS01 type
+hash must be the one a Jazzy system announces for ``/tf`` (as ``ros2 topic info -v /tf``
+prints it), or rclpy would not match it with tf2_ros, RViz and Nav2 publishers and subscribers.
+"""
+
+from pathlib import Path
+
+from dpn_navigator.qos import TF_QOS
+from rclpy.node import Node
+from tf2_msgs.msg import TFMessage
+
+#: ``Topic type hash`` of ``/tf`` on ROS 2 Jazzy (tf2_msgs 0.36).
+JAZZY_TF_MESSAGE_HASH = 'RIHS01_e369d0f05a23ae52508854b66f6aa0437f3449d652e8cbf22d5abe85d020f087'
+
+
+def test_tf_message_has_the_jazzy_type_hash(ros_context):
+    node = Node('tf_hash_probe', context=ros_context)
+    try:
+        node.create_publisher(TFMessage, '/tf', TF_QOS)
+        (info,) = node.get_publishers_info_by_topic('/tf')
+        assert info.topic_type == 'tf2_msgs/msg/TFMessage'
+        assert str(info.topic_type_hash) == JAZZY_TF_MESSAGE_HASH
+    finally:
+        node.destroy_node()
+
+
+def test_tf_message_carries_transforms():
+    msg = TFMessage()
+    assert list(msg.get_fields_and_field_types()) == ['transforms']
+    assert msg.get_fields_and_field_types()['transforms'] == \
+        'sequence<geometry_msgs/TransformStamped>'
+
+
+def test_the_stand_in_is_hidden_from_colcon_and_keeps_the_standard_definition():
+    fallback = Path(__file__).resolve().parents[1] / 'fallback'
+    # colcon (and rosdep) never crawl it, so an apt Jazzy workspace uses the real tf2_msgs.
+    assert (fallback / 'COLCON_IGNORE').is_file()
+    definition = (fallback / 'tf2_msgs' / 'msg' / 'TFMessage.msg').read_text()
+    assert definition.split() == ['geometry_msgs/TransformStamped[]', 'transforms']
