@@ -37,7 +37,7 @@ from .cmd_vel_monitor import CommandTopicMonitor
 from .command_publisher import CommandPublisher
 from .conversions import (labels_to_occupancy_grid, laser_scan_fields, line_strip_marker,
                           odometry_to_pose, points_to_path, pose_to_odometry, sphere_marker)
-from .core import Navigator, NavigatorStatus
+from .core import jit, Navigator, NavigatorStatus
 from .core.scan_polygon import check_scan
 from .diagnostics import diagnostic_status, DiagnosticsPublisher
 from .dpn_params import declare_parameters
@@ -67,6 +67,8 @@ class DpnNode(Node):
         super().__init__('dpn', **node_kwargs)
         self.params = declare_parameters(self)
         self.limits = declare_safety_parameters(self)
+        # Compile (or load) the kernels now, so that the first scan does not wait for them.
+        compile_seconds = jit.warm_up()
         self.navigator = Navigator(self.params.navigator)
         self.rejected = {'scan': 0, 'odometry': 0, 'goal': 0, 'clock': 0}
         self.scan_frame_mismatches = 0
@@ -105,7 +107,8 @@ class DpnNode(Node):
         self.get_logger().info(
             f'dpn ready: {self.navigator.grid.geometry.cols}x'
             f'{self.navigator.grid.geometry.rows} cells of '
-            f'{self.params.navigator.resolution} m, goal {self.navigator.goal}')
+            f'{self.params.navigator.resolution} m, goal {self.navigator.goal}; kernels ready '
+            f'in {compile_seconds:.2f} s')
 
     def now_seconds(self):
         """Return the node clock's time [s] (simulated time when use_sim_time is set)."""

@@ -10,6 +10,7 @@ return is closer than ``range_min``.
 
 from dataclasses import dataclass
 import math
+from operator import itemgetter
 
 import numpy as np
 import pybullet
@@ -18,6 +19,10 @@ from .husky import LASER_HEIGHT, LASER_MOUNT
 
 #: pybullet answers a batch of exactly 16384 rays with nothing, and raises beyond that.
 MAX_BEAMS = 16383
+
+# Fields of one rayTestBatch result: (object id, link index, hit fraction, position, normal).
+_OBJECT_ID = itemgetter(0)
+_HIT_FRACTION = itemgetter(2)
 
 
 @dataclass(frozen=True)
@@ -177,9 +182,10 @@ class Laser:
             physicsClientId=self.client)
         if len(results) != n:
             raise RuntimeError(f'rayTestBatch returned {len(results)} results for {n} rays')
-        hit_body = np.fromiter((r[0] for r in results), dtype=np.int64, count=n)
+        hit_body = np.fromiter(map(_OBJECT_ID, results), dtype=np.int64, count=n)
         hit = hit_body >= 0
-        ranges = cfg.range_max * np.fromiter((r[2] for r in results), dtype=np.float64, count=n)
+        ranges = cfg.range_max * np.fromiter(map(_HIT_FRACTION, results), dtype=np.float64,
+                                             count=n)
         if cfg.noise_std > 0.0:
             ranges += self.rng.normal(0.0, cfg.noise_std, n)
         no_return = ~hit | (ranges >= cfg.range_max)

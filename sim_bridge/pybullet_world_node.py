@@ -27,6 +27,7 @@ from builtin_interfaces.msg import Time
 from diagnostic_msgs.msg import DiagnosticStatus
 from dpn_navigator.command_publisher import command_to_velocity, command_type
 from dpn_navigator.conversions import make_laser_scan, pose_to_odometry
+from dpn_navigator.core import jit
 from dpn_navigator.diagnostics import diagnostic_status, DiagnosticsPublisher
 from dpn_navigator.names import DEFAULT_NAMESPACE
 from dpn_navigator.parameter_declaration import declare_number
@@ -115,6 +116,9 @@ class PybulletWorldNode(Node):
         config = WorldConfig(physics_rate=physics_rate, scan_rate=scan_rate,
                              n_wanderers=wanderers, seed=seed, gui=gui,
                              laser=LaserConfig(noise_std=noise))
+        # The wanderers plan with the core's A* kernel: compile (or load) it before the first
+        # tick rather than in the middle of one.
+        jit.warm_up()
         self.world = World(scenario, config, start=start)
         self.goal = scenario.tasks[task].goal
         self.command = (0.0, 0.0)

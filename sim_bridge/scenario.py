@@ -33,6 +33,9 @@ from .tasks import draw_tasks, Task
 INDEX_PATH = Path(__file__).resolve().parent / 'scenarios' / 'index.yaml'
 #: Index format this module reads.
 INDEX_FORMAT = 1
+# yaml.safe_load's loader, in C (libyaml, in PyYAML's wheels) when available: the same
+# documents, about ten times faster on the 34-map index.
+_SAFE_LOADER = getattr(yaml, 'CSafeLoader', yaml.SafeLoader)
 
 
 @dataclass(frozen=True)
@@ -140,7 +143,7 @@ def load_index(path=None):
     """
     path = Path(INDEX_PATH if path is None else path)
     try:
-        doc = yaml.safe_load(path.read_text())
+        doc = yaml.load(path.read_text(), Loader=_SAFE_LOADER)
     except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
         raise ValueError(f'cannot read scenario index {str(path)!r}: {exc}') from exc
     if not isinstance(doc, dict) or doc.get('format') != INDEX_FORMAT or \

@@ -145,7 +145,7 @@ class Scene:
         Parameters
         ----------
         body : int
-            The body; for a wanderer use `place_wanderer`, which moves its ray twin too.
+            The body; for a wanderer use `place_wanderer` (and `place_wanderer_ray_twin`).
         pose : (float, float, float)
             ``(x, y, yaw)`` of the URDF base frame in the map frame [m, m, rad].
 
@@ -154,9 +154,9 @@ class Scene:
         self._place(body, x, y, math.cos(yaw), math.sin(yaw), math.cos(0.5 * yaw),
                     math.sin(0.5 * yaw))
 
-    def place_wanderer(self, i, x, y, yaw):
+    def place_wanderer(self, i, x, y, yaw, ray_twin=True):
         """
-        Put wanderer ``i`` and its ray twin at a planar pose (see `place`).
+        Put wanderer ``i`` (and by default its ray twin) at a planar pose (see `place`).
 
         Parameters
         ----------
@@ -164,11 +164,21 @@ class Scene:
             Index of the wanderer.
         x, y, yaw : float
             Pose of its base frame in the map frame [m, m, rad].
+        ray_twin : bool
+            Also move its ray twin. Only rays meet the twin, so a caller that moves wanderers
+            on every tick but casts rays less often may leave it out and move the twin with
+            `place_wanderer_ray_twin` before the next ray cast.
 
         """
         frame = (x, y, math.cos(yaw), math.sin(yaw), math.cos(0.5 * yaw), math.sin(0.5 * yaw))
         self._place(self.wanderer_bodies[i], *frame)
-        self._place(self.wanderer_ray_bodies[i], *frame)
+        if ray_twin:
+            self._place(self.wanderer_ray_bodies[i], *frame)
+
+    def place_wanderer_ray_twin(self, i, x, y, yaw):
+        """Put the ray twin of wanderer ``i`` at a planar pose (see `place_wanderer`)."""
+        self._place(self.wanderer_ray_bodies[i], x, y, math.cos(yaw), math.sin(yaw),
+                    math.cos(0.5 * yaw), math.sin(0.5 * yaw))
 
     def _place(self, body, x, y, cos_yaw, sin_yaw, cos_half, sin_half):
         # The base frame turned by yaw about z, composed with the centre-of-mass offset

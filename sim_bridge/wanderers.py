@@ -286,17 +286,34 @@ class Wanderers:
         return True
 
     def _pick_goal(self, anchor, blocked):
+        """
+        Draw a goal cell in the anchor's component, preferably ``goal_distance_range`` away.
+
+        The preferred cells all lie in the square window of half side ``hi`` around the
+        anchor's centre, so only that window is searched; the draw is the same as over the whole
+        grid (same candidates in the same row-major order, one ``rng.integers`` call). Only when
+        the window holds no preferred cell does the whole grid come in, for the fallback: any
+        other cell of the component.
+        """
+        lo, hi = self.config.goal_distance_range
+        ax, ay = self.grid.centre(*anchor)
+        rows, cols = self.grid.geometry.cell_window(ax - hi, ax + hi, ay - hi, ay + hi)
+        goal = self._draw_goal(anchor, blocked, rows, cols, lambda dist: (dist >= lo) &
+                               (dist <= hi))
+        if goal is None:
+            whole = slice(0, self.grid.clear.shape[0]), slice(0, self.grid.clear.shape[1])
+            goal = self._draw_goal(anchor, blocked, *whole, lambda dist: dist > 0.0)
+        return goal
+
+    def _draw_goal(self, anchor, blocked, rows, cols, wanted):
+        """Draw one cell of the anchor's component in a window where ``wanted(dist)``."""
         label = self.grid.labels[anchor]
-        rr, cc = np.nonzero((self.grid.labels == label) & ~blocked)
-        if len(rr) == 0:
-            return None
+        rr, cc = np.nonzero((self.grid.labels[rows, cols] == label) & ~blocked[rows, cols])
+        rr += rows.start
+        cc += cols.start
         xs, ys = self.grid.geometry.cell_to_world(rr, cc)
         ax, ay = self.grid.centre(*anchor)
-        dist = np.hypot(xs - ax, ys - ay)
-        lo, hi = self.config.goal_distance_range
-        pool = np.flatnonzero((dist >= lo) & (dist <= hi))
-        if len(pool) == 0:
-            pool = np.flatnonzero(dist > 0.0)
+        pool = np.flatnonzero(wanted(np.hypot(xs - ax, ys - ay)))
         if len(pool) == 0:
             return None
         k = int(pool[self.rng.integers(len(pool))])

@@ -44,7 +44,7 @@ from .scene import RAY_MASK, Scene
 from .wanderers import Wanderers
 from .world_config import WorldConfig
 
-__all__ = ['World', 'WorldConfig']
+__all__ = ['wanderer_clearance_grid', 'World', 'WorldConfig']
 
 
 class World:
@@ -59,6 +59,10 @@ class World:
         Rates, robots and seed.
     start : (float, float, float), optional
         The Husky's start pose ``(x, y, yaw)`` [m, m, rad]; the first task's start by default.
+    wanderer_grid : ClearanceGrid, optional
+        The wanderers' `ClearanceGrid` of this scenario for ``config.wanderer.clearance``,
+        when the caller has it already (a benchmark worker builds it once per map); built
+        here by default. It is only read.
 
     Attributes
     ----------
@@ -80,8 +84,8 @@ class World:
     Raises
     ------
     ValueError
-        If there is no start pose, the Husky collides with a wall at it, or the wanderers find
-        no room to spawn.
+        If there is no start pose, the Husky collides with a wall at it, the wanderers find
+        no room to spawn, or ``wanderer_grid`` is for another clearance or map size.
 
     Examples
     --------
@@ -97,7 +101,7 @@ class World:
 
     """
 
-    def __init__(self, scenario, config=None, start=None):
+    def __init__(self, scenario, config=None, start=None, wanderer_grid=None):
         self.config = config = WorldConfig() if config is None else config
         if start is None:
             if not scenario.tasks:
@@ -118,9 +122,14 @@ class World:
         self._command = (0.0, 0.0)
         self._depth = 0.0
         self._scan = None
+        # Wanderers whose ray twin lags behind their body (see `_place_moved_wanderers`).
+        self._stale_ray_twins = set()
         self._wanderer_of_body = None
         wander_seed, noise_seed = np.random.SeedSequence(config.seed).spawn(2)
-        grid = clearance_grid(scenario.free, scenario.geometry, config.wanderer.clearance)
+        if wanderer_grid is None:
+            grid = wanderer_clearance_grid(scenario, config.wanderer)
+        else:
+            grid = _checked_wanderer_grid(wanderer_grid, scenario, config.wanderer)
         self._wanderers = Wanderers(grid, config.n_wanderers, (x, y),
                                     np.random.default_rng(wander_seed), config.wanderer)
         self.scene = Scene(scenario, config.n_wanderers, config.wall_height, self._dt,
@@ -268,8 +277,7 @@ class World:
         lin = ramp(self._velocity[0], self._command[0], limits.max_linear_accel, dt)
         ang = ramp(self._velocity[1], self._command[1], limits.max_angular_accel, dt)
         proposed = integrate_pose(self._pose, lin, ang, dt)
-        for i in self._wanderers.step(dt, self._pose[:2]):
-            self._place_wanderer(i)
+        self._place_moved_wanderers(self._wanderers.step(dt, self._pose[:2]))
         self.scene.place(self.scene.husky, proposed)
         wall, touched, depth = self.scene.husky_contacts()
         self._tick += 1
@@ -305,6 +313,7 @@ class World:
 
         """
         if self._scan is None:
+            self._place_ray_twins()
             self._scan = self._laser.scan(self.laser_pose, self.time)
         return self._scan
 
@@ -341,3 +350,68 @@ class World:
     def _place_wanderer(self, i):
         x, y = self._wanderers.positions[i].tolist()
         self.scene.place_wanderer(i, x, y, float(self._wanderers.yaws[i]))
+
+    def _place_moved_wanderers(self, moved):
+        """
+        Move the bodies of the wanderers ``moved`` in pybullet; their ray twins wait for a scan.
+
+        The Husky's contacts are checked on every tick, but rays are cast once per scan, and
+        only rays meet the twins: moving a twin once before a scan gives the same scan as
+        moving it on every tick, for up to ``ticks_per_scan`` times fewer pybullet calls.
+        """
+        if not moved:
+            return
+        positions = self._wanderers.positions.tolist()
+        yaws = self._wanderers.yaws.tolist()
+        for i in moved:
+            self.scene.place_wanderer(i, positions[i][0], positions[i][1], yaws[i],
+                                      ray_twin=False)
+        self._stale_ray_twins.update(moved)
+
+    def _place_ray_twins(self):
+        """Bring the ray twins of the wanderers that moved since the last scan up to date."""
+        if not self._stale_ray_twins:
+            return
+        positions = self._wanderers.positions.tolist()
+        yaws = self._wanderers.yaws.tolist()
+        for i in sorted(self._stale_ray_twins):
+            self.scene.place_wanderer_ray_twin(i, positions[i][0], positions[i][1], yaws[i])
+        self._stale_ray_twins.clear()
+
+
+def wanderer_clearance_grid(scenario, wanderer_config):
+    """
+    Build the `ClearanceGrid` the wanderers of a scenario plan on.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The map.
+    wanderer_config : WandererConfig
+        Its ``clearance`` [m] is the radius kept clear.
+
+    Returns
+    -------
+    ClearanceGrid
+        Built with the default coarse cell size of `sim_bridge.free_space`; its arrays are
+        read-only, so that one grid can serve many episodes.
+
+    """
+    grid = clearance_grid(scenario.free, scenario.geometry, wanderer_config.clearance)
+    grid.clear.setflags(write=False)
+    grid.labels.setflags(write=False)
+    return grid
+
+
+def _checked_wanderer_grid(grid, scenario, wanderer_config):
+    """Return ``grid`` if it can be the wanderers' grid of ``scenario``; else raise."""
+    if grid.clearance != wanderer_config.clearance:
+        raise ValueError(f'wanderer_grid was built for a clearance of {grid.clearance} m, the '
+                         f'wanderers keep {wanderer_config.clearance} m')
+    geometry = scenario.geometry
+    coarse = (-(-geometry.shape[0] // grid.factor), -(-geometry.shape[1] // grid.factor))
+    if grid.clear.shape != coarse or grid.geometry.origin != geometry.origin or \
+            not math.isclose(grid.geometry.resolution, grid.factor * geometry.resolution):
+        raise ValueError("wanderer_grid is not a grid of this scenario's map: build it with "
+                         'wanderer_clearance_grid(scenario, config.wanderer)')
+    return grid

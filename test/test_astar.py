@@ -1,9 +1,11 @@
 """
-Tests of the A* planner: literal grids, the corner rule, every error, and a Dijkstra twin.
+Tests of the A* planner: literal grids, the corner rule, every error, and two twins.
 
-The twin (`legal_moves`, `dijkstra_cost`) is written straight from the definition of the moves
-and shares no code with the planner. No ROS is needed: run ``python -m pytest test/test_astar.py``
-from the repository root.
+The Dijkstra twin (`legal_moves`, `dijkstra_cost`) is written straight from the definition of
+the moves and shares no code with the planner: it checks costs. The heapq A* the compiled
+kernel replaced (`astar_reference.reference_astar`) checks that the kernel returns the very
+same path, cell for cell. No ROS is needed: run ``python -m pytest test/test_astar.py`` from the
+repository root (with ``test/`` importable, as pytest makes it).
 
 """
 
@@ -14,8 +16,10 @@ import os
 import subprocess
 import sys
 
+from astar_reference import reference_astar
 from dpn_navigator.core import astar_search as astar_module
 from dpn_navigator.core.astar_search import astar, path_cost
+from grid_worlds import maze_grid, random_grid
 from hypothesis import event, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
@@ -518,3 +522,98 @@ def test_without_corner_cutting_a_diagonal_needs_both_side_cells_free():
     """)
     assert astar(blocked, (0, 0), (1, 1)) == [(0, 0), (1, 1)]
     assert astar(blocked, (0, 0), (1, 1), cut_corners=False) == [(0, 0), (0, 1), (1, 1)]
+
+
+# -- the compiled kernel against the heapq A* it replaced: the same path, cell for cell -------
+
+COST_VALUES = [0.0, 0.25, 1.0, 2.0, 0.3, 1.7]
+
+
+def assert_same_as_reference(blocked, start, goal, cell_cost=None, cut_corners=True):
+    """Check that `astar` and the reference return the same path; return it."""
+    path = astar(blocked, start, goal, cell_cost=cell_cost, cut_corners=cut_corners)
+    expected = reference_astar(blocked, start, goal, cell_cost=cell_cost,
+                               cut_corners=cut_corners)
+    assert path == expected
+    return path
+
+
+@settings(max_examples=300, deadline=None)
+@given(planning_problems(), st.data(), st.booleans(), st.booleans())
+def test_same_path_as_the_reference_on_random_small_grids(problem, data, cut_corners,
+                                                          with_cost):
+    blocked, start, goal = problem
+    cell_cost = None
+    if with_cost:
+        cell_cost = data.draw(hnp.arrays(np.float64, blocked.shape, elements=st.sampled_from(
+            COST_VALUES), fill=st.nothing()))
+    path = assert_same_as_reference(blocked, start, goal, cell_cost, cut_corners)
+    event('no path' if path is None else 'a path')
+
+
+@st.composite
+def open_lattice_problems(draw):
+    """Draw mostly open grids where many paths tie exactly, with sparse blocked cells."""
+    rows = draw(st.integers(2, 10))
+    cols = draw(st.integers(2, 10))
+    blocked = np.zeros((rows, cols), dtype=bool)
+    for cell in draw(st.lists(st.tuples(st.integers(0, rows - 1), st.integers(0, cols - 1)),
+                              max_size=rows * cols // 6)):
+        blocked[cell] = True
+    start = (draw(st.integers(0, rows - 1)), draw(st.integers(0, cols - 1)))
+    goal = (draw(st.integers(0, rows - 1)), draw(st.integers(0, cols - 1)))
+    blocked[goal] = False
+    return blocked, start, goal
+
+
+@settings(max_examples=200, deadline=None)
+@given(open_lattice_problems(), st.booleans(), st.sampled_from([None, 0.25, 1.0, 0.3]))
+def test_same_path_as_the_reference_where_paths_tie(problem, cut_corners, ring_cost):
+    # Open ground: the octile distance ties along many routes, so the tie-breaking (f, then h,
+    # then the flat index) decides the path; a ring cost beside blocked cells, as the navigator's
+    # proximity cost, adds exact fixed-point ties of its own.
+    blocked, start, goal = problem
+    cell_cost = None
+    if ring_cost is not None:
+        padded = np.pad(blocked, 1)
+        near = np.zeros_like(blocked)
+        for dr in range(3):
+            for dc in range(3):
+                near |= padded[dr:dr + blocked.shape[0], dc:dc + blocked.shape[1]]
+        cell_cost = ring_cost * (near & ~blocked)
+    assert_same_as_reference(blocked, start, goal, cell_cost, cut_corners)
+
+
+@pytest.mark.parametrize('seed', range(3))
+@pytest.mark.parametrize('kind', ['random', 'maze'])
+@pytest.mark.parametrize('cut_corners', [True, False])
+def test_same_path_as_the_reference_on_larger_grids(seed, kind, cut_corners):
+    # 60 x 80: thousands of heap entries, so the kernel's heap grows past its first block.
+    rng = np.random.default_rng(seed)
+    blocked = maze_grid(61, 81, rng) if kind == 'maze' else random_grid(60, 80, 0.3, rng)
+    cell_cost = rng.choice(COST_VALUES, size=blocked.shape) if seed else None
+    goal = (blocked.shape[0] - 1, blocked.shape[1] - 1)
+    path = assert_same_as_reference(blocked, (0, 0), goal, cell_cost, cut_corners)
+    if kind == 'maze':
+        assert path is not None and len(path) > 100
+
+
+@pytest.mark.parametrize('text, start, goal, expected', [
+    # Round the blocked middle cell above or below: equal f, equal h, so the smaller flat
+    # index (the row above) wins.
+    ('... .#. ...', (1, 0), (1, 2), [(1, 0), (0, 1), (1, 2)]),
+    ('... .#. ...', (1, 2), (1, 0), [(1, 2), (0, 1), (1, 0)]),
+    ('... .#. ...', (0, 1), (2, 1), [(0, 1), (1, 0), (2, 1)]),
+])
+def test_exact_ties_go_to_the_smaller_flat_index(text, start, goal, expected):
+    blocked = grid_from_text(text)
+    assert astar(blocked, start, goal) == expected
+    assert reference_astar(blocked, start, goal) == expected
+
+
+def test_cell_cost_is_not_modified():
+    blocked = grid_from_text(U_TURN)
+    cost = np.full(blocked.shape, 0.3)
+    before = cost.copy()
+    astar(blocked, (0, 0), (4, 0), cell_cost=cost, cut_corners=False)
+    np.testing.assert_array_equal(cost, before)

@@ -3,7 +3,8 @@
 import math
 
 from dpn_navigator.benchmark.detection import DETECTION_FIELDS
-from dpn_navigator.benchmark.episode import map_quality, run_episode, shortest_path_length
+from dpn_navigator.benchmark.episode import (
+    map_quality, run_episode, shortest_path_length, task_setup)
 from dpn_navigator.core import CellLabel, GridGeometry
 import numpy as np
 import pytest
@@ -51,7 +52,11 @@ def test_an_episode_succeeds_and_repeats_exactly(back_and_forth):
     assert first.wall_contacts == first.wanderer_contacts == 0
     assert first.replans >= 2
     assert first.path_length >= 0.9 * first.shortest_path
-    assert first == run_episode(back_and_forth, 1, wanderers=2, seed=3)
+    # Again with the setup a benchmark worker keeps between episodes: the very same episode.
+    setup = task_setup(back_and_forth, 1)
+    assert setup.shortest_path == shortest_path_length(back_and_forth, back_and_forth.tasks[1])
+    assert first == run_episode(back_and_forth, 1, wanderers=2, seed=3, setup=setup)
+    assert not setup.wanderer_grid.clear.flags.writeable
 
 
 def test_running_out_of_time_is_a_timeout(back_and_forth):

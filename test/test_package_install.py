@@ -32,7 +32,7 @@ EXEC_DEPENDS = {
     'rclpy', 'sensor_msgs', 'nav_msgs', 'geometry_msgs', 'visualization_msgs', 'std_msgs',
     'diagnostic_msgs', 'python3-yaml', 'tf2_msgs', 'rcl_interfaces', 'builtin_interfaces',
     'ament_index_python', 'launch', 'launch_ros', 'rviz2',
-    'rosgraph_msgs', 'python3-numpy', 'python3-pybullet-pip',
+    'rosgraph_msgs', 'python3-numpy', 'python3-numba', 'python3-pybullet-pip',
 }
 TEST_DEPENDS = {
     'ament_flake8', 'ament_pep257', 'python3-hypothesis', 'python3-pytest',
@@ -41,7 +41,7 @@ TEST_DEPENDS = {
 PYTHON_MODULE_KEYS = {
     'numpy': 'python3-numpy', 'yaml': 'python3-yaml', 'pybullet': 'python3-pybullet-pip',
     'pybullet_data': 'python3-pybullet-pip', 'matplotlib': 'python3-matplotlib',
-    'tqdm': 'python3-tqdm',
+    'tqdm': 'python3-tqdm', 'numba': 'python3-numba',
 }
 #: Imported only on request, by an optional feature: Ray (``dpn-benchmark --backend ray``,
 #: requirements-ray.txt) has no rosdep key.

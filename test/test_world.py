@@ -28,7 +28,7 @@ from sim_bridge.scenario import load_scenario, Scenario
 from sim_bridge.tasks import Task
 from sim_bridge.walls import merge_cells
 from sim_bridge.wanderers import P3AT_RADIUS, WandererConfig, Wanderers
-from sim_bridge.world import World, WorldConfig
+from sim_bridge.world import wanderer_clearance_grid, World, WorldConfig
 
 NO_RAMP = DriveLimits(max_linear_accel=None, max_angular_accel=None)
 RESOLUTION = 0.1
@@ -332,6 +332,72 @@ def test_wanderer_stops_for_the_husky_then_picks_another_goal():
     assert wanderers.replans > replans
     assert math.dist(wanderers.positions[0], (x, y)) > 1.0
     assert math.dist(wanderers.positions[0], husky) > HUSKY_RADIUS + P3AT_RADIUS
+
+
+def whole_grid_goal(grid, anchor, blocked, goal_distance_range, rng):
+    """Draw a goal as the wanderers did, over the whole grid: the twin of `_pick_goal`."""
+    rr, cc = np.nonzero((grid.labels == grid.labels[anchor]) & ~blocked)
+    if len(rr) == 0:
+        return None
+    xs, ys = grid.geometry.cell_to_world(rr, cc)
+    ax, ay = grid.centre(*anchor)
+    dist = np.hypot(xs - ax, ys - ay)
+    lo, hi = goal_distance_range
+    pool = np.flatnonzero((dist >= lo) & (dist <= hi))
+    if len(pool) == 0:
+        pool = np.flatnonzero(dist > 0.0)
+    if len(pool) == 0:
+        return None
+    k = int(pool[rng.integers(len(pool))])
+    return int(rr[k]), int(cc[k])
+
+
+@pytest.mark.parametrize('goal_distance_range', [(3.0, 15.0), (0.0, 1.0), (40.0, 50.0)])
+def test_goals_drawn_in_the_window_are_the_whole_grid_draws(back_and_forth,
+                                                            goal_distance_range):
+    # (40, 50) m is beyond the map: every draw takes the fallback over the whole grid.
+    grid = wanderer_clearance_grid(back_and_forth, WandererConfig())
+    config = WandererConfig(goal_distance_range=goal_distance_range)
+    wanderers = Wanderers(grid, 0, (2.0, 2.0), np.random.default_rng(0), config)
+    twin_rng = np.random.default_rng(5)
+    wanderers.rng = np.random.default_rng(5)
+    blocked = ~grid.clear
+    rr, cc = np.nonzero(grid.clear)
+    draws = 0
+    for k in np.random.default_rng(1).choice(len(rr), size=40, replace=False):
+        anchor = (int(rr[k]), int(cc[k]))
+        expected = whole_grid_goal(grid, anchor, blocked, goal_distance_range, twin_rng)
+        assert wanderers._pick_goal(anchor, blocked) == expected
+        draws += expected is not None
+    assert draws == 40
+    assert wanderers.rng.integers(1 << 30) == twin_rng.integers(1 << 30)
+
+
+def test_a_prebuilt_wanderer_grid_must_fit(back_and_forth):
+    with pytest.raises(ValueError, match='clearance of 0.3 m'):
+        World(back_and_forth, wanderer_grid=wanderer_clearance_grid(
+            back_and_forth, WandererConfig(clearance=0.3)))
+    with pytest.raises(ValueError, match="not a grid of this scenario's map"):
+        World(back_and_forth, wanderer_grid=wanderer_clearance_grid(room(), WandererConfig()))
+
+
+def test_ray_twins_are_in_place_at_every_scan(back_and_forth):
+    # The wanderers' ray twins move only when a scan is due; then they must stand exactly
+    # where their bodies do.
+    import pybullet
+    with World(back_and_forth, WorldConfig(n_wanderers=4, seed=2)) as world:
+        scene = world.scene
+        start = world.wanderer_positions
+        for _ in range(30):
+            world.advance(0.0, 0.0)
+            twins = [pybullet.getBasePositionAndOrientation(body, physicsClientId=scene.client)
+                     for body in scene.wanderer_ray_bodies]
+            for i in range(4):
+                world._place_wanderer(i)       # both the body and the twin, afresh
+            assert twins == [
+                pybullet.getBasePositionAndOrientation(body, physicsClientId=scene.client)
+                for body in scene.wanderer_ray_bodies]
+        assert np.all(np.hypot(*(world.wanderer_positions - start).T) > 0.5)
 
 
 def test_no_room_to_spawn():

@@ -121,6 +121,50 @@ def shortest_path_length(scenario, task):
     return math.inf if path is None else path_cost(path) * grid.geometry.resolution
 
 
+@dataclass(frozen=True, eq=False)
+class TaskSetup:
+    """
+    What every episode of one scenario and task computes alike, whatever its wanderers.
+
+    Attributes
+    ----------
+    shortest_path : float
+        `shortest_path_length` of the task [m].
+    wanderer_grid : sim_bridge.free_space.ClearanceGrid
+        The wanderers' clearance grid of the scenario (default `WandererConfig`), read-only.
+        It does not depend on the task.
+
+    """
+
+    shortest_path: float
+    wanderer_grid: object
+
+
+def task_setup(scenario, task_index, wanderer_grid=None):
+    """
+    Compute the `TaskSetup` of a scenario's task.
+
+    Parameters
+    ----------
+    scenario : sim_bridge.scenario.Scenario
+        The map and its tasks.
+    task_index : int
+        Which of its tasks.
+    wanderer_grid : sim_bridge.free_space.ClearanceGrid, optional
+        The scenario's wanderer grid from an earlier `TaskSetup` of another task (it does
+        not depend on the task); built here by default.
+
+    Returns
+    -------
+    TaskSetup
+
+    """
+    if wanderer_grid is None:
+        from sim_bridge.world import wanderer_clearance_grid, WorldConfig
+        wanderer_grid = wanderer_clearance_grid(scenario, WorldConfig().wanderer)
+    return TaskSetup(shortest_path_length(scenario, scenario.tasks[task_index]), wanderer_grid)
+
+
 def map_quality(labels, geometry, truth_occupied, truth_geometry, wanderer_xy, wanderer_radius,
                 safety_radius):
     """
@@ -183,7 +227,8 @@ def map_quality(labels, geometry, truth_occupied, truth_geometry, wanderer_xy, w
 
 
 def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
-                time_limit=None, recorder=None, navigator_options=None, detection=True):
+                time_limit=None, recorder=None, navigator_options=None, detection=True,
+                setup=None):
     """
     Run one episode in lockstep and measure it.
 
@@ -210,6 +255,9 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
     detection : bool
         Measure the map as a detector after every scan (``EpisodeResult.detection``); it
         reads the navigator and the world and changes neither.
+    setup : TaskSetup, optional
+        This scenario's and task's setup (`task_setup`), when the caller keeps it between
+        episodes (a benchmark worker does); computed here by default.
 
     Returns
     -------
@@ -225,14 +273,16 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
                                            **(navigator_options or {}))
     elif navigator_options:
         raise ValueError('give navigator_config or navigator_options, not both')
-    shortest = shortest_path_length(scenario, task)
+    if setup is None:
+        setup = task_setup(scenario, task_index)
+    shortest = setup.shortest_path
     if time_limit is None:
         time_limit = 30.0 + 3.0 * shortest / navigator_config.follower.max_linear_speed
     navigator = Navigator(navigator_config)
     navigator.set_goal(*task.goal)
     travelled = 0.0
-    with World(scenario, WorldConfig(n_wanderers=wanderers, seed=seed),
-               start=task.start) as world:
+    with World(scenario, WorldConfig(n_wanderers=wanderers, seed=seed), start=task.start,
+               wanderer_grid=setup.wanderer_grid) as world:
         scan = world.scan()
         last_xy = world.husky_pose[:2]
         meter = None

@@ -2,7 +2,9 @@
 Run a protocol's episodes in parallel, on local cores or a Ray cluster, into an episode log.
 
 Every episode runs in a worker process (`run_spec`): the lockstep episode of
-``dpn_navigator.benchmark.episode``, with no ROS. Results come back to this process, which
+``dpn_navigator.benchmark.episode``, with no ROS. A worker keeps what episodes of one map and
+task share (the scenario, the reference shortest path, the wanderers' clearance grid) for the
+next ones, and compiles the core's kernels once. Results come back to this process, which
 appends each to ``episodes.csv`` as it arrives (see `EpisodeLog`) and shows progress and the
 time left with tqdm.
 
@@ -18,8 +20,9 @@ import multiprocessing
 import os
 import time
 
-from .episode import run_episode
+from .episode import run_episode, task_setup
 from .episode_log import EpisodeLog
+from ..core import jit
 
 
 @dataclass(frozen=True)
@@ -73,6 +76,19 @@ def _scenario(map_key, index):
     return load_scenario(map_key, index=index)
 
 
+@functools.lru_cache(maxsize=8)
+def _wanderer_grid(map_key, index):
+    """Build a map's wanderer clearance grid once per worker process."""
+    from sim_bridge.world import wanderer_clearance_grid, WorldConfig
+    return wanderer_clearance_grid(_scenario(map_key, index), WorldConfig().wanderer)
+
+
+@functools.lru_cache(maxsize=24)
+def _task_setup(map_key, index, task):
+    """Compute a task's `TaskSetup` once per worker process."""
+    return task_setup(_scenario(map_key, index), task, _wanderer_grid(map_key, index))
+
+
 def run_spec(spec, index=None, navigator_options=None, detection=True):
     """
     Run one episode and return its log row.
@@ -99,8 +115,10 @@ def run_spec(spec, index=None, navigator_options=None, detection=True):
     if not 0 <= spec.task < len(scenario.tasks):
         raise ValueError(f'map {spec.map_key!r} has {len(scenario.tasks)} tasks; there is no '
                          f'task {spec.task}')
+    jit.warm_up()
     result = run_episode(scenario, spec.task, spec.wanderers, spec.seed,
-                         navigator_options=navigator_options, detection=detection)
+                         navigator_options=navigator_options, detection=detection,
+                         setup=_task_setup(spec.map_key, index, spec.task))
     row = result.as_row()
     del row['scenario']
     row.update(map=spec.map_key, number=scenario.number, family=scenario.family or '',

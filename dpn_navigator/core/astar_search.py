@@ -9,32 +9,36 @@ With ``cut_corners=False`` it is forbidden when either is blocked, so that a rob
 the path centre to centre never passes a blocked cell closer than half a cell's diagonal.
 The target of every move must be free.
 
-The search is plain Python over flat cell indices; numpy does the whole-grid work up front
-(which moves are legal from each cell, and the heuristic).
+The search is a compiled kernel (numba, see `dpn_navigator.core.jit`) that works out the legal
+moves and the heuristic of each cell as it reaches it, so a call costs about as much as the
+cells it expands, not the size of the grid.
 
 """
 
-from array import array
-import heapq
 import math
 import operator
 
 import numpy as np
+
+from .jit import kernel
 
 #: Cost of a move along a row or a column [cells].
 ORTHOGONAL_STEP_COST = 1.0
 #: Cost of a diagonal move [cells].
 DIAGONAL_STEP_COST = math.sqrt(2.0)
 
-# Bit k of a cell's orthogonal (diagonal) move mask is set when move k of this tuple is legal.
+# Moves in the order the search tries them: along rows and columns, then diagonals.
 _ORTHOGONAL_MOVES = ((0, 1), (1, 0), (0, -1), (-1, 0))
 _DIAGONAL_MOVES = ((1, 1), (1, -1), (-1, 1), (-1, -1))
 
 # Mantissa bits of a float64, counting the implicit one.
 _FLOAT_BITS = 53
 
-# g-score of an expanded cell: below every real cost, so no move improves on it.
-_CLOSED = -1.0
+# Search state of a cell in the kernel.
+_UNSEEN, _OPEN, _CLOSED = 0, 1, 2
+
+# Entries of the kernel's binary heap at first; it doubles when full.
+_INITIAL_HEAP = 1024
 
 
 def astar(blocked, start, goal, cell_cost=None, cut_corners=True):
@@ -53,7 +57,7 @@ def astar(blocked, start, goal, cell_cost=None, cut_corners=True):
     cell_cost : (rows, cols) array_like of float, optional
         Extra cost of entering each cell [cells], finite and non-negative, e.g. a penalty
         for cells next to obstacles. A move then costs its step cost plus the extra cost of
-        the cell it enters. None (the default) is the same as all zeros, only faster.
+        the cell it enters. None (the default) is the same as all zeros.
     cut_corners : bool
         Whether a diagonal move may pass one blocked cell (True, the default) or needs both
         cells beside it free.
@@ -77,22 +81,25 @@ def astar(blocked, start, goal, cell_cost=None, cut_corners=True):
     Notes
     -----
     A* with the octile distance as heuristic, which is admissible and consistent for these
-    move costs, and a binary heap (`heapq`) with lazy deletion. Ties in f are broken towards
-    the smaller heuristic, which on open ground expands little more than the path itself.
-    Before the loop, numpy works out for the whole grid which moves are legal from each cell
-    (inside the grid, free target, corner rule) as two 4-bit masks, and the heuristic of each
-    cell; the loop then walks a tuple of flat-index offsets per cell, with no bounds or
-    obstacle checks.
+    move costs, and a binary heap with lazy deletion, ordered by ``(f, h, cell)`` with
+    ``cell = row * cols + col``: ties in f are broken towards the smaller heuristic, which on
+    open ground expands little more than the path itself, and then towards the smaller flat
+    index. That order is total, so the path does not depend on how the heap is built (it is
+    the path of the `heapq` version this kernel replaced, kept in the tests as the oracle).
+    Moves and the heuristic are worked out for each cell as the search reaches it: nothing is
+    prepared over the whole grid but its input checks and the search's own state arrays
+    (allocated zeroed, which the operating system does lazily for large grids).
 
     For the ties to be exact the search adds costs in fixed point: the diagonal cost is
     sqrt(2) rounded to a multiple of ``2**-m``, with ``m`` as large as lets every g, h and f
-    on the grid fit the float64 mantissa (``m = 36`` for 200 x 200, 31 for 1000 x 1000). Sums
-    are then exact and equal-cost paths compare equal. Two paths of ``a`` and ``a'``
-    orthogonal and ``b`` and ``b'`` diagonal moves are still ordered as under sqrt(2)
-    whenever ``|b - b'| * (|a - a'| + sqrt(2) * |b - b'|) < 2**(m + 1)``, which holds for
-    every pair of paths on grids of up to about 100 000 cells: there the path is exactly
-    optimal. On larger grids it is within ``|b - b'| * 2**-(m + 1)`` of optimal, the size of
-    the float64 rounding error of summing that many steps.
+    on the grid fit the float64 mantissa (``m = 36`` for 200 x 200, 31 for 1000 x 1000), and
+    each extra cell cost is rounded to a multiple of ``2**-m`` too. Sums are then exact and
+    equal-cost paths compare equal. Two paths of ``a`` and ``a'`` orthogonal and ``b`` and
+    ``b'`` diagonal moves are still ordered as under sqrt(2) whenever
+    ``|b - b'| * (|a - a'| + sqrt(2) * |b - b'|) < 2**(m + 1)``, which holds for every pair
+    of paths on grids of up to about 100 000 cells: there the path is exactly optimal. On
+    larger grids it is within ``|b - b'| * 2**-(m + 1)`` of optimal, the size of the float64
+    rounding error of summing that many steps.
 
     Examples
     --------
@@ -108,94 +115,220 @@ def astar(blocked, start, goal, cell_cost=None, cut_corners=True):
     grid = _as_blocked_grid(blocked)
     start = _as_cell(start, grid.shape, 'start')
     goal = _as_cell(goal, grid.shape, 'goal')
-    extra_cost = None if cell_cost is None else _as_cell_cost(cell_cost, grid.shape)
+    if cell_cost is not None:
+        extra_flat, max_extra = _as_cell_cost(cell_cost, grid.shape)
     if start == goal:
         return [start]
     if grid[goal]:
         return None
     rows, cols = grid.shape
-    ortho_mask, diag_mask = _move_masks(grid, cut_corners)
-    ortho_moves = _move_offsets(_ORTHOGONAL_MOVES, cols)
-    diag_moves = _move_offsets(_DIAGONAL_MOVES, cols)
-    max_extra = 0.0 if extra_cost is None else float(extra_cost.max())
+    if cell_cost is None:
+        extra_flat, max_extra = np.zeros(1, dtype=np.float64), 0.0  # never read
     diag_cost, bits = _fixed_point_diagonal_cost(rows, cols, max_extra)
-    heuristic = _octile_distance(rows, cols, goal, diag_cost)
-    if extra_cost is not None:
-        # The same fixed point as the diagonal cost, so that sums stay exact.
-        extra = memoryview(np.ldexp(np.round(np.ldexp(extra_cost, bits)), -bits).ravel())
-        return _search_with_cell_cost(start, goal, cols, ortho_mask, diag_mask, ortho_moves,
-                                      diag_moves, diag_cost, heuristic, extra)
-    # Without cell costs the loop below runs on its own: folding it into
-    # `_search_with_cell_cost` with zero costs made it about 20 % slower (200x200, corner to
-    # corner: 9.6 against 8.0 ms on random obstacles, 9.0 against 7.3 ms in a maze), and the
-    # wanderers of the simulator plan with it on every walk.
+    flat_path = _search(np.ascontiguousarray(grid).reshape(-1), rows, cols,
+                        start[0] * cols + start[1], goal[0] * cols + goal[1],
+                        extra_flat, cell_cost is not None, bool(cut_corners), diag_cost,
+                        math.ldexp(1.0, bits), math.ldexp(1.0, -bits),
+                        np.zeros(rows * cols, dtype=np.uint8),
+                        np.empty(rows * cols, dtype=np.float64),
+                        np.empty(rows * cols, dtype=np.int64))
+    if len(flat_path) == 0:
+        return None
+    path_rr, path_cc = np.divmod(flat_path, cols)
+    return list(zip(path_rr.tolist(), path_cc.tolist()))
 
-    source = start[0] * cols + start[1]
-    target = goal[0] * cols + goal[1]
-    g_score = [math.inf] * (rows * cols)
-    parent = array('l', [0]) * (rows * cols)
+
+def warm_up_astar():
+    """Compile (or load from the cache) the A* kernels with one tiny search."""
+    astar(np.zeros((2, 2), dtype=bool), (0, 0), (1, 1), cell_cost=np.zeros((2, 2)))
+
+
+@kernel
+def _search(blocked, rows, cols, source, target, extra, has_extra, cut_corners, diag_cost,
+            scale, unscale, state, g_score, parent):
+    """
+    Run the A* loop of `astar` (see its notes); return the path as flat cell indices.
+
+    Parameters
+    ----------
+    blocked : (rows * cols,) ndarray of bool
+        The grid, row-major.
+    rows, cols : int
+        Its shape.
+    source, target : int
+        Flat indices of start and goal (distinct; the goal free).
+    extra : (rows * cols,) ndarray of float64
+        Extra cost of entering each cell, read when ``has_extra``; rounded to a multiple of
+        ``unscale`` as it is read.
+    has_extra : bool
+        Whether there are extra cell costs.
+    cut_corners : bool
+        The corner rule of `astar`.
+    diag_cost : float
+        Fixed-point sqrt(2) (`_fixed_point_diagonal_cost`).
+    scale, unscale : float
+        ``2**m`` and ``2**-m`` for its ``m`` fraction bits.
+    state : (rows * cols,) ndarray of uint8
+        All ``_UNSEEN``; scratch.
+    g_score : (rows * cols,) ndarray of float64
+        Scratch, read only where ``state`` is not ``_UNSEEN``.
+    parent : (rows * cols,) ndarray of int64
+        Scratch, likewise.
+
+    Returns
+    -------
+    path : (N,) ndarray of int64
+        Flat indices from ``source`` to ``target``; empty when there is no path.
+
+    """
+    goal_row = target // cols
+    goal_col = target - goal_row * cols
+    heap_f = np.empty(_INITIAL_HEAP, dtype=np.float64)
+    heap_h = np.empty(_INITIAL_HEAP, dtype=np.float64)
+    heap_cell = np.empty(_INITIAL_HEAP, dtype=np.int64)
+    size = 0
+    h_source = _octile(source // cols, source % cols, goal_row, goal_col, diag_cost)
+    heap_f[0] = h_source
+    heap_h[0] = h_source
+    heap_cell[0] = source
+    size = 1
+    state[source] = _OPEN
     g_score[source] = 0.0
-    push = heapq.heappush
-    pop = heapq.heappop
-    open_heap = [(heuristic[source], heuristic[source], source)]
-    while open_heap:
-        cur = pop(open_heap)[2]
-        g_cur = g_score[cur]
-        if g_cur < 0.0:  # closed already: a stale entry
+    while size > 0:
+        cur = heap_cell[0]
+        size -= 1
+        if size > 0:
+            _sift_down(heap_f, heap_h, heap_cell, size, heap_f[size], heap_h[size],
+                       heap_cell[size])
+        if state[cur] == _CLOSED:  # a stale entry
             continue
         if cur == target:
-            return _trace_back(parent, source, target, cols)
-        g_score[cur] = _CLOSED
-        g_next = g_cur + ORTHOGONAL_STEP_COST
-        for offset in ortho_moves[ortho_mask[cur]]:
-            nxt = cur + offset
-            if g_next < g_score[nxt]:
-                g_score[nxt] = g_next
-                parent[nxt] = cur
-                h_next = heuristic[nxt]
-                push(open_heap, (g_next + h_next, h_next, nxt))
-        g_next = g_cur + diag_cost
-        for offset in diag_moves[diag_mask[cur]]:
-            nxt = cur + offset
-            if g_next < g_score[nxt]:
-                g_score[nxt] = g_next
-                parent[nxt] = cur
-                h_next = heuristic[nxt]
-                push(open_heap, (g_next + h_next, h_next, nxt))
-    return None
-
-
-def _search_with_cell_cost(start, goal, cols, ortho_mask, diag_mask, ortho_moves, diag_moves,
-                           diag_cost, heuristic, extra):
-    """Run the A* loop of `astar` with an extra cost per cell entered (see its notes)."""
-    source = start[0] * cols + start[1]
-    target = goal[0] * cols + goal[1]
-    g_score = [math.inf] * len(heuristic)
-    parent = array('l', [0]) * len(heuristic)
-    g_score[source] = 0.0
-    push = heapq.heappush
-    pop = heapq.heappop
-    open_heap = [(heuristic[source], heuristic[source], source)]
-    while open_heap:
-        cur = pop(open_heap)[2]
+            return _trace_back(parent, source, target)
+        state[cur] = _CLOSED
         g_cur = g_score[cur]
-        if g_cur < 0.0:  # closed already: a stale entry
-            continue
-        if cur == target:
-            return _trace_back(parent, source, target, cols)
-        g_score[cur] = _CLOSED
-        for moves, step in ((ortho_moves[ortho_mask[cur]], ORTHOGONAL_STEP_COST),
-                            (diag_moves[diag_mask[cur]], diag_cost)):
-            g_step = g_cur + step
-            for offset in moves:
-                nxt = cur + offset
-                g_next = g_step + extra[nxt]
-                if g_next < g_score[nxt]:
-                    g_score[nxt] = g_next
-                    parent[nxt] = cur
-                    h_next = heuristic[nxt]
-                    push(open_heap, (g_next + h_next, h_next, nxt))
-    return None
+        row = cur // cols
+        col = cur - row * cols
+        for k in range(8):
+            if k < 4:
+                drow, dcol = _ORTHOGONAL_MOVES[k]
+            else:
+                drow, dcol = _DIAGONAL_MOVES[k - 4]
+            nrow = row + drow
+            ncol = col + dcol
+            if nrow < 0 or nrow >= rows or ncol < 0 or ncol >= cols:
+                continue
+            nxt = nrow * cols + ncol
+            if blocked[nxt] or state[nxt] == _CLOSED:
+                continue
+            if k < 4:
+                g_next = g_cur + 1.0
+            else:
+                beside_row = blocked[nrow * cols + col]
+                beside_col = blocked[row * cols + ncol]
+                if cut_corners:
+                    if beside_row and beside_col:
+                        continue
+                elif beside_row or beside_col:
+                    continue
+                g_next = g_cur + diag_cost
+            if has_extra:
+                g_next = g_next + np.rint(extra[nxt] * scale) * unscale
+            if state[nxt] == _OPEN and not g_next < g_score[nxt]:
+                continue
+            state[nxt] = _OPEN
+            g_score[nxt] = g_next
+            parent[nxt] = cur
+            h_next = _octile(nrow, ncol, goal_row, goal_col, diag_cost)
+            if size == len(heap_cell):
+                heap_f = _grown(heap_f)
+                heap_h = _grown(heap_h)
+                heap_cell = _grown(heap_cell)
+            _sift_up(heap_f, heap_h, heap_cell, size, g_next + h_next, h_next, nxt)
+            size += 1
+    return np.empty(0, dtype=np.int64)
+
+
+@kernel
+def _octile(row, col, goal_row, goal_col, diag_cost):
+    """Octile distance from a cell to the goal with diagonal moves of ``diag_cost`` [cells]."""
+    drow = float(abs(row - goal_row))
+    dcol = float(abs(col - goal_col))
+    return min(drow, dcol) * (diag_cost - 2.0) + drow + dcol
+
+
+@kernel
+def _before(f_a, h_a, cell_a, f_b, h_b, cell_b):
+    """Tell whether heap entry a comes before b: ``(f, h, cell)`` in lexicographic order."""
+    if f_a != f_b:
+        return f_a < f_b
+    if h_a != h_b:
+        return h_a < h_b
+    return cell_a < cell_b
+
+
+@kernel
+def _sift_up(heap_f, heap_h, heap_cell, pos, f, h, cell):
+    """Put an entry into the free slot ``pos`` at the end of the heap and restore its order."""
+    while pos > 0:
+        up = (pos - 1) >> 1
+        if not _before(f, h, cell, heap_f[up], heap_h[up], heap_cell[up]):
+            break
+        heap_f[pos] = heap_f[up]
+        heap_h[pos] = heap_h[up]
+        heap_cell[pos] = heap_cell[up]
+        pos = up
+    heap_f[pos] = f
+    heap_h[pos] = h
+    heap_cell[pos] = cell
+
+
+@kernel
+def _sift_down(heap_f, heap_h, heap_cell, size, f, h, cell):
+    """Put an entry into the free root of a heap of ``size`` entries and restore its order."""
+    pos = 0
+    while True:
+        child = 2 * pos + 1
+        if child >= size:
+            break
+        right = child + 1
+        if right < size and _before(heap_f[right], heap_h[right], heap_cell[right],
+                                    heap_f[child], heap_h[child], heap_cell[child]):
+            child = right
+        if not _before(heap_f[child], heap_h[child], heap_cell[child], f, h, cell):
+            break
+        heap_f[pos] = heap_f[child]
+        heap_h[pos] = heap_h[child]
+        heap_cell[pos] = heap_cell[child]
+        pos = child
+    heap_f[pos] = f
+    heap_h[pos] = h
+    heap_cell[pos] = cell
+
+
+@kernel
+def _grown(values):
+    """Return a copy of ``values`` twice as long (the tail uninitialised)."""
+    bigger = np.empty(2 * len(values), dtype=values.dtype)
+    # An element loop: a slice assignment here took numba 4 CPU-s more to compile.
+    for k in range(len(values)):
+        bigger[k] = values[k]
+    return bigger
+
+
+@kernel
+def _trace_back(parent, source, target):
+    """Follow ``parent`` links from ``target`` to ``source``; return the cells in path order."""
+    length = 1
+    cur = target
+    while cur != source:
+        cur = parent[cur]
+        length += 1
+    path = np.empty(length, dtype=np.int64)
+    cur = target
+    for k in range(length - 1, -1, -1):
+        path[k] = cur
+        cur = parent[cur]
+    return path
 
 
 def path_cost(path):
@@ -273,16 +406,40 @@ def _as_blocked_grid(blocked):
 
 
 def _as_cell_cost(cell_cost, shape):
-    """Check ``cell_cost`` against the grid's shape; return it as float64."""
+    """
+    Check ``cell_cost`` against the grid's shape.
+
+    Returns
+    -------
+    cost : (rows * cols,) ndarray of float64
+        Row-major, C-contiguous.
+    max_cost : float
+        Its largest value.
+
+    """
     try:
         cost = np.asarray(cell_cost, dtype=np.float64)
     except (TypeError, ValueError) as exc:
         raise ValueError(f'cell_cost must be an array of numbers: {exc}') from exc
     if cost.shape != shape:
         raise ValueError(f"cell_cost must have the grid's shape {shape}, got {cost.shape}")
-    if not (np.isfinite(cost).all() and (cost >= 0.0).all()):
+    cost = np.ascontiguousarray(cost).reshape(-1)
+    max_cost = _largest_if_finite_and_non_negative(cost)
+    if max_cost < 0.0:
         raise ValueError('cell_cost must be finite and non-negative')
-    return cost
+    return cost, max_cost
+
+
+@kernel
+def _largest_if_finite_and_non_negative(values):
+    """Return the largest of ``values``, or -1.0 if one is NaN, infinite or negative."""
+    largest = 0.0
+    for value in values:
+        if not (0.0 <= value < np.inf):
+            return -1.0
+        if value > largest:
+            largest = value
+    return largest
 
 
 def _as_cell(cell, shape, name):
@@ -306,52 +463,6 @@ def _as_cell(cell, shape, name):
     return (row, col)
 
 
-def _move_masks(grid, cut_corners=True):
-    """
-    Which moves are legal from each cell, as two flat bit masks.
-
-    Parameters
-    ----------
-    grid : (rows, cols) ndarray of bool
-        True where blocked.
-    cut_corners : bool
-        Whether a diagonal move needs one (True) or both (False) of the cells beside it free.
-
-    Returns
-    -------
-    ortho_mask, diag_mask : bytes of length rows * cols
-        Bit k of byte ``r * cols + c`` is set when move k of ``_ORTHOGONAL_MOVES``
-        (``_DIAGONAL_MOVES``) from ``(r, c)`` stays in the grid, ends on a free cell and, for a
-        diagonal move, does not pass between two blocked cells (with ``cut_corners=False``: beside
-        any blocked cell). The state of ``(r, c)`` itself
-        does not matter.
-
-    """
-    rows, cols = grid.shape
-    free = np.zeros((rows + 2, cols + 2), dtype=np.uint8)  # a blocked border: no bounds checks
-    free[1:-1, 1:-1] = ~grid
-
-    def shifted(dr, dc):
-        return free[1 + dr:rows + 1 + dr, 1 + dc:cols + 1 + dc]
-
-    ortho_mask = np.zeros((rows, cols), dtype=np.uint8)
-    for bit, (dr, dc) in enumerate(_ORTHOGONAL_MOVES):
-        ortho_mask |= shifted(dr, dc) << bit
-    diag_mask = np.zeros((rows, cols), dtype=np.uint8)
-    for bit, (dr, dc) in enumerate(_DIAGONAL_MOVES):
-        beside = (shifted(dr, 0) | shifted(0, dc)) if cut_corners else \
-            (shifted(dr, 0) & shifted(0, dc))
-        diag_mask |= (shifted(dr, dc) & beside) << bit
-    return ortho_mask.tobytes(), diag_mask.tobytes()
-
-
-def _move_offsets(moves, cols):
-    """Flat-index offsets of the legal moves for each of the 16 values of a 4-bit move mask."""
-    offsets = [dr * cols + dc for dr, dc in moves]
-    return [tuple(offset for bit, offset in enumerate(offsets) if mask >> bit & 1)
-            for mask in range(1 << len(moves))]
-
-
 def _fixed_point_diagonal_cost(rows, cols, max_extra=0.0):
     """
     Sqrt(2) rounded so that path costs on a (rows, cols) grid add exactly in float64.
@@ -373,35 +484,3 @@ def _fixed_point_diagonal_cost(rows, cols, max_extra=0.0):
     max_cost = (DIAGONAL_STEP_COST + max_extra) * (rows * cols + rows + cols)
     m = _FLOAT_BITS - 1 - math.ceil(math.log2(max_cost))
     return math.ldexp(round(math.ldexp(DIAGONAL_STEP_COST, m)), -m), m
-
-
-def _octile_distance(rows, cols, goal, diag_cost):
-    """
-    Octile distance of every cell to ``goal``, with diagonal moves of ``diag_cost``.
-
-    Returns
-    -------
-    distance : (rows * cols,) memoryview of float64
-        ``drow + dcol + (diag_cost - 2) * min(drow, dcol)`` for the cell ``r * cols + c``, where
-        ``drow = |r - goal_row|`` and ``dcol = |c - goal_col|`` [cells]. Indexing a memoryview
-        yields Python floats as fast as a list does, without building a million of them.
-
-    """
-    drow = np.abs(np.arange(rows, dtype=np.float64) - goal[0])
-    dcol = np.abs(np.arange(cols, dtype=np.float64) - goal[1])
-    distance = np.minimum.outer(drow, dcol)
-    distance *= diag_cost - 2.0
-    distance += drow[:, np.newaxis]
-    distance += dcol
-    return memoryview(distance.ravel())
-
-
-def _trace_back(parent, source, target, cols):
-    """Follow ``parent`` links from ``target`` to ``source``; return the cells in path order."""
-    flat = [target]
-    cur = target
-    while cur != source:
-        cur = parent[cur]
-        flat.append(cur)
-    flat.reverse()
-    return [divmod(index, cols) for index in flat]

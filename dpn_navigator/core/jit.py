@@ -1,0 +1,120 @@
+"""
+How the core's compiled kernels are built: numba settings, the on-disk cache, the warm-up.
+
+Every kernel of the core is a private function decorated with `kernel`, which is
+``numba.njit(cache=True, nogil=True)``: compiled to machine code on its first call, with no
+Python objects inside (so it releases the GIL), and saved to a cache on disk so that the next
+process loads it instead of compiling again.
+
+The cache lives in ``$NUMBA_CACHE_DIR`` when that is set (numba's own variable), otherwise in
+``$XDG_CACHE_HOME/dpn_numba`` (``~/.cache/dpn_numba`` by default): an installed package's
+directory may be read-only, and numba's default is a ``__pycache__`` beside the source. When
+that place cannot be written either, numba's own fallback applies (a per-user directory, or
+no cache, with a warning).
+
+A node or the benchmark calls `warm_up` once at start, so that the first scan is not the one
+that waits for the compiler or the cache.
+
+"""
+
+import os
+from pathlib import Path
+import sys
+import tempfile
+import time
+
+#: Sub-directory of the user's cache directory that holds the compiled kernels.
+CACHE_SUBDIR = 'dpn_numba'
+
+
+def default_cache_dir(environ=None):
+    """
+    Return where the kernels are cached when ``NUMBA_CACHE_DIR`` is not set.
+
+    Parameters
+    ----------
+    environ : mapping, optional
+        The environment (``os.environ`` by default).
+
+    Returns
+    -------
+    path : pathlib.Path
+        ``$XDG_CACHE_HOME/dpn_numba``, or ``~/.cache/dpn_numba`` when ``XDG_CACHE_HOME`` is
+        unset or empty.
+
+    """
+    environ = os.environ if environ is None else environ
+    base = environ.get('XDG_CACHE_HOME') or os.path.join(os.path.expanduser('~'), '.cache')
+    return Path(base) / CACHE_SUBDIR
+
+
+def _writable_dir(path):
+    """Create ``path`` if need be; return True when a file can be written in it."""
+    try:
+        os.makedirs(path, exist_ok=True)
+        with tempfile.TemporaryFile(dir=path):
+            pass
+    except OSError:
+        return False
+    return True
+
+
+def _configure_cache():
+    """Point numba's cache at `default_cache_dir` unless ``NUMBA_CACHE_DIR`` says otherwise."""
+    if os.environ.get('NUMBA_CACHE_DIR'):
+        return
+    path = default_cache_dir()
+    if _writable_dir(path):
+        # Read at import by numba, and by its cache locators each time a kernel is defined.
+        os.environ['NUMBA_CACHE_DIR'] = str(path)
+        if 'numba' in sys.modules:
+            sys.modules['numba'].config.CACHE_DIR = str(path)
+
+
+# Before numba is imported: it reads NUMBA_CACHE_DIR once, at import.
+_configure_cache()
+
+import numba  # noqa: E402, I100
+
+#: Options of every kernel: machine code with no Python objects, cached on disk, GIL released.
+KERNEL_OPTIONS = {'cache': True, 'nogil': True}
+
+
+def kernel(func):
+    """
+    Compile ``func`` as a kernel of the core: ``numba.njit(cache=True, nogil=True)``.
+
+    Parameters
+    ----------
+    func : function
+        Plain Python over numpy arrays and scalars, in numba's nopython subset.
+
+    Returns
+    -------
+    numba.core.registry.CPUDispatcher
+        Compiled on its first call, or loaded from the cache.
+
+    """
+    return numba.njit(**KERNEL_OPTIONS)(func)
+
+
+def cache_dir():
+    """Return the directory numba caches kernels in now (``''`` when it chose itself)."""
+    return numba.config.CACHE_DIR
+
+
+def warm_up():
+    """
+    Compile (or load from the cache) every kernel of the core with a tiny call.
+
+    Returns
+    -------
+    seconds : float
+        Wall time it took [s]: the compile time with an empty cache, the load time with a
+        warm one, nearly 0 when the kernels were ready already.
+
+    """
+    from .astar_search import warm_up_astar
+    started = time.perf_counter()
+    warm_up_astar()
+    return time.perf_counter() - started
