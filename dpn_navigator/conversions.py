@@ -43,6 +43,11 @@ def quaternion_to_yaw(quaternion):
     return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
 
 
+def stamp_to_seconds(stamp):
+    """Return a ``builtin_interfaces/Time`` as seconds [s] (float)."""
+    return stamp.sec + stamp.nanosec * 1e-9
+
+
 def odometry_to_pose(msg):
     """
     Read the planar pose of an ``Odometry`` message.

@@ -33,8 +33,10 @@ from visualization_msgs.msg import MarkerArray
 
 from .command_publisher import CommandPublisher
 from .conversions import (labels_to_occupancy_grid, laser_scan_fields, line_strip_marker,
-                          odometry_to_pose, points_to_path, pose_to_odometry, sphere_marker)
+                          odometry_to_pose, points_to_path, pose_to_odometry, sphere_marker,
+                          stamp_to_seconds)
 from .core import jit, Navigator, NavigatorStatus
+from .core.pose_history import PoseHistory
 from .core.scan_polygon import check_scan
 from .diagnostics import diagnostic_status, DiagnosticsPublisher
 from .dpn_params import declare_parameters
@@ -66,6 +68,8 @@ class DpnNode(Node):
         self.scan_frame_mismatches = 0
         self.map_load_time = None
         self.pose = None
+        self.pose_history = PoseHistory()
+        self.scans_placed_at_latest_pose = 0
         self.velocity = (0.0, 0.0)
         self.last_scan_time = None
         self.last_odom_time = None
@@ -141,6 +145,7 @@ class DpnNode(Node):
             self.reject('odometry', error)
             return
         self.pose = pose
+        self.pose_history.add(stamp_to_seconds(msg.header.stamp), pose)
         self.velocity = velocity if all(math.isfinite(v) for v in velocity) else (0.0, 0.0)
         self.last_odom_time = self.now_seconds()
         if self.navigator.goal is not None and (
@@ -166,7 +171,12 @@ class DpnNode(Node):
                 self.get_logger().info('waiting for odometry',
                                        throttle_duration_sec=WARN_THROTTLE)
                 return
-            self.navigator.observe(self.pose, **fields, stamp=now)
+            # Placed where the robot was when the scan was taken, not where it is now.
+            scan_pose = self.pose_history.pose_at(stamp_to_seconds(msg.header.stamp))
+            if scan_pose is None:
+                scan_pose = self.pose
+                self.scans_placed_at_latest_pose += 1
+            self.navigator.observe(scan_pose, **fields, stamp=now)
         except ValueError as error:
             self.reject('scan', error)
             return
@@ -236,6 +246,8 @@ class DpnNode(Node):
             'rejected_odometry': self.rejected['odometry'],
             'rejected_goals': self.rejected['goal'],
             'scan_frame_mismatches': self.scan_frame_mismatches,
+            # Scans with no odometry within 50 ms of their stamp, placed at the latest pose.
+            'scans_placed_at_latest_pose': self.scans_placed_at_latest_pose,
             'sensors_stale': self.stale,
             # Wall time from the scan callback's start to the map's publication [ms].
             'scan_to_map_ms_median': (f'{statistics.median(self.scan_to_map_ms):.3f}'
