@@ -145,8 +145,8 @@ class DpnNode(Node):
             self.reject('odometry', error)
             return
         self.pose = pose
-        self.pose_history.add(stamp_to_seconds(msg.header.stamp), pose)
         self.velocity = velocity if all(math.isfinite(v) for v in velocity) else (0.0, 0.0)
+        self.pose_history.add(stamp_to_seconds(msg.header.stamp), pose, self.velocity)
         self.last_odom_time = self.now_seconds()
         if self.navigator.goal is not None and (
                 not self.trail or math.dist(self.trail[-1], pose[:2]) >= TRAIL_STEP):
@@ -246,7 +246,8 @@ class DpnNode(Node):
             'rejected_odometry': self.rejected['odometry'],
             'rejected_goals': self.rejected['goal'],
             'scan_frame_mismatches': self.scan_frame_mismatches,
-            # Scans with no odometry within 50 ms of their stamp, placed at the latest pose.
+            # Scans more than 0.2 s after the latest odometry (or older than the kept 1 s),
+            # placed at the latest pose.
             'scans_placed_at_latest_pose': self.scans_placed_at_latest_pose,
             'sensors_stale': self.stale,
             # Wall time from the scan callback's start to the map's publication [ms].

@@ -26,15 +26,25 @@ def test_pose_between_stamps_is_interpolated_on_the_short_arc():
 
 @pytest.mark.parametrize(('stamp', 'expected'), [
     (0.97, (0.0, 0.0, 0.0)),            # within the tolerance before the oldest
-    (3.02, (3.0, 0.0, 0.0)),            # within the tolerance after the newest
+    (3.0, (3.0, 0.0, 0.0)),             # the newest
     (0.9, None),
-    (3.2, None),
+    (3.2, None),                        # more than the extrapolation after the newest
 ])
 def test_stamps_outside_the_history(stamp, expected):
-    history = PoseHistory(span=5.0, tolerance=0.05)
+    history = PoseHistory(span=5.0, tolerance=0.05, extrapolation=0.1)
     for k in range(4):
         history.add(1.0 + k * (2.0 / 3.0), (float(k), 0.0, 0.0))
     assert history.pose_at(stamp) == expected
+
+
+def test_a_stamp_after_the_newest_pose_moves_it_on_with_its_velocity():
+    history = PoseHistory(extrapolation=0.2)
+    history.add(1.0, (0.0, 0.0, 0.0), (1.0, 0.0))
+    assert history.pose_at(1.1) == pytest.approx((0.1, 0.0, 0.0))
+    history.add(2.0, (0.0, 0.0, 0.0), (1.0, 1.0))     # on an arc of radius 1 m
+    x, y, yaw = history.pose_at(2.15)
+    assert yaw == pytest.approx(0.15)
+    assert math.hypot(x - math.sin(0.15), y - (1.0 - math.cos(0.15))) < 1e-3
 
 
 def test_old_poses_are_dropped_and_time_going_back_starts_anew():
@@ -52,6 +62,7 @@ def test_old_poses_are_dropped_and_time_going_back_starts_anew():
 @pytest.mark.parametrize(('kwargs', 'message'), [
     ({'span': 0.0}, 'span must be positive'),
     ({'tolerance': -1.0}, 'tolerance must be finite'),
+    ({'extrapolation': math.inf}, 'extrapolation must be finite'),
 ])
 def test_bad_arguments_raise(kwargs, message):
     with pytest.raises(ValueError, match=message):

@@ -25,25 +25,34 @@ class PoseHistory:
     span : float
         How far back poses are kept [s].
     tolerance : float
-        How far outside the kept poses a stamp may lie and still get the nearest one [s].
+        How far before the oldest kept pose a stamp may lie and still get it [s].
+    extrapolation : float
+        How far after the newest kept pose a stamp may lie [s]; the pose there is the newest
+        one moved on with its velocity (odometry often arrives a few ticks after a scan).
 
     """
 
-    def __init__(self, span=1.0, tolerance=0.05):
+    def __init__(self, span=1.0, tolerance=0.05, extrapolation=0.2):
         if not (math.isfinite(span) and span > 0.0):
             raise ValueError(f'span must be positive, got {span!r} s')
         if not (math.isfinite(tolerance) and tolerance >= 0.0):
             raise ValueError(f'tolerance must be finite and >= 0, got {tolerance!r} s')
+        if not (math.isfinite(extrapolation) and extrapolation >= 0.0):
+            raise ValueError(f'extrapolation must be finite and >= 0, got {extrapolation!r} s')
         self.span = float(span)
         self.tolerance = float(tolerance)
+        self.extrapolation = float(extrapolation)
         self._poses = deque()
+        self._velocity = (0.0, 0.0)
 
     def __len__(self):
         return len(self._poses)
 
-    def add(self, stamp, pose):
+    def add(self, stamp, pose, velocity=(0.0, 0.0)):
         """
-        Keep ``pose`` ``(x, y, yaw)`` [m, m, rad] taken at ``stamp`` [s].
+        Keep ``pose`` ``(x, y, yaw)`` [m, m, rad] and ``velocity`` ``(v, omega)`` [m/s, rad/s].
+
+        Both taken at ``stamp`` [s].
 
         A stamp older than the newest kept one (time went back: a restarted simulation)
         starts the history anew.
@@ -52,6 +61,7 @@ class PoseHistory:
         if self._poses and stamp < self._poses[-1][0]:
             self._poses.clear()
         self._poses.append((stamp, tuple(pose)))
+        self._velocity = tuple(velocity)
         while self._poses and self._poses[0][0] < stamp - self.span:
             self._poses.popleft()
 
@@ -63,7 +73,7 @@ class PoseHistory:
         -------
         pose : (float, float, float) or None
             None when nothing is kept, or the stamp lies more than ``tolerance`` before the
-            oldest or after the newest kept pose.
+            oldest or more than ``extrapolation`` after the newest kept pose.
 
         """
         if not self._poses:
@@ -74,7 +84,14 @@ class PoseHistory:
         if stamp <= first_stamp:
             return first_pose if first_stamp - stamp <= self.tolerance else None
         if stamp >= last_stamp:
-            return last_pose if stamp - last_stamp <= self.tolerance else None
+            ahead = stamp - last_stamp
+            if ahead == 0.0 or ahead > self.extrapolation:
+                return last_pose if ahead == 0.0 else None
+            linear, angular = self._velocity
+            x, y, yaw = last_pose
+            heading = yaw + 0.5 * angular * ahead        # the mean heading over the step
+            return (x + linear * ahead * math.cos(heading),
+                    y + linear * ahead * math.sin(heading), wrap_angle(yaw + angular * ahead))
         # Scans are recent: look from the newest pose back.
         after_stamp, after = last_stamp, last_pose
         for before_stamp, before in reversed(self._poses):
