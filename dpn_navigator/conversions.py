@@ -41,6 +41,11 @@ def quaternion_to_yaw(quaternion):
     return quaternion_yaw(quaternion.x, quaternion.y, quaternion.z, quaternion.w)
 
 
+def stamp_to_seconds(stamp):
+    """Return a ``builtin_interfaces/Time`` as seconds [s] (float)."""
+    return stamp.sec + stamp.nanosec * 1e-9
+
+
 def odometry_to_pose(msg):
     """
     Read the planar pose of an ``Odometry`` message.

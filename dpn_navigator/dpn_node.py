@@ -36,8 +36,10 @@ from visualization_msgs.msg import MarkerArray
 from .cmd_vel_monitor import CommandTopicMonitor
 from .command_publisher import CommandPublisher
 from .conversions import (labels_to_occupancy_grid, laser_scan_fields, line_strip_marker,
-                          odometry_to_pose, points_to_path, pose_to_odometry, sphere_marker)
+                          odometry_to_pose, points_to_path, pose_to_odometry, sphere_marker,
+                          stamp_to_seconds)
 from .core import jit, Navigator, NavigatorStatus
+from .core.pose_history import PoseHistory
 from .core.scan_polygon import check_scan
 from .diagnostics import diagnostic_status, DiagnosticsPublisher
 from .dpn_params import declare_parameters
@@ -77,6 +79,8 @@ class DpnNode(Node):
         self.steady_clock = Clock(clock_type=ClockType.STEADY_TIME)
         self.cmd_vel_monitor = CommandTopicMonitor()
         self.pose = None
+        self.pose_history = PoseHistory()
+        self.scans_placed_at_latest_pose = 0
         self.velocity = (0.0, 0.0)
         self.last_map_time = None
         self.last_marker_time = -math.inf
@@ -165,6 +169,7 @@ class DpnNode(Node):
             return
         self.pose = pose
         self.velocity = velocity if all(math.isfinite(v) for v in velocity) else (0.0, 0.0)
+        self.pose_history.add(stamp_to_seconds(msg.header.stamp), pose, self.velocity)
         self.watchdog.heard('odometry', self.now_seconds(), self.arrival_seconds(info))
         if self.navigator.goal is not None and (
                 not self.trail or math.dist(self.trail[-1], pose[:2]) >= TRAIL_STEP):
@@ -193,7 +198,12 @@ class DpnNode(Node):
                 self.get_logger().info('waiting for odometry',
                                        throttle_duration_sec=WARN_THROTTLE)
                 return
-            self.navigator.observe(self.pose, **fields, stamp=now)
+            # Placed where the robot was when the scan was taken, not where it is now.
+            scan_pose = self.pose_history.pose_at(stamp_to_seconds(msg.header.stamp))
+            if scan_pose is None:
+                scan_pose = self.pose
+                self.scans_placed_at_latest_pose += 1
+            self.navigator.observe(scan_pose, **fields, stamp=now)
         except ValueError as error:
             self.reject('scan', error)
             return
@@ -265,6 +275,9 @@ class DpnNode(Node):
             'rejected_goals': self.rejected['goal'],
             'rejected_clock': self.rejected['clock'],
             'scan_frame_mismatches': self.scan_frame_mismatches,
+            # Scans more than 0.2 s after the latest odometry (or older than the kept 1 s),
+            # placed at the latest pose.
+            'scans_placed_at_latest_pose': self.scans_placed_at_latest_pose,
             'sensors_stale': self.stale,
             'cmd_vel_other_publishers': self.cmd_vel_monitor.others,
             'cmd_vel_conflicts': self.cmd_vel_monitor.conflicts,

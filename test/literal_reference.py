@@ -255,9 +255,6 @@ def literal_update_with_rule(labels, seen_free, last_hit, origin, resolution, po
                 if f1 and rule.moving_object_size > 0.0:
                     # Object level: hit cells are mobile near a moving object, else steady.
                     new = MOBILE if literal_f1(cx, cy, moving_hits, safety_radius) else STEADY
-                elif rule.moving_object_size > 0.0 and new == STEADY and literal_f1(
-                        cx, cy, moving_hits, safety_radius + rule.moving_object_size):
-                    new = MOBILE                 # where the moving object may have been
                 elif f1 and old == EXPLORED and not seen_free[i, j]:
                     new = STEADY                 # conservative free space
                 if literal_surely_free(cx, cy, vertices, hits, safety_radius,

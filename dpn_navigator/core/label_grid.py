@@ -107,10 +107,7 @@ class LabelRule:
         mobile obstacle when within the safety radius of a moving object's hit, else a steady
         obstacle, whatever its label was (so the steady cells of an object seen to move
         become mobile, and mobile cells that only objects not seen to move hit, such as a
-        wall a wanderer stood by, become steady). The steady cells this scan does not hit
-        within ``safety radius + moving_object_size`` of a moving object's hit, where the
-        object was before it was found to move, become mobile too, so that they expire like
-        other mobile cells.
+        wall a wanderer stood by, become steady).
         0 turns it off. Needs ``free_evidence_radius`` > 0.
     evidence_margin : float
         How much closer than ``free_evidence_radius`` a hit must be to a surely-free cell to
@@ -243,10 +240,8 @@ class LabelGrid:
                 raise ValueError(f'mobile_expiry needs a finite scan stamp, got {stamp!r}')
             self._restart_clocks_if_time_went_back(float(stamp))
         points = scan_points(pose, ranges, angle_min, angle_increment, range_min, range_max)
-        # Every cell within r of a hit (f1), within the evidence radius of one, or where an
-        # object seen to move may have been.
-        reach = max(safety_radius, self.rule.free_evidence_radius,
-                    safety_radius + self.rule.moving_object_size)
+        # Every cell within r of a hit (f1), or within the evidence radius of one.
+        reach = max(safety_radius, self.rule.free_evidence_radius)
         rows, cols = self.geometry.cell_window(
             float(points.vertices_x.min()) - reach, float(points.vertices_x.max()) + reach,
             float(points.vertices_y.min()) - reach, float(points.vertices_y.max()) + reach)
@@ -295,21 +290,16 @@ class LabelGrid:
         hit = cell_input == ScanInput.HIT
         window[(before == CellLabel.EXPLORED) & hit & ~seen_free] = CellLabel.STEADY_OBSTACLE
         if self.rule.moving_object_size > 0.0:
-            near_moving, trail = self._near_moving_objects(rows, cols, points, safety_radius,
-                                                           seen_free, runs)
+            near_moving = self._near_moving_objects(rows, cols, points, safety_radius,
+                                                    seen_free, runs)
             window[hit] = np.where(near_moving[hit], CellLabel.MOBILE_OBSTACLE,
                                    CellLabel.STEADY_OBSTACLE)
-            window[trail & ~hit & (window == CellLabel.STEADY_OBSTACLE)] = \
-                CellLabel.MOBILE_OBSTACLE
         seen_free |= surely_free(self.geometry, rows, cols, points,
                                  self.rule.free_evidence_radius, cell_input, safety_radius)
 
     def _near_moving_objects(self, rows, cols, points, safety_radius, seen_free, runs):
         """
-        Find the window cells near hits on objects seen to move.
-
-        Returns the cells within the safety radius of such a hit, and those within
-        ``safety radius + moving_object_size`` of one (where the object may have been).
+        Find the window cells within the safety radius of a hit on an object seen to move.
 
         A hit shows motion when a cell within ``free_evidence_radius - evidence_margin`` of it
         was once surely seen free (``seen_free``, before this scan): never so for a hit on a
@@ -335,13 +325,7 @@ class LabelGrid:
         moving = moving_object_hits(points.hits_x, points.hits_y, points.hit_beams, evidence,
                                     self.rule.segment_gap, self.rule.moving_object_size)
         starts, ends, hit_index = runs
-        near = run_cover(starts[moving[hit_index]], ends[moving[hit_index]], seen_free.shape)
-        if not moving.any():
-            return near, near
-        trail_starts, trail_ends = hit_runs(
-            self.geometry, rows, cols, centres, points.hits_x[moving], points.hits_y[moving],
-            safety_radius + self.rule.moving_object_size)
-        return near, run_cover(trail_starts, trail_ends, seen_free.shape)
+        return run_cover(starts[moving[hit_index]], ends[moving[hit_index]], seen_free.shape)
 
     def _restart_clocks_if_time_went_back(self, stamp):
         """After a jump back in time (a restarted simulation), no hit is newer than now."""
