@@ -23,7 +23,7 @@ import time
 
 from .detection_report import detection_stats, save_detection_figure
 from .episode_log import read_log
-from .protocol import NAVIGATORS, plan_episodes, PROFILES, resolve_maps
+from .protocol import MAP_MODELS, NAVIGATORS, plan_episodes, PROFILES, resolve_maps
 from .report import save_success_figure, summary_markdown
 from .runner import default_workers, run_protocol
 
@@ -49,7 +49,10 @@ def build_parser():
     parser.add_argument('--navigator', choices=sorted(NAVIGATORS), default='dpn',
                         help="dpn: as shipped; paper: without this project's additions (A* "
                              'proximity cost, forgetting unseen obstacles when stuck, the '
-                             'label rules of docs/detection.md) (default: %(default)s)')
+                             'label rules of docs/detection.md); costmap: a Nav2-style '
+                             'obstacle + inflation costmap; oracle: the true walls and '
+                             "wanderers (the last two with dpn's planner and follower; "
+                             'docs/benchmark.md) (default: %(default)s)')
     parser.add_argument('--seed', type=int, default=0,
                         help='base seed of the episode seeds (default: %(default)s)')
     parser.add_argument('--out', default='benchmark_out', type=Path,
@@ -99,7 +102,8 @@ def main(argv=None):
                              ray_address=args.ray_address, index=args.index,
                              progress=not args.no_progress,
                              navigator_options=NAVIGATORS[args.navigator],
-                             detection=not args.no_detection)
+                             detection=not args.no_detection,
+                             map_model=MAP_MODELS[args.navigator])
     except ValueError as exc:
         parser.exit(2, f'dpn-benchmark: error: {exc}\n')
     except KeyboardInterrupt:
@@ -125,7 +129,8 @@ def main(argv=None):
         print(f'wrote {args.out / "detection.png"}')
     if args.strip and specs:
         strip = args.out / 'strip.png'
-        write_strip(strip, specs, args.index, navigator_options=NAVIGATORS[args.navigator])
+        write_strip(strip, specs, args.index, navigator_options=NAVIGATORS[args.navigator],
+                    map_model=MAP_MODELS[args.navigator])
         print(f'wrote {strip}')
     return 0
 
@@ -160,7 +165,7 @@ def check_run_settings(path, settings):
         path.write_text(json.dumps(settings, sort_keys=True) + '\n')
 
 
-def write_strip(path, specs, index=None, panels=4, navigator_options=None):
+def write_strip(path, specs, index=None, panels=4, navigator_options=None, map_model='labels'):
     """
     Rerun one episode with a recorder and draw its Fig. 9-style strip.
 
@@ -179,6 +184,8 @@ def write_strip(path, specs, index=None, panels=4, navigator_options=None):
         Snapshots in the strip.
     navigator_options : dict, optional
         ``NavigatorConfig`` overrides (see ``protocol.NAVIGATORS``).
+    map_model : str
+        The map the navigator plans on (``protocol.MAP_MODELS``).
 
     """
     from sim_bridge.scenario import load_scenario
@@ -191,7 +198,7 @@ def write_strip(path, specs, index=None, panels=4, navigator_options=None):
     recorder = EpisodeRecorder(period=1.0)
     started = time.perf_counter()
     result = run_episode(scenario, spec.task, spec.wanderers, spec.seed, recorder=recorder,
-                         navigator_options=navigator_options)
+                         navigator_options=navigator_options, map_model=map_model)
     recorder.finish()
     outcome = 'success' if result.success else result.failure
     save_strip_figure(

@@ -89,7 +89,7 @@ def _task_setup(map_key, index, task):
     return task_setup(_scenario(map_key, index), task, _wanderer_grid(map_key, index))
 
 
-def run_spec(spec, index=None, navigator_options=None, detection=True):
+def run_spec(spec, index=None, navigator_options=None, detection=True, map_model='labels'):
     """
     Run one episode and return its log row.
 
@@ -103,6 +103,8 @@ def run_spec(spec, index=None, navigator_options=None, detection=True):
         ``NavigatorConfig`` overrides (see ``protocol.NAVIGATORS``).
     detection : bool
         Measure the map as a detector (``run_episode``'s ``detection``).
+    map_model : str
+        The map the navigator plans on (``protocol.MAP_MODELS``).
 
     Returns
     -------
@@ -118,7 +120,8 @@ def run_spec(spec, index=None, navigator_options=None, detection=True):
     jit.warm_up()
     result = run_episode(scenario, spec.task, spec.wanderers, spec.seed,
                          navigator_options=navigator_options, detection=detection,
-                         setup=_task_setup(spec.map_key, index, spec.task))
+                         setup=_task_setup(spec.map_key, index, spec.task),
+                         map_model=map_model)
     row = result.as_row()
     del row['scenario']
     row.update(map=spec.map_key, number=scenario.number, family=scenario.family or '',
@@ -140,7 +143,7 @@ def default_workers():
 
 
 def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, progress=True,
-                 navigator_options=None, detection=True):
+                 navigator_options=None, detection=True, map_model='labels'):
     """
     Run the episodes a log does not hold yet and append their rows to it.
 
@@ -164,6 +167,8 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
         ``NavigatorConfig`` overrides for every episode (see ``protocol.NAVIGATORS``).
     detection : bool
         Measure the map as a detector in every episode (the detection columns).
+    map_model : str
+        The map every episode's navigator plans on (``protocol.MAP_MODELS``).
 
     Returns
     -------
@@ -194,9 +199,10 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
                   dynamic_ncols=True, smoothing=0.05) as bar:
             if ray_address is not None:
                 results, workers = _ray_results(pending, ray_address, index,
-                                                navigator_options, detection)
+                                                navigator_options, detection, map_model)
             else:
-                results = _local_results(pending, workers, index, navigator_options, detection)
+                results = _local_results(pending, workers, index, navigator_options, detection,
+                                         map_model)
             for row in results:
                 log.append(row)
                 ran += 1
@@ -210,20 +216,21 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
                     episode_wall_time=spent, workers=workers)
 
 
-def _local_results(pending, workers, index, navigator_options, detection):
+def _local_results(pending, workers, index, navigator_options, detection, map_model):
     """Yield the rows of pending episodes from local worker processes, as they finish."""
     if workers == 1 or len(pending) <= 1:
         for spec in pending:
-            yield run_spec(spec, index, navigator_options, detection)
+            yield run_spec(spec, index, navigator_options, detection, map_model)
         return
     # spawn: each worker starts clean (its own pybullet client, no forked state).
     context = multiprocessing.get_context('spawn')
     with context.Pool(min(workers, len(pending))) as pool:
         yield from pool.imap_unordered(
-            _run_spec_star, [(spec, index, navigator_options, detection) for spec in pending])
+            _run_spec_star, [(spec, index, navigator_options, detection, map_model)
+                             for spec in pending])
 
 
-def _ray_results(pending, address, index, navigator_options, detection):
+def _ray_results(pending, address, index, navigator_options, detection, map_model):
     """Start the pending episodes on Ray; return a generator of rows and Ray's CPU count."""
     import ray
     if not ray.is_initialized():
@@ -233,7 +240,7 @@ def _ray_results(pending, address, index, navigator_options, detection):
     remote = ray.remote(num_cpus=1)(run_spec)
 
     def rows():
-        waiting = [remote.remote(spec, index, navigator_options, detection)
+        waiting = [remote.remote(spec, index, navigator_options, detection, map_model)
                    for spec in pending]
         while waiting:
             finished, waiting = ray.wait(waiting, num_returns=1)
