@@ -22,7 +22,7 @@ from numpy.testing import assert_array_equal
 import pytest
 
 #: A wide beam layout: one beam, straight along the laser's x axis.
-ONE_BEAM = dict(angle_min=0.0, angle_increment=0.01, range_min=0.1, range_max=30.0)
+ONE_BEAM = {'angle_min': 0.0, 'angle_increment': 0.01, 'range_min': 0.1, 'range_max': 30.0}
 #: Ranges that make the walls of these tests ghosts or not: 20 m marking, 25 m clearing.
 CONFIG = CostmapConfig(obstacle_max_range=20.0, raytrace_max_range=25.0)
 
@@ -249,9 +249,9 @@ def test_nav2_defaults_scaled_to_the_laser():
 
 
 @pytest.mark.parametrize('fields, message', [
-    (dict(obstacle_max_range=-1.0), 'obstacle_max_range'),
-    (dict(raytrace_max_range=math.inf), 'raytrace_max_range'),
-    (dict(obstacle_min_range=3.0, obstacle_max_range=2.0), 'above obstacle_max_range'),
+    ({'obstacle_max_range': -1.0}, 'obstacle_max_range'),
+    ({'raytrace_max_range': math.inf}, 'raytrace_max_range'),
+    ({'obstacle_min_range': 3.0, 'obstacle_max_range': 2.0}, 'above obstacle_max_range'),
 ])
 def test_bad_config_is_refused(fields, message):
     with pytest.raises(ValueError, match=message):
@@ -272,7 +272,7 @@ def test_bad_scan_leaves_the_costmap_unchanged():
         costmap.update((1.25, 5.25, 0.0), [2.0], safety_radius=-1.0, **ONE_BEAM)
     with pytest.raises(ValueError, match='range_min'):
         costmap.update((1.25, 5.25, 0.0), [2.0], safety_radius=0.6,
-                       **(ONE_BEAM | dict(range_min=5.0, range_max=1.0)))
+                       **(ONE_BEAM | {'range_min': 5.0, 'range_max': 1.0}))
     assert_array_equal(costmap.lethal, lethal)
 
 

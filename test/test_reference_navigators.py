@@ -18,7 +18,7 @@ import pytest
 from sim_bridge.scenario import load_index, load_scenario
 
 E, S, M = CellLabel.EXPLORED, CellLabel.STEADY_OBSTACLE, CellLabel.MOBILE_OBSTACLE
-ONE_BEAM = dict(angle_min=0.0, angle_increment=0.01, range_min=0.1, range_max=30.0)
+ONE_BEAM = {'angle_min': 0.0, 'angle_increment': 0.01, 'range_min': 0.1, 'range_max': 30.0}
 
 
 @pytest.fixture(scope='module')
@@ -27,7 +27,7 @@ def back_and_forth():
 
 
 def oracle_grid():
-    """A 3 x 2 m oracle (4 rows x 6 columns) with a wall belt along column 0."""
+    """Return a 3 x 2 m oracle (4 rows x 6 columns) with a wall belt along column 0."""
     geometry = GridGeometry(3.0, 2.0, 0.5)
     belt = np.zeros(geometry.shape, dtype=bool)
     belt[:, 0] = True
@@ -103,8 +103,9 @@ def test_every_navigator_has_a_map_model_and_the_references_forget_nothing():
         config = NavigatorConfig(width=10.0, height=10.0, **NAVIGATORS[name])
         assert config.forget_obstacles_after == 0.0
         # The same planner and follower as dpn.
-        assert config.obstacle_proximity_cost == NavigatorConfig(10.0, 10.0).obstacle_proximity_cost
-        assert config.follower == NavigatorConfig(10.0, 10.0).follower
+        dpn = NavigatorConfig(width=10.0, height=10.0)
+        assert config.obstacle_proximity_cost == dpn.obstacle_proximity_cost
+        assert config.follower == dpn.follower
 
 
 @pytest.mark.parametrize('name', ['oracle', 'costmap'])

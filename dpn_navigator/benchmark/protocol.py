@@ -141,8 +141,9 @@ def resolve_maps(selectors, entries):
     Parameters
     ----------
     selectors : sequence of str, or None
-        Map numbers (``'15'``), ranges of numbers (``'1-34'``), names (``'maze'``) or paths of map_server yaml files (ending in
-        ``.yaml``/``.yml`` or holding a ``/``). None selects every map of the index.
+        Map numbers (``'15'``), ranges of numbers (``'1-34'``), names (``'maze'``) or paths of
+        map_server yaml files (ending in ``.yaml``/``.yml`` or holding a ``/``). None selects
+        every map of the index.
     entries : sequence of sim_bridge.scenario.IndexEntry
         The scenario index.
 

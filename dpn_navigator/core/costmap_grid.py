@@ -105,7 +105,7 @@ class CostmapConfig:
 
 def bresenham_cells(start_rr, start_cc, end_rr, end_cc, max_cells):
     """
-    The cells of Nav2's ``raytraceLine`` from one start cell to many end cells, vectorised.
+    Return the cells of Nav2's ``raytraceLine`` from one start cell to many end cells.
 
     Step ``i`` of a line moves one cell along its dominant axis and, by Bresenham's integer
     error (started at half the dominant length), ``floor((d_a // 2 + i * d_b) / d_a)`` cells
@@ -157,6 +157,7 @@ def inflate(lethal, resolution, radius):
     Parameters
     ----------
     lethal : (H, W) ndarray of bool
+        Lethal cells.
     resolution : float
         Cell side [m].
     radius : float
@@ -327,7 +328,7 @@ class CostmapGrid:
 
     def lethal_labels(self):
         """
-        The costmap before inflation as labels, for the benchmark's map measures.
+        Return the costmap before inflation as labels, for the benchmark's map measures.
 
         Returns
         -------
@@ -365,6 +366,7 @@ def clip_to_map(origin_x, origin_y, points_x, points_y, geometry):
     points_x, points_y : (N,) ndarray of float64
         Ray ends [m].
     geometry : GridGeometry
+        The map.
 
     Returns
     -------
