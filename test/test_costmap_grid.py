@@ -13,8 +13,9 @@ import subprocess
 import sys
 
 from dpn_navigator.core.cell_label import CellLabel, ScanInput
-from dpn_navigator.core.costmap_grid import (bresenham_cells, CostmapConfig, CostmapGrid,
-                                             inflate)
+from dpn_navigator.core.costmap_grid import (_clear_rays, bresenham_cells, CostmapConfig,
+                                             CostmapGrid, inflate, layer_geometry_for)
+from dpn_navigator.core.grid_geometry import GridGeometry
 from hypothesis import given, settings
 from hypothesis import strategies as st
 import numpy as np
@@ -231,13 +232,87 @@ def test_reset_forgets_everything():
     assert (costmap.labels == CellLabel.NON_EXPLORED).all()
 
 
+def inflate_twin(lethal, layer_geometry, geometry, radius):
+    """Mark planning cells within ``radius`` of a lethal layer cell, centre to centre, plainly."""
+    inflated = np.zeros(geometry.shape, dtype=bool)
+    centre_x, centre_y = geometry.cell_to_world(*np.indices(geometry.shape))
+    for rr, cc in zip(*np.nonzero(lethal)):
+        x, y = layer_geometry.cell_to_world(rr, cc)
+        inflated |= (centre_x - x) ** 2 + (centre_y - y) ** 2 <= radius * radius + 1e-9
+    return inflated
+
+
 def test_inflate_uses_distance_between_cell_centres():
+    geometry = GridGeometry(3.5, 3.5, 0.5)
     lethal = np.zeros((7, 7), dtype=bool)
     lethal[3, 3] = True
-    assert np.count_nonzero(inflate(lethal, 0.5, 0.0)) == 1
-    assert np.count_nonzero(inflate(lethal, 0.5, 0.6)) == 5
-    assert np.count_nonzero(inflate(lethal, 0.5, 0.71)) == 9
-    assert np.count_nonzero(inflate(lethal, 0.5, 1.0)) == 13
+    assert np.count_nonzero(inflate(lethal, geometry, geometry, 0.0)) == 1
+    assert np.count_nonzero(inflate(lethal, geometry, geometry, 0.6)) == 5
+    assert np.count_nonzero(inflate(lethal, geometry, geometry, 0.71)) == 9
+    assert np.count_nonzero(inflate(lethal, geometry, geometry, 1.0)) == 13
+    with pytest.raises(ValueError, match='shape'):
+        inflate(lethal[:3], geometry, geometry, 0.6)
+    with pytest.raises(ValueError, match='radius'):
+        inflate(lethal, geometry, geometry, -0.1)
+
+
+@settings(max_examples=100, deadline=None)
+@given(cells=st.lists(st.tuples(st.integers(0, 49), st.integers(0, 39)), max_size=12),
+       radius=st.sampled_from([0.0, 0.25, 0.5, 0.6, 0.75, 1.3]))
+def test_inflate_onto_the_planning_grid_matches_its_twin(cells, radius):
+    geometry = GridGeometry(4.0, 5.0, 0.5, (-1.0, 2.0))
+    layer, _ = layer_geometry_for(geometry, 0.1)
+    lethal = np.zeros(layer.shape, dtype=bool)
+    for rr, cc in cells:
+        lethal[rr, cc] = True
+    assert_array_equal(inflate(lethal, layer, geometry, radius),
+                       inflate_twin(lethal, layer, geometry, radius))
+
+
+@settings(max_examples=100, deadline=None)
+@given(start=st.tuples(st.integers(0, 59), st.integers(0, 59)),
+       ends=st.lists(st.tuples(st.integers(0, 59), st.integers(0, 59)), max_size=6),
+       max_cells=st.integers(0, 90))
+def test_the_clearing_kernel_clears_exactly_the_bresenham_cells(start, ends, max_cells):
+    ends = np.array(ends, dtype=np.int64).reshape(-1, 2)
+    lethal = np.ones((60, 60), dtype=bool)
+    known_free = np.zeros((60, 60), dtype=bool)
+    cleared = np.zeros((12, 12), dtype=bool)
+    _clear_rays(start[0], start[1], ends[:, 0].copy(), ends[:, 1].copy(), max_cells, 5, lethal,
+                known_free, cleared)
+    rr, cc = bresenham_cells(start[0], start[1], ends[:, 0], ends[:, 1], max_cells)
+    expected = np.zeros((60, 60), dtype=bool)
+    expected[rr, cc] = True
+    assert_array_equal(known_free, expected)
+    assert_array_equal(lethal, ~expected)
+    assert_array_equal(cleared, expected.reshape(12, 5, 12, 5).any(axis=(1, 3)))
+
+
+def test_a_finer_layer_keeps_a_corridor_open_that_half_metre_cells_close():
+    """A 1.4 m corridor: 0.5 m lethal cells inflate across it, 0.1 m cells leave it open."""
+    closed = CostmapGrid(10.0, 10.0, 0.5, (0.0, 0.0), CONFIG)
+    open_ = CostmapGrid(10.0, 10.0, 0.5, (0.0, 0.0), CONFIG, layer_resolution=0.1)
+    assert open_.layer_geometry.shape == (100, 100)
+    # Walls at y = 4.55 and y = 5.95 seen in one scan from (1.0, 5.25), looking along +x.
+    angles = np.linspace(-1.5, 1.5, 301)
+    with np.errstate(divide='ignore'):
+        ranges = np.where(np.sin(angles) < 0.0, (4.55 - 5.25) / np.sin(angles),
+                          (5.95 - 5.25) / np.sin(angles))
+    ranges = np.where(ranges < 30.0, ranges, np.inf)
+    for costmap in (closed, open_):
+        costmap.update((1.0, 5.25, 0.0), ranges, -1.5, 0.01, 0.1, 30.0, safety_radius=0.6)
+    # The hit cells' centres: y = 4.75 and 5.75 at 0.5 m, both 0.5 m from row 10's centre
+    # (y = 5.25); y = 4.55 and 5.95 at 0.1 m, 0.7 m from it.
+    assert closed.blocked()[10, 4:16].all()
+    assert not open_.blocked()[10, 4:16].any()
+    assert (open_.labels[10, 4:16] == CellLabel.EXPLORED).all()
+    assert open_.blocked()[9, 4:16].all() and open_.blocked()[11, 4:16].all()
+
+
+@pytest.mark.parametrize('layer_resolution', [0.3, 0.0, -0.1, 1.0, math.nan])
+def test_layer_resolution_must_divide_the_grid(layer_resolution):
+    with pytest.raises(ValueError, match='layer_resolution'):
+        CostmapGrid(10.0, 10.0, 0.5, (0.0, 0.0), CONFIG, layer_resolution=layer_resolution)
 
 
 def test_nav2_defaults_scaled_to_the_laser():

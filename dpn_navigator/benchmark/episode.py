@@ -36,6 +36,8 @@ from ..core.pose2d import compose
 HUSKY_HALF_WIDTH = 0.35
 #: Cell side of the grid the reference shortest path is planned on [m].
 REFERENCE_CELL = 0.25
+#: Cell side of the costmap navigator's obstacle layer [m] (Nav2's costmaps: 0.05 to 0.1 m).
+COSTMAP_LAYER_RESOLUTION = 0.1
 
 
 @dataclass(frozen=True)
@@ -237,7 +239,8 @@ def build_map(map_model, navigator_config, scenario, wanderer_radius, range_max)
     ----------
     map_model : str
         ``'labels'`` (the paper's ``LabelGrid``), ``'costmap'`` (``CostmapGrid`` with Nav2
-        Jazzy's default ranges scaled to the laser) or ``'oracle'`` (``OracleGrid``).
+        Jazzy's default ranges scaled to the laser, its layer in ``COSTMAP_LAYER_RESOLUTION``
+        cells) or ``'oracle'`` (``OracleGrid``).
     navigator_config : NavigatorConfig
         Its grid size, resolution, origin and safety radius are the map's.
     scenario : sim_bridge.scenario.Scenario
@@ -263,7 +266,8 @@ def build_map(map_model, navigator_config, scenario, wanderer_radius, range_max)
     config = navigator_config
     if map_model == 'costmap':
         return CostmapGrid(config.width, config.height, config.resolution, config.origin,
-                           CostmapConfig.scaled_to_laser(range_max))
+                           CostmapConfig.scaled_to_laser(range_max),
+                           layer_resolution=COSTMAP_LAYER_RESOLUTION)
     if map_model == 'oracle':
         geometry = GridGeometry(config.width, config.height, config.resolution,
                                 tuple(config.origin))

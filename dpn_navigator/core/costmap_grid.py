@@ -17,9 +17,12 @@ The reference a ROS user would run instead of dpn, built to the semantics of Nav
 - Nothing else changes a cell: no time decay, no moving/steady distinction. An obstacle that
   left is cleared only when a later ray passes through its cell, so one that left where no ray
   passes (behind another obstacle, beyond ``raytrace_max_range``) stays: the Nav2 ghost.
-- **Inflation** to the robot's circumscribed radius: a cell whose centre lies within the
-  inflation radius of a lethal cell's centre is blocked for planning (``InflationLayer``'s
-  inscribed cost and above, which NavFn treats as an obstacle).
+- **Inflation** to the robot's circumscribed radius: a planning cell whose centre lies within
+  the inflation radius of a lethal cell's centre is blocked (``InflationLayer``'s inscribed
+  cost and above, which NavFn treats as an obstacle).
+- The layer has its own resolution, finer than the planning grid (Nav2's costmaps are
+  usually 0.05 to 0.1 m): at the planning grid's 0.5 m, a lethal cell's centre can lie 0.35 m
+  from its hit and inflation would close passages a real costmap leaves open.
 - **Unknown is free for planning** (NavFn's ``allow_unknown``).
 
 The grid publishes through the same four labels as ``LabelGrid`` so that the navigator, its
@@ -36,6 +39,7 @@ import numpy as np
 
 from .cell_label import blocked_mask, CellLabel, LABEL_DTYPE, ScanInput
 from .grid_geometry import GridGeometry
+from .jit import kernel
 from .label_grid import check_path
 from .scan_polygon import check_pose, check_scan
 
@@ -150,73 +154,190 @@ def bresenham_cells(start_rr, start_cc, end_rr, end_cc, max_cells):
     return (start_rr + sign_rr * step_rr)[visited], (start_cc + sign_cc * step_cc)[visited]
 
 
-def inflate(lethal, resolution, radius):
+def inflate(lethal, layer_geometry, geometry, radius):
     """
-    Mark the cells whose centre lies within ``radius`` of a lethal cell's centre.
+    Mark the cells of ``geometry`` whose centre lies within ``radius`` of a lethal cell's centre.
 
     Parameters
     ----------
-    lethal : (H, W) ndarray of bool
-        Lethal cells.
-    resolution : float
-        Cell side [m].
+    lethal : (h, w) ndarray of bool
+        Lethal cells on ``layer_geometry``.
+    layer_geometry : GridGeometry
+        The costmap layer's grid.
+    geometry : GridGeometry
+        The grid to inflate onto (the planning grid; may be the same).
     radius : float
-        Inflation radius [m], >= 0.
+        Inflation radius [m], finite and >= 0.
 
     Returns
     -------
     inflated : (H, W) ndarray of bool
-        Includes the lethal cells.
+        On ``geometry``.
+
+    Raises
+    ------
+    ValueError
+        If ``lethal`` does not have the layer's shape or ``radius`` is not finite and >= 0.
 
     """
-    reach = int(math.floor(radius / resolution + 1e-9))
-    rows, cols = lethal.shape
-    padded = np.pad(lethal, reach)
-    inflated = np.zeros_like(lethal)
-    for dr in range(-reach, reach + 1):
-        for dc in range(-reach, reach + 1):
-            if math.hypot(dr, dc) * resolution <= radius + 1e-9:
-                inflated |= padded[reach + dr:reach + dr + rows, reach + dc:reach + dc + cols]
+    lethal = np.ascontiguousarray(lethal, dtype=bool)
+    if lethal.shape != layer_geometry.shape:
+        raise ValueError(f'lethal has shape {lethal.shape}, the layer {layer_geometry.shape}')
+    radius = float(radius)
+    if not (math.isfinite(radius) and radius >= 0.0):
+        raise ValueError(f'radius must be finite and >= 0, got {radius!r} m')
+    inflated = np.zeros(geometry.shape, dtype=bool)
+    _inflate(lethal, float(layer_geometry.origin[0]), float(layer_geometry.origin[1]),
+             float(layer_geometry.resolution), float(geometry.origin[0]),
+             float(geometry.origin[1]), float(geometry.resolution), radius, inflated)
     return inflated
+
+
+@kernel
+def _inflate(lethal, layer_x0, layer_y0, layer_res, x0, y0, res, radius, inflated):
+    """Mark ``inflated`` cells whose centre is within ``radius`` of a ``lethal`` centre."""
+    rows, cols = inflated.shape
+    reach = int(math.ceil(radius / res)) + 1
+    bound = radius * radius + 1e-9
+    for i in range(lethal.shape[0]):
+        for j in range(lethal.shape[1]):
+            if not lethal[i, j]:
+                continue
+            x = layer_x0 + (j + 0.5) * layer_res
+            y = layer_y0 + (i + 0.5) * layer_res
+            home_r = int(math.floor((y - y0) / res))
+            home_c = int(math.floor((x - x0) / res))
+            for rr in range(max(home_r - reach, 0), min(home_r + reach + 1, rows)):
+                centre_y = y0 + (rr + 0.5) * res
+                for cc in range(max(home_c - reach, 0), min(home_c + reach + 1, cols)):
+                    centre_x = x0 + (cc + 0.5) * res
+                    if (centre_x - x) ** 2 + (centre_y - y) ** 2 <= bound:
+                        inflated[rr, cc] = True
+
+
+@kernel
+def _clear_rays(start_rr, start_cc, end_rr, end_cc, max_cells, factor, lethal, known_free,
+                cleared):
+    """
+    Clear the layer cells of Nav2's ``raytraceLine`` from one start cell to each end cell.
+
+    Sets ``lethal`` False and ``known_free`` True on every cell a line visits (as
+    `bresenham_cells` lists them), and ``cleared`` True on the planning cell (``factor``
+    layer cells a side) that holds it.
+    """
+    for k in range(end_rr.shape[0]):
+        d_rr = end_rr[k] - start_rr
+        d_cc = end_cc[k] - start_cc
+        abs_rr = abs(d_rr)
+        abs_cc = abs(d_cc)
+        sign_rr = 1 if d_rr > 0 else -1
+        sign_cc = 1 if d_cc > 0 else -1
+        distance = math.sqrt(d_rr * d_rr + d_cc * d_cc)
+        scale = 1.0 if distance == 0.0 else min(1.0, max_cells / distance)
+        if abs_cc >= abs_rr:
+            abs_a, abs_b = abs_cc, abs_rr
+        else:
+            abs_a, abs_b = abs_rr, abs_cc
+        end = min(int(scale * abs_a), abs_a)
+        error = abs_a // 2
+        along_b = 0
+        for step in range(end + 1):
+            if abs_cc >= abs_rr:
+                rr = start_rr + sign_rr * along_b
+                cc = start_cc + sign_cc * step
+            else:
+                rr = start_rr + sign_rr * step
+                cc = start_cc + sign_cc * along_b
+            lethal[rr, cc] = False
+            known_free[rr, cc] = True
+            cleared[rr // factor, cc // factor] = True
+            error += abs_b
+            if error >= abs_a and abs_a > 0:
+                along_b += 1
+                error -= abs_a
+
+
+def warm_up_costmap():
+    """Compile (or load from the cache) the costmap's kernels with a tiny call."""
+    layer = np.zeros((2, 2), dtype=bool)
+    layer[0, 0] = True
+    _inflate(layer, 0.0, 0.0, 0.5, 0.0, 0.0, 0.5, 0.6, np.zeros((2, 2), dtype=bool))
+    one = np.zeros(1, dtype=np.int64)
+    _clear_rays(0, 0, one, one + 1, 1, 1, layer, layer.copy(), layer.copy())
+
+
+def layer_geometry_for(geometry, layer_resolution):
+    """
+    Return the costmap layer's grid: ``geometry`` cut into cells ``n`` times finer.
+
+    Raises
+    ------
+    ValueError
+        Unless ``geometry.resolution`` is a whole multiple ``n >= 1`` of ``layer_resolution``.
+
+    """
+    if not (math.isfinite(layer_resolution) and layer_resolution > 0.0):
+        raise ValueError(f'layer_resolution must be positive, got {layer_resolution!r} m')
+    factor = round(geometry.resolution / layer_resolution)
+    if factor < 1 or abs(factor * layer_resolution - geometry.resolution) > 1e-9:
+        raise ValueError(f'the grid resolution {geometry.resolution} m must be a whole multiple '
+                         f'of layer_resolution {layer_resolution} m')
+    return GridGeometry(geometry.cols * geometry.resolution, geometry.rows * geometry.resolution,
+                        geometry.resolution / factor, geometry.origin), factor
 
 
 class CostmapGrid:
     """
     The costmap as a drop-in for ``LabelGrid`` in the ``Navigator``.
 
+    The obstacle layer (marking and clearing) runs on its own grid, ``layer_resolution``
+    cells, as Nav2's does (Nav2's default is 0.05 m); the inflation is sampled at the centres
+    of the navigator's planning cells, which the labels are on.
+
     Parameters
     ----------
     width, height : float
         Size of the environment [m].
     resolution : float
-        Cell side [m].
+        Planning cell side [m].
     origin : (float, float)
         Map-frame position of the lower-left corner [m].
     config : CostmapConfig
+    layer_resolution : float, optional
+        The obstacle layer's cell side [m]; ``resolution`` must be a whole multiple of it.
+        Default: ``resolution``.
 
     Attributes
     ----------
     geometry : GridGeometry
+        The planning grid.
+    layer_geometry : GridGeometry
+        The obstacle layer's grid, covering the planning grid exactly.
     config : CostmapConfig
-    lethal : (H, W) ndarray of bool
-        The ObstacleLayer's ``LETHAL_OBSTACLE`` cells.
-    known_free : (H, W) ndarray of bool
-        Cells a ray has cleared and no point marked since (``FREE_SPACE``); the rest of the
-        non-lethal cells are ``NO_INFORMATION``.
+    lethal : (h, w) ndarray of bool
+        The obstacle layer's ``LETHAL_OBSTACLE`` cells, on ``layer_geometry``.
+    known_free : (h, w) ndarray of bool
+        Layer cells a ray has cleared and no point marked since (``FREE_SPACE``); the rest of
+        the non-lethal cells are ``NO_INFORMATION``.
     labels : (H, W) ndarray of uint8
-        ``STEADY_OBSTACLE`` where inflated lethal, ``EXPLORED`` where known free, else
+        On ``geometry``: ``STEADY_OBSTACLE`` where the centre is within the inflation radius of
+        a lethal cell's centre, else ``EXPLORED`` where a layer cell is known free, else
         ``NON_EXPLORED``; rebuilt by every update.
     last_window : (slice, slice, ndarray of uint8)
-        The latest update's window and what it did there as ``ScanInput``: ``HIT`` for the
-        cells this scan marked, ``INSIDE`` for cells its rays cleared, ``NONE`` elsewhere.
+        The latest update's window on ``geometry`` and what it did there as ``ScanInput``:
+        ``HIT`` for cells holding a layer cell this scan marked, ``INSIDE`` for cells holding
+        one its rays cleared, ``NONE`` elsewhere.
 
     """
 
-    def __init__(self, width, height, resolution=0.5, origin=(0.0, 0.0), config=None):
+    def __init__(self, width, height, resolution=0.5, origin=(0.0, 0.0), config=None,
+                 layer_resolution=None):
         self.geometry = GridGeometry(width, height, resolution, tuple(origin))
+        self.layer_geometry, self._factor = layer_geometry_for(
+            self.geometry, resolution if layer_resolution is None else layer_resolution)
         self.config = CostmapConfig() if config is None else config
-        self.lethal = np.zeros(self.geometry.shape, dtype=bool)
-        self.known_free = np.zeros(self.geometry.shape, dtype=bool)
+        self.lethal = np.zeros(self.layer_geometry.shape, dtype=bool)
+        self.known_free = np.zeros(self.layer_geometry.shape, dtype=bool)
         self.labels = np.full(self.geometry.shape, CellLabel.NON_EXPLORED, dtype=LABEL_DTYPE)
         self.last_window = _EMPTY_WINDOW
 
@@ -234,7 +355,7 @@ class CostmapGrid:
         safety_radius : float
             Inflation radius [m]: the robot's circumscribed radius.
         path : (N, 2) array_like of int, optional
-            The planned path as ``(row, col)`` cells.
+            The planned path as ``(row, col)`` cells of ``geometry``.
         stamp : float, optional
             Unused: the costmap has no time decay.
 
@@ -257,26 +378,32 @@ class CostmapGrid:
         path = check_path(path, self.geometry.shape)
         points_x, points_y, distance = self._points(pose, ranges, angle_min, angle_increment,
                                                     range_min, range_max)
-        cleared_rr, cleared_cc = self._raytrace(pose, points_x, points_y)
-        self.lethal[cleared_rr, cleared_cc] = False
-        self.known_free[cleared_rr, cleared_cc] = True
+        cleared = self._raytrace(pose, points_x, points_y)
         marking = (distance >= self.config.obstacle_min_range) & (
             distance < self.config.obstacle_max_range)
-        marked_rr, marked_cc = self.geometry.world_to_cell(points_x[marking], points_y[marking])
-        on_grid = self.geometry.contains_cell(marked_rr, marked_cc)
+        layer = self.layer_geometry
+        marked_rr, marked_cc = layer.world_to_cell(points_x[marking], points_y[marking])
+        on_grid = layer.contains_cell(marked_rr, marked_cc)
         marked_rr, marked_cc = marked_rr[on_grid], marked_cc[on_grid]
         self.lethal[marked_rr, marked_cc] = True
         self.known_free[marked_rr, marked_cc] = False
         before = self.labels
-        blocked = inflate(self.lethal, self.geometry.resolution, safety_radius)
+        blocked = inflate(self.lethal, layer, self.geometry, safety_radius)
         self.labels = np.where(blocked, CellLabel.STEADY_OBSTACLE, np.where(
-            self.known_free, CellLabel.EXPLORED, CellLabel.NON_EXPLORED)).astype(LABEL_DTYPE)
-        self._record_window(pose, points_x, points_y, cleared_rr, cleared_cc, marked_rr,
-                            marked_cc, safety_radius)
+            self._any_in_cell(self.known_free), CellLabel.EXPLORED,
+            CellLabel.NON_EXPLORED)).astype(LABEL_DTYPE)
+        self._record_window(pose, points_x, points_y, cleared, marked_rr, marked_cc,
+                            safety_radius)
         if path is None or not path.shape[0]:
             return False
         return bool((~blocked_mask(before[path[:, 0], path[:, 1]])
                      & blocked[path[:, 0], path[:, 1]]).any())
+
+    def _any_in_cell(self, layer_mask):
+        """Reduce a layer mask to the planning grid: True where any of a cell's layer cells is."""
+        rows, cols = self.geometry.shape
+        factor = self._factor
+        return layer_mask.reshape(rows, factor, cols, factor).any(axis=(1, 3))
 
     def _points(self, pose, ranges, angle_min, angle_increment, range_min, range_max):
         """Project the scan as ``laser_geometry`` does; return x, y [m] and distance [m]."""
@@ -292,19 +419,31 @@ class CostmapGrid:
         return x + distance * np.cos(theta), y + distance * np.sin(theta), distance
 
     def _raytrace(self, pose, points_x, points_y):
-        """Return the cells the clearing rays pass, end cells included (may repeat)."""
-        geometry = self.geometry
-        start_rr, start_cc = (int(v) for v in geometry.world_to_cell(pose[0], pose[1]))
-        if not geometry.contains_cell(start_rr, start_cc) or not points_x.shape[0]:
-            return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
-        end_x, end_y = clip_to_map(pose[0], pose[1], points_x, points_y, geometry)
-        end_rr, end_cc = geometry.world_to_cell(end_x, end_y)
-        legal = geometry.contains_cell(end_rr, end_cc)
-        max_cells = max(0, math.ceil(self.config.raytrace_max_range / geometry.resolution))
-        return bresenham_cells(start_rr, start_cc, end_rr[legal], end_cc[legal], max_cells)
+        """
+        Clear the layer cells the rays pass, end cells included (Nav2's raytraceFreespace).
 
-    def _record_window(self, pose, points_x, points_y, cleared_rr, cleared_cc, marked_rr,
-                       marked_cc, safety_radius):
+        Returns
+        -------
+        cleared : (H, W) ndarray of bool
+            Planning cells holding a layer cell a ray passed.
+
+        """
+        layer = self.layer_geometry
+        cleared = np.zeros(self.geometry.shape, dtype=bool)
+        start_rr, start_cc = (int(v) for v in layer.world_to_cell(pose[0], pose[1]))
+        if not layer.contains_cell(start_rr, start_cc) or not points_x.shape[0]:
+            return cleared
+        end_x, end_y = clip_to_map(pose[0], pose[1], points_x, points_y, layer)
+        end_rr, end_cc = layer.world_to_cell(end_x, end_y)
+        legal = layer.contains_cell(end_rr, end_cc)
+        max_cells = max(0, math.ceil(self.config.raytrace_max_range / layer.resolution))
+        _clear_rays(start_rr, start_cc, np.ascontiguousarray(end_rr[legal]),
+                    np.ascontiguousarray(end_cc[legal]), max_cells, self._factor, self.lethal,
+                    self.known_free, cleared)
+        return cleared
+
+    def _record_window(self, pose, points_x, points_y, cleared, marked_rr, marked_cc,
+                       safety_radius):
         """Store the update's window with its ``ScanInput`` for the benchmark's meters."""
         xs = np.append(points_x, pose[0])
         ys = np.append(points_y, pose[1])
@@ -316,14 +455,11 @@ class CostmapGrid:
             self.last_window = _EMPTY_WINDOW
             return
         shape = (rows.stop - rows.start, cols.stop - cols.start)
-        cleared = np.zeros(shape, dtype=bool)
-        inside = ((cleared_rr >= rows.start) & (cleared_rr < rows.stop)
-                  & (cleared_cc >= cols.start) & (cleared_cc < cols.stop))
-        cleared[cleared_rr[inside] - rows.start, cleared_cc[inside] - cols.start] = True
+        factor = self._factor
         marked = np.zeros(shape, dtype=bool)
-        marked[marked_rr - rows.start, marked_cc - cols.start] = True
-        cell_input = np.where(marked, ScanInput.HIT, np.where(cleared, ScanInput.INSIDE,
-                                                              ScanInput.NONE)).astype(LABEL_DTYPE)
+        marked[marked_rr // factor - rows.start, marked_cc // factor - cols.start] = True
+        cell_input = np.where(marked, ScanInput.HIT, np.where(
+            cleared[rows, cols], ScanInput.INSIDE, ScanInput.NONE)).astype(LABEL_DTYPE)
         self.last_window = (rows, cols, cell_input)
 
     def lethal_labels(self):
@@ -333,12 +469,13 @@ class CostmapGrid:
         Returns
         -------
         labels : (H, W) ndarray of uint8
-            ``STEADY_OBSTACLE`` on lethal cells, ``EXPLORED`` on known free ones, else
-            ``NON_EXPLORED``.
+            On ``geometry``: ``STEADY_OBSTACLE`` where a layer cell is lethal, else
+            ``EXPLORED`` where one is known free, else ``NON_EXPLORED``.
 
         """
-        return np.where(self.lethal, CellLabel.STEADY_OBSTACLE, np.where(
-            self.known_free, CellLabel.EXPLORED, CellLabel.NON_EXPLORED)).astype(LABEL_DTYPE)
+        return np.where(self._any_in_cell(self.lethal), CellLabel.STEADY_OBSTACLE, np.where(
+            self._any_in_cell(self.known_free), CellLabel.EXPLORED,
+            CellLabel.NON_EXPLORED)).astype(LABEL_DTYPE)
 
     def blocked(self):
         """Cells planning avoids: the inflated lethal cells, ``(H, W)`` bool."""

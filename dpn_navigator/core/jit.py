@@ -115,6 +115,8 @@ def warm_up():
 
     """
     from .astar_search import warm_up_astar
+    from .costmap_grid import warm_up_costmap
     started = time.perf_counter()
     warm_up_astar()
+    warm_up_costmap()
     return time.perf_counter() - started
