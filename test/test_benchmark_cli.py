@@ -204,7 +204,7 @@ def test_reference_navigators_run_the_same_episodes_as_dpn(smoke_run, reference_
         assert all(row['scans'] >= 10 * row['time'] for row in rows)
         assert all(row['mobile_visible'] == 0 and row['mobile_precision'] is None
                    for row in rows)
-        assert '| costmap | 10 | 1 | n/a | n/a | n/a |' in (out / 'summary.md').read_text()
+        assert '| costmap | 10 | 2 | n/a | n/a | n/a | n/a |' in (out / 'summary.md').read_text()
 
 
 def test_a_reference_log_is_not_resumed_with_another_navigator(reference_run):
