@@ -235,22 +235,24 @@ def save_compare_figure(path, rows_by_navigator, subject='dpn', reference='oracl
                  color=colour, label=name)
     bars.set_ylim(0.0, 100.0)
     bars.set_ylabel('success [%]')
-    bars.legend(fontsize=7, ncol=len(names), loc='lower left')
-    bars.set_title('Success per map, all wanderer counts', fontsize=9)
+    bars.legend(fontsize=7, ncol=len(names), loc='lower left', bbox_to_anchor=(0.0, 1.02))
+    bars.set_title('Success per map, all wanderer counts', fontsize=9, loc='right')
     if with_ratio:
         ratios, counts, ratio_maps = ratio_matrix(rows_by_navigator[subject],
                                                   rows_by_navigator[reference])
         heat = axes[1, 0]
-        image = heat.imshow(ratios, aspect='auto', cmap='RdYlGn', vmin=0.5, vmax=1.0,
-                            interpolation='nearest')
+        colours_map = pyplot.get_cmap('RdYlGn').copy()
+        colours_map.set_bad('#d9d9d9')
+        image = heat.imshow(np.ma.masked_invalid(ratios), aspect='auto', cmap=colours_map,
+                            vmin=0.5, vmax=1.0, interpolation='nearest')
         for i in range(len(counts)):
             for j in range(len(ratio_maps)):
-                if not np.isnan(ratios[i, j]):
-                    heat.text(j, i, f'{ratios[i, j]:.2f}'.lstrip('0') if ratios[i, j] < 1.0
-                              else f'{ratios[i, j]:.1f}', ha='center', va='center', fontsize=5)
+                text = '-' if np.isnan(ratios[i, j]) else f'{ratios[i, j]:.1f}'
+                heat.text(j, i, text, ha='center', va='center', fontsize=6)
         heat.set_yticks(np.arange(len(counts)), [str(count) for count in counts])
         heat.set_ylabel('wanderers')
-        heat.set_title(f'{subject} / {reference} success', fontsize=9)
+        heat.set_title(f'{subject} / {reference} success (grey: {reference} never succeeded)',
+                       fontsize=9)
         figure.colorbar(image, ax=heat, fraction=0.02, pad=0.01)
     axes[-1, 0].set_xticks(positions, [label for _, _, label in maps], rotation=90, fontsize=7)
     figure.savefig(path, dpi=80, bbox_inches='tight')

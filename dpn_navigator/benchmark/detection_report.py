@@ -242,7 +242,8 @@ def save_detection_figure(path, rows_by_navigator, title='Detection against wand
     ghosts.set_title('obstacle cells no wall or wanderer explains', fontsize=9)
     for axes in (ratios, ghosts):
         axes.grid(alpha=0.3)
-        axes.legend(fontsize=7)
+        if axes.get_legend_handles_labels()[0]:      # none on the left for a costmap alone
+            axes.legend(fontsize=7)
     figure.suptitle(title)
     figure.savefig(path, dpi=110, bbox_inches='tight')
     pyplot.close(figure)
