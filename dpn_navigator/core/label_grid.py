@@ -21,6 +21,7 @@ import numpy as np
 from .cell_label import blocked_mask, CellLabel, LABEL_DTYPE, ScanInput, TRANSITION
 from .free_evidence import surely_free
 from .grid_geometry import GridGeometry
+from .motion_tracks import MotionTracks, TrackConfig
 from .moving_objects import moving_object_hits
 from .scan_features import hit_runs, run_cover, scan_input
 from .scan_polygon import check_pose, check_scan, scan_points
@@ -120,6 +121,13 @@ class LabelRule:
         Ghost expiry [s]. A mobile obstacle cell that no hit has been within the safety radius
         of for this long, and that the latest scan does not see (f1 = f2 = 0), goes back to
         explored. 0 turns it off. Needs the scan's ``stamp``.
+    track_confirm_time : float
+        Motion tracks [s] (``motion_tracks``): an object seen to move is followed from scan to
+        scan, and a compact, free-standing segment that continues it is a moving object (its
+        hits count as moving hits above) even without evidence of its own; a compact
+        free-standing segment next to where one stood a moment ago, now seen empty, is seen to
+        move. A track nothing showed moving for this long is dropped. 0 turns it off. Needs
+        ``moving_object_size`` > 0 and the scan's ``stamp``.
 
     """
 
@@ -128,15 +136,19 @@ class LabelRule:
     evidence_margin: float = 0.15
     segment_gap: float = 0.3
     mobile_expiry: float = 0.0
+    track_confirm_time: float = 0.0
 
     def __post_init__(self):
         for name in ('free_evidence_radius', 'moving_object_size', 'evidence_margin',
-                     'mobile_expiry'):
+                     'mobile_expiry', 'track_confirm_time'):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0.0):
                 raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
         if not (math.isfinite(self.segment_gap) and self.segment_gap > 0.0):
             raise ValueError(f'segment_gap must be positive, got {self.segment_gap!r} m')
+        if self.track_confirm_time > 0.0 and self.moving_object_size == 0.0:
+            raise ValueError('track_confirm_time needs moving_object_size > 0: tracks follow '
+                             'moving objects')
         if self.moving_object_size > 0.0 and self.free_evidence_radius == 0.0:
             raise ValueError('moving_object_size needs free_evidence_radius > 0: motion is '
                              'shown by hits in space surely seen free')
@@ -173,6 +185,8 @@ class LabelGrid:
     last_hit : (rows, cols) ndarray of float64, or None
         Stamp of the last scan with f1 = 1 on each cell [s], ``-inf`` before any; None unless
         ``rule.mobile_expiry`` > 0.
+    tracks : MotionTracks
+        The moving objects followed (none unless ``rule.track_confirm_time`` > 0).
     last_window : (slice, slice, (n_rows, n_cols) ndarray of uint8)
         The latest update's window and its FSM input (``ScanInput``); empty slices when the
         scan missed the grid. Cells outside the window had input ``NONE``.
@@ -189,6 +203,8 @@ class LabelGrid:
                          if rule.mobile_expiry > 0.0 else None)
         self._last_stamp = -math.inf
         self.last_window = _EMPTY_WINDOW
+        self.tracks = MotionTracks(TrackConfig(confirm_within=rule.track_confirm_time))
+        self._scan_fan = (0.0, 1.0)         # map-frame bearing of beam 0, beam step [rad]
 
     def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
                safety_radius, path=None, angle_max=None, stamp=None):
@@ -235,11 +251,13 @@ class LabelGrid:
             raise ValueError(f'safety_radius must be finite and >= 0, got {safety_radius!r} m')
         path = check_path(path, self.geometry.shape)
         expiring = self.rule.mobile_expiry > 0.0
-        if expiring:
+        if expiring or self.rule.track_confirm_time > 0.0:
             if stamp is None or not math.isfinite(stamp):
-                raise ValueError(f'mobile_expiry needs a finite scan stamp, got {stamp!r}')
+                raise ValueError('the label rule (mobile_expiry, track_confirm_time) needs a '
+                                 f'finite scan stamp, got {stamp!r}')
             self._restart_clocks_if_time_went_back(float(stamp))
         points = scan_points(pose, ranges, angle_min, angle_increment, range_min, range_max)
+        self._scan_fan = (pose[2] + angle_min, angle_increment)
         # Every cell within r of a hit (f1), or within the evidence radius of one.
         reach = max(safety_radius, self.rule.free_evidence_radius)
         rows, cols = self.geometry.cell_window(
@@ -263,7 +281,7 @@ class LabelGrid:
         window[...] = np.take(_TRANSITION_BY_CODE, (before << 2) | cell_input)
         if self.rule.free_evidence_radius > 0.0:
             self._apply_free_evidence(rows, cols, points, safety_radius, before, cell_input,
-                                      window, runs)
+                                      window, runs, stamp)
         if expiring:
             self.last_hit[rows, cols][cell_input == ScanInput.HIT] = stamp
             self._expire_mobile(float(stamp))
@@ -278,7 +296,7 @@ class LabelGrid:
         return bool(new_obstacle.any())
 
     def _apply_free_evidence(self, rows, cols, points, safety_radius, before, cell_input,
-                             window, runs):
+                             window, runs, stamp=None):
         """
         Conservative free space and object-level relabelling over the window, in place.
 
@@ -291,13 +309,14 @@ class LabelGrid:
         window[(before == CellLabel.EXPLORED) & hit & ~seen_free] = CellLabel.STEADY_OBSTACLE
         if self.rule.moving_object_size > 0.0:
             near_moving = self._near_moving_objects(rows, cols, points, safety_radius,
-                                                    seen_free, runs)
+                                                    seen_free, runs, stamp)
             window[hit] = np.where(near_moving[hit], CellLabel.MOBILE_OBSTACLE,
                                    CellLabel.STEADY_OBSTACLE)
         seen_free |= surely_free(self.geometry, rows, cols, points,
                                  self.rule.free_evidence_radius, cell_input, safety_radius)
 
-    def _near_moving_objects(self, rows, cols, points, safety_radius, seen_free, runs):
+    def _near_moving_objects(self, rows, cols, points, safety_radius, seen_free, runs,
+                             stamp):
         """
         Find the window cells within the safety radius of a hit on an object seen to move.
 
@@ -324,12 +343,19 @@ class LabelGrid:
                 seen_free, candidates.shape[0])
         moving = moving_object_hits(points.hits_x, points.hits_y, points.hit_beams, evidence,
                                     self.rule.segment_gap, self.rule.moving_object_size)
+        if self.rule.track_confirm_time > 0.0:
+            moving |= self.tracks.update(
+                float(stamp), (points.vertices_x[0], points.vertices_y[0]), points.hits_x,
+                points.hits_y, points.hit_beams, points.vertices_x.shape[0] - 2, moving,
+                self.rule.segment_gap, *self._scan_fan,
+                np.hypot(points.vertices_x[1:-1] - points.vertices_x[0],
+                         points.vertices_y[1:-1] - points.vertices_y[0]))
         starts, ends, hit_index = runs
         return run_cover(starts[moving[hit_index]], ends[moving[hit_index]], seen_free.shape)
 
     def _restart_clocks_if_time_went_back(self, stamp):
         """After a jump back in time (a restarted simulation), no hit is newer than now."""
-        if stamp < self._last_stamp:
+        if stamp < self._last_stamp and self.last_hit is not None:
             np.minimum(self.last_hit, stamp, out=self.last_hit)
         self._last_stamp = stamp
 

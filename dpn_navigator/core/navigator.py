@@ -124,6 +124,9 @@ class NavigatorConfig:
     mobile_expiry : float
         Ghost expiry [s]: mobile cells unconfirmed by any hit for this long and out of view go
         back to explored; see ``LabelRule``. 0: off.
+    track_confirm_time : float
+        Motion tracks [s]: a compact, free-standing scan segment near an object seen to move
+        is that object while motion was seen within this long; see ``LabelRule``. 0: off.
     follower : FollowerConfig
         Speed limits and gains of the path follower.
 
@@ -145,6 +148,7 @@ class NavigatorConfig:
     evidence_margin: float = 0.15
     segment_gap: float = 0.3
     mobile_expiry: float = 5.0
+    track_confirm_time: float = 5.0
     follower: FollowerConfig = field(default_factory=FollowerConfig)
 
     def __post_init__(self):
@@ -164,7 +168,8 @@ class NavigatorConfig:
         return LabelRule(free_evidence_radius=self.free_evidence_radius,
                          moving_object_size=self.moving_object_size,
                          evidence_margin=self.evidence_margin, segment_gap=self.segment_gap,
-                         mobile_expiry=self.mobile_expiry)
+                         mobile_expiry=self.mobile_expiry,
+                         track_confirm_time=self.track_confirm_time)
 
 
 @dataclass(frozen=True)
