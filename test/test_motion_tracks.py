@@ -156,3 +156,35 @@ def test_bad_track_config_raises(name):
         TrackConfig(**{name: -1.0})
     with pytest.raises(ValueError, match='track_confirm_time must be finite'):
         LabelRule(track_confirm_time=math.inf)
+
+
+def test_trail_out_of_view_goes_back_to_explored_once_its_object_is_seen_far_away():
+    rule = LabelRule(**DPN, track_confirm_time=5.0, mobile_expiry=5.0, trail_distance=1.2)
+    grid, labels = run(rule, walking_away, 1.0)
+    assert labels[-1] == M
+    (track,) = grid.tracks.ids
+    behind_laser = (1, 1)                         # out of view, far from the object
+    in_its_shadow = grid.geometry.world_to_cell(5.25, 6.0)   # out of view, 1 m behind it
+    for cell in (behind_laser, in_its_shadow):
+        grid.labels[cell] = M
+        grid.cell_track[cell] = track
+        grid.last_hit[cell] = 1.0                 # recent: the 5 s expiry keeps it
+    laser = (1.0, 6.0, 0.0)
+    grid.update(laser, disc_scan(laser, walking_away(1.1)), safety_radius=0.6, stamp=1.1,
+                **SCAN)
+    rows, cols, cell_input = grid.last_window
+    assert cell_input[in_its_shadow[0] - rows.start, in_its_shadow[1] - cols.start] == 0
+    assert grid.labels[behind_laser] == CellLabel.EXPLORED
+    assert grid.cell_track[behind_laser] == -1
+    assert grid.labels[in_its_shadow] == M        # within 1.2 m of it: may be it
+    # The object's own hit cells carry its track.
+    assert np.all(grid.cell_track[rows, cols][cell_input == 2] == track)
+
+
+def test_trails_are_off_at_zero_distance_and_need_tracks():
+    grid, _ = run(LabelRule(**DPN, track_confirm_time=5.0), walking_away, 0.5)
+    assert grid.cell_track is None
+    with pytest.raises(ValueError, match='trail_distance needs track_confirm_time'):
+        LabelRule(**DPN, trail_distance=1.0)
+    with pytest.raises(ValueError, match='track_confirm_time needs moving_object_size'):
+        LabelRule(free_evidence_radius=0.6, track_confirm_time=1.0)

@@ -128,6 +128,11 @@ class LabelRule:
         free-standing segment next to where one stood a moment ago, now seen empty, is seen to
         move. A track nothing showed moving for this long is dropped. 0 turns it off. Needs
         ``moving_object_size`` > 0 and the scan's ``stamp``.
+    trail_distance : float
+        Trails [m]: a mobile cell last labelled by a followed object goes back to explored
+        while out of view (f1 = f2 = 0) once the scan sees that object at least this far from
+        the cell: the object has moved on, what it left is a trail. 0 turns it off. Needs
+        ``track_confirm_time`` > 0.
 
     """
 
@@ -137,15 +142,19 @@ class LabelRule:
     segment_gap: float = 0.3
     mobile_expiry: float = 0.0
     track_confirm_time: float = 0.0
+    trail_distance: float = 0.0
 
     def __post_init__(self):
         for name in ('free_evidence_radius', 'moving_object_size', 'evidence_margin',
-                     'mobile_expiry', 'track_confirm_time'):
+                     'mobile_expiry', 'track_confirm_time', 'trail_distance'):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0.0):
                 raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
         if not (math.isfinite(self.segment_gap) and self.segment_gap > 0.0):
             raise ValueError(f'segment_gap must be positive, got {self.segment_gap!r} m')
+        if self.trail_distance > 0.0 and self.track_confirm_time == 0.0:
+            raise ValueError('trail_distance needs track_confirm_time > 0: a trail is left by '
+                             'a followed object')
         if self.track_confirm_time > 0.0 and self.moving_object_size == 0.0:
             raise ValueError('track_confirm_time needs moving_object_size > 0: tracks follow '
                              'moving objects')
@@ -187,6 +196,9 @@ class LabelGrid:
         ``rule.mobile_expiry`` > 0.
     tracks : MotionTracks
         The moving objects followed (none unless ``rule.track_confirm_time`` > 0).
+    cell_track : (rows, cols) ndarray of int64, or None
+        The track (``MotionTracks.ids``) whose hits last labelled each cell mobile, -1 for
+        none; None unless ``rule.trail_distance`` > 0.
     last_window : (slice, slice, (n_rows, n_cols) ndarray of uint8)
         The latest update's window and its FSM input (``ScanInput``); empty slices when the
         scan missed the grid. Cells outside the window had input ``NONE``.
@@ -204,6 +216,8 @@ class LabelGrid:
         self._last_stamp = -math.inf
         self.last_window = _EMPTY_WINDOW
         self.tracks = MotionTracks(TrackConfig(confirm_within=rule.track_confirm_time))
+        self.cell_track = (np.full(self.geometry.shape, -1, dtype=np.int64)
+                           if rule.trail_distance > 0.0 else None)
         self._scan_fan = (0.0, 1.0)         # map-frame bearing of beam 0, beam step [rad]
 
     def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
@@ -285,6 +299,8 @@ class LabelGrid:
         if expiring:
             self.last_hit[rows, cols][cell_input == ScanInput.HIT] = stamp
             self._expire_mobile(float(stamp))
+        if self.cell_track is not None:
+            self._expire_trails(float(stamp))
         if path is None or not path.shape[0]:
             return False
         on_window = ((path[:, 0] >= rows.start) & (path[:, 0] < rows.stop)
@@ -351,7 +367,52 @@ class LabelGrid:
                 np.hypot(points.vertices_x[1:-1] - points.vertices_x[0],
                          points.vertices_y[1:-1] - points.vertices_y[0]))
         starts, ends, hit_index = runs
+        if self.cell_track is not None:
+            self._stamp_tracks(rows, cols, runs)
         return run_cover(starts[moving[hit_index]], ends[moving[hit_index]], seen_free.shape)
+
+    def _stamp_tracks(self, rows, cols, runs):
+        """Note in ``cell_track`` which track's hits are within the safety radius of a cell."""
+        starts, ends, hit_index = runs
+        run_ids = self.tracks.hit_ids[hit_index]
+        window = self.cell_track[rows, cols]
+        for track in np.unique(run_ids[run_ids >= 0]):
+            own = run_ids == track
+            window[run_cover(starts[own], ends[own], window.shape)] = track
+
+    def _expire_trails(self, stamp):
+        """Set out-of-view mobile cells whose object the scan sees far from them to explored."""
+        tracks = self.tracks
+        marked = np.flatnonzero(self.cell_track.ravel() >= 0)
+        if not marked.size:
+            return
+        rr, cc = np.divmod(marked, self.geometry.cols)
+        marks = self.cell_track[rr, cc]
+        kept = (self.labels[rr, cc] == CellLabel.MOBILE_OBSTACLE) & np.isin(marks, tracks.ids)
+        self.cell_track[rr[~kept], cc[~kept]] = -1
+        seen = tracks.last_seen == stamp
+        if not seen.any():
+            return
+        rr, cc, marks = rr[kept], cc[kept], marks[kept]
+        order = np.argsort(tracks.ids[seen])
+        seen_ids = tracks.ids[seen][order]
+        seen_xy = tracks.positions[seen][order]
+        which = np.minimum(np.searchsorted(seen_ids, marks), seen_ids.shape[0] - 1)
+        found = seen_ids[which] == marks
+        rr, cc, which = rr[found], cc[found], which[found]
+        rows, cols, cell_input = self.last_window
+        out_of_view = np.ones(rr.shape[0], dtype=bool)
+        if cell_input.size:
+            inside = ((rr >= rows.start) & (rr < rows.stop) & (cc >= cols.start)
+                      & (cc < cols.stop))
+            out_of_view[inside] = (cell_input[rr[inside] - rows.start, cc[inside] - cols.start]
+                                   == ScanInput.NONE)
+        centre_x, centre_y = self.geometry.cell_to_world(rr, cc)
+        far = (np.hypot(centre_x - seen_xy[which, 0], centre_y - seen_xy[which, 1])
+               >= self.rule.trail_distance)
+        trail = out_of_view & far
+        self.labels[rr[trail], cc[trail]] = CellLabel.EXPLORED
+        self.cell_track[rr[trail], cc[trail]] = -1
 
     def _restart_clocks_if_time_went_back(self, stamp):
         """After a jump back in time (a restarted simulation), no hit is newer than now."""
@@ -387,3 +448,6 @@ class LabelGrid:
             self.last_hit.fill(-math.inf)
         self._last_stamp = -math.inf
         self.last_window = _EMPTY_WINDOW
+        self.tracks.reset()
+        if self.cell_track is not None:
+            self.cell_track.fill(-1)

@@ -170,8 +170,13 @@ class MotionTracks:
     ----------
     positions : (T, 2) ndarray of float64
         Last position of each track [m].
+    ids : (T,) ndarray of int64
+        Each track's number, unique since the last ``reset``.
     last_seen, last_confirmed : (T,) ndarray of float64
         When a segment last continued each track, and when motion evidence last did [s].
+    hit_ids : (K,) ndarray of int64
+        For each hit of the latest scan, the number of the track its segment continued, -1
+        for none.
 
     """
 
@@ -184,6 +189,9 @@ class MotionTracks:
         self._history_xy = np.zeros((0, 2))
         self._history_stamp = np.zeros(0)
         self.positions = np.zeros((0, 2))
+        self.ids = np.zeros(0, dtype=np.int64)
+        self.hit_ids = np.zeros(0, dtype=np.int64)
+        self._next_id = 0
         self.last_seen = np.zeros(0)
         self.last_confirmed = np.zeros(0)
         self._last_stamp = -math.inf
@@ -219,6 +227,7 @@ class MotionTracks:
         """
         count = hits_x.shape[0]
         followed = np.zeros(count, dtype=bool)
+        self.hit_ids = np.full(count, -1, dtype=np.int64)
         if self.config.confirm_within == 0.0:
             return followed
         if stamp < self._last_stamp:
@@ -238,8 +247,9 @@ class MotionTracks:
             mx = np.bincount(segment[moving], weights=hits_x[moving], minlength=segments)
             my = np.bincount(segment[moving], weights=hits_y[moving], minlength=segments)
             for s in np.flatnonzero(evidence):
-                self._continue(np.array([mx[s], my[s]]) / moving_count[s], stamp,
-                               confirmed=True)
+                track = self._continue(np.array([mx[s], my[s]]) / moving_count[s], stamp,
+                                       confirmed=True)
+                self.hit_ids[moving & (segment == s)] = self.ids[track]
         compact = free_standing & (extent <= self.config.compact_size)
         vacated = np.zeros(segments, dtype=bool)
         if self.config.vacated and beam_reach is not None:
@@ -247,8 +257,10 @@ class MotionTracks:
                                     laser_xy, first_angle, increment, beam_reach)
         for s in np.flatnonzero(compact & ~evidence):
             position = np.array([centroid_x[s], centroid_y[s]])
-            if self._continue(position, stamp, confirmed=bool(vacated[s])) or vacated[s]:
+            track = self._continue(position, stamp, confirmed=bool(vacated[s]))
+            if track >= 0:
                 followed[segment == s] = True
+                self.hit_ids[segment == s] = self.ids[track]
         keep = stamp - self._history_stamp <= self.config.history
         self._history_xy = np.vstack((self._history_xy[keep],
                                       np.column_stack((centroid_x[compact],
@@ -278,7 +290,7 @@ class MotionTracks:
 
     def _continue(self, position, stamp, confirmed):
         """
-        Move the nearest track within the gate to ``position``; return whether one was.
+        Move the nearest track within the gate to ``position``; return its index, or -1.
 
         With ``confirmed``, a new track starts when none is near.
         """
@@ -290,17 +302,21 @@ class MotionTracks:
                 self.last_seen[nearest] = stamp
                 if confirmed:
                     self.last_confirmed[nearest] = stamp
-                return True
-        if confirmed:
-            self.positions = np.vstack((self.positions, position))
-            self.last_seen = np.append(self.last_seen, stamp)
-            self.last_confirmed = np.append(self.last_confirmed, stamp)
-        return False
+                return nearest
+        if not confirmed:
+            return -1
+        self.positions = np.vstack((self.positions, position))
+        self.ids = np.append(self.ids, self._next_id)
+        self._next_id += 1
+        self.last_seen = np.append(self.last_seen, stamp)
+        self.last_confirmed = np.append(self.last_confirmed, stamp)
+        return self.positions.shape[0] - 1
 
     def _drop_dead(self, stamp):
         """Drop tracks lost or unconfirmed for too long."""
         alive = ((stamp - self.last_seen <= self.config.lost_after)
                  & (stamp - self.last_confirmed <= self.config.confirm_within))
         self.positions = self.positions[alive]
+        self.ids = self.ids[alive]
         self.last_seen = self.last_seen[alive]
         self.last_confirmed = self.last_confirmed[alive]
