@@ -110,18 +110,18 @@ def test_segment_summary_centroids_extents_and_standing():
     hit_beams = np.array([3, 4, 5, 6, 7])
     segment, arc = scan_segments(hits_x, hits_y, hit_beams, 0.3)
     assert segment.tolist() == [0, 0, 0, 1, 1]
-    centroid_x, centroid_y, extent, standing = segment_summary(
+    centroid_x, centroid_y, extent, open_sides = segment_summary(
         laser, hits_x, hits_y, hit_beams, 10, segment, arc)
     np.testing.assert_allclose(centroid_x, [2.0, 5.0])
     np.testing.assert_allclose(centroid_y, [0.0, 1.1])
     np.testing.assert_allclose(extent, [0.2, 0.2])
     # Segment 0: beam 2 returned nothing, beam 6 is farther: free-standing. Segment 1: beam 5
-    # is nearer (it stands behind segment 0).
-    assert standing.tolist() == [True, False]
+    # is nearer (it stands behind segment 0), beam 8 returned nothing.
+    assert open_sides.tolist() == [2, 1]
     # At the edge of the field of view nothing is known beyond: not free-standing.
     _, _, _, edge = segment_summary(laser, hits_x[:3], hits_y[:3], np.array([0, 1, 2]), 10,
                                     segment[:3], arc[:3])
-    assert edge.tolist() == [False]
+    assert edge.tolist() == [1]
 
 
 def test_seen_free_points_needs_every_nearby_beam_to_pass_the_point():
@@ -150,7 +150,8 @@ def test_following_is_off_at_zero_confirm_time():
     assert not out.any() and tracks.positions.shape == (0, 2)
 
 
-@pytest.mark.parametrize('name', ['compact_size', 'gate', 'confirm_within', 'reach'])
+@pytest.mark.parametrize('name', ['compact_size', 'gate', 'confirm_within', 'reach',
+                                  'half_open_gate'])
 def test_bad_track_config_raises(name):
     with pytest.raises(ValueError, match=f'{name} must be finite'):
         TrackConfig(**{name: -1.0})
@@ -188,3 +189,20 @@ def test_trails_are_off_at_zero_distance_and_need_tracks():
         LabelRule(**DPN, trail_distance=1.0)
     with pytest.raises(ValueError, match='track_confirm_time needs moving_object_size'):
         LabelRule(free_evidence_radius=0.6, track_confirm_time=1.0)
+
+
+@pytest.mark.parametrize(('half_open_gate', 'label'), [(0.35, M), (0.0, S)])
+def test_followed_object_partly_hidden_on_one_side_stays_mobile_within_the_tight_gate(
+        half_open_gate, label):
+    grid, labels = run(LabelRule(**DPN, track_confirm_time=5.0), walking_away, 1.0)
+    assert labels[-1] == M
+    grid.tracks.config = TrackConfig(confirm_within=5.0, half_open_gate=half_open_gate)
+    laser = (1.0, 6.0, 0.0)
+    for step in range(11, 21):
+        stamp = step / 10
+        centre = walking_away(stamp)
+        # A thin post 1.5 m ahead hides the object's left edge: one end of its segment is
+        # closed by a nearer return.
+        ranges = np.minimum(disc_scan(laser, centre), disc_scan(laser, (2.5, 6.15), 0.08))
+        grid.update(laser, ranges, safety_radius=0.6, stamp=stamp, **SCAN)
+        assert disc_labels(grid, centre) == label

@@ -7,6 +7,10 @@ never seen free. So a moving object is followed from scan to scan, at the level 
 
 - every scan segment (``moving_objects.scan_segments``) with hits that show motion starts or
   refreshes a **track** at the centroid of those hits, *confirmed* now;
+- a compact, free-standing segment (below) is *seen to move* when a compact free-standing
+  segment stood within ``reach`` of it ``min_age`` to ``history`` seconds ago at a place every
+  beam now passes: the place it left is empty. A pillar's earlier centroid lies on or behind
+  its surface, never in front of it, so a pillar is never seen to move this way;
 - a **compact, free-standing** segment (its extent along the hits at most ``compact_size``,
   and the beams just outside it return farther or nothing, so it stands in front of what is
   around it) whose centroid lies within ``gate`` of a live track continues that track: all
@@ -44,6 +48,21 @@ class TrackConfig:
         A track no segment continued for this long is dropped [s].
     confirm_within : float
         A track that no motion evidence confirmed for this long is dropped [s]; 0: off.
+    vacated : bool
+        See motion by the place a compact free-standing segment left (below).
+    history : float
+        How long the centroids of compact free-standing segments are kept [s].
+    min_age : float
+        Only centroids at least this old can show a segment near them moved [s].
+    reach : float
+        Largest distance from such a centroid to the segment it shows moving [m].
+    free_margin : float
+        Clearance every beam near the old centroid must pass it by (``seen_free_points``)
+        [m].
+    half_open_gate : float
+        A compact segment with one open end (partly hidden by something nearer, as a wanderer
+        passing a doorway is) continues a track within this distance [m]; 0: never. Tighter
+        than ``gate``: such a segment may be a piece of wall beside the object.
 
     """
 
@@ -56,10 +75,11 @@ class TrackConfig:
     min_age: float = 0.3
     reach: float = 1.2
     free_margin: float = 0.15
+    half_open_gate: float = 0.35
 
     def __post_init__(self):
         for name in ('compact_size', 'gate', 'lost_after', 'confirm_within', 'history',
-                     'min_age', 'reach', 'free_margin'):
+                     'min_age', 'reach', 'free_margin', 'half_open_gate'):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0.0):
                 raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
@@ -88,9 +108,10 @@ def segment_summary(laser_xy, hits_x, hits_y, hit_beams, beam_count, segment, ar
         Mean hit of each segment [m].
     extent : (S,) ndarray of float64
         Arc length from its first to its last hit [m].
-    free_standing : (S,) ndarray of bool
-        The beam before its first hit and the beam after its last hit exist and return
-        nothing or a hit farther from the laser than the segment's end next to it.
+    open_sides : (S,) ndarray of int64
+        How many of its two ends are open, 0 to 2: the beam just outside the end exists and
+        returns nothing or a hit farther from the laser than the end. With 2 the segment is
+        free-standing.
 
     """
     count = segment.shape[0]
@@ -114,7 +135,7 @@ def segment_summary(laser_xy, hits_x, hits_y, hit_beams, beam_count, segment, ar
     open_after = np.where(after_is_hit,
                           distance[np.minimum(after, count - 1)] > distance[last],
                           hit_beams[last] < beam_count - 1)
-    return centroid_x, centroid_y, extent, open_before & open_after
+    return centroid_x, centroid_y, extent, open_before.astype(np.int64) + open_after
 
 
 def seen_free_points(points_xy, laser_xy, first_angle, increment, beam_reach, margin):
@@ -237,8 +258,9 @@ class MotionTracks:
         if count == 0:
             return followed
         segment, arc = scan_segments(hits_x, hits_y, hit_beams, segment_gap)
-        centroid_x, centroid_y, extent, free_standing = segment_summary(
+        centroid_x, centroid_y, extent, open_sides = segment_summary(
             laser_xy, hits_x, hits_y, hit_beams, beam_count, segment, arc)
+        small = extent <= self.config.compact_size
         segments = centroid_x.shape[0]
         # Segments with motion evidence: the centroid of their moving hits.
         moving_count = np.bincount(segment[moving], minlength=segments)
@@ -250,7 +272,7 @@ class MotionTracks:
                 track = self._continue(np.array([mx[s], my[s]]) / moving_count[s], stamp,
                                        confirmed=True)
                 self.hit_ids[moving & (segment == s)] = self.ids[track]
-        compact = free_standing & (extent <= self.config.compact_size)
+        compact = small & (open_sides == 2)
         vacated = np.zeros(segments, dtype=bool)
         if self.config.vacated and beam_reach is not None:
             vacated = self._vacated(stamp, centroid_x, centroid_y, compact & ~evidence,
@@ -261,6 +283,14 @@ class MotionTracks:
             if track >= 0:
                 followed[segment == s] = True
                 self.hit_ids[segment == s] = self.ids[track]
+        if self.config.half_open_gate > 0.0:
+            for s in np.flatnonzero(small & (open_sides == 1) & ~evidence):
+                position = np.array([centroid_x[s], centroid_y[s]])
+                track = self._continue(position, stamp, confirmed=False,
+                                       gate=self.config.half_open_gate)
+                if track >= 0:
+                    followed[segment == s] = True
+                    self.hit_ids[segment == s] = self.ids[track]
         keep = stamp - self._history_stamp <= self.config.history
         self._history_xy = np.vstack((self._history_xy[keep],
                                       np.column_stack((centroid_x[compact],
@@ -288,7 +318,7 @@ class MotionTracks:
             vacated[s] = bool((distance <= self.config.reach).any())
         return vacated
 
-    def _continue(self, position, stamp, confirmed):
+    def _continue(self, position, stamp, confirmed, gate=None):
         """
         Move the nearest track within the gate to ``position``; return its index, or -1.
 
@@ -297,7 +327,7 @@ class MotionTracks:
         if self.positions.shape[0]:
             distance = np.hypot(*(self.positions - position).T)
             nearest = int(np.argmin(distance))
-            if distance[nearest] <= self.config.gate:
+            if distance[nearest] <= (self.config.gate if gate is None else gate):
                 self.positions[nearest] = position
                 self.last_seen[nearest] = stamp
                 if confirmed:
