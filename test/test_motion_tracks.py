@@ -170,6 +170,8 @@ def test_trail_out_of_view_goes_back_to_explored_once_its_object_is_seen_far_awa
         grid.labels[cell] = M
         grid.cell_track[cell] = track
         grid.last_hit[cell] = 1.0                 # recent: the 5 s expiry keeps it
+        # As if the object's hits had marked it (the grid lists the cells it marked).
+        grid._marked = np.append(grid._marked, cell[0] * grid.geometry.cols + cell[1])
     laser = (1.0, 6.0, 0.0)
     grid.update(laser, disc_scan(laser, walking_away(1.1)), safety_radius=0.6, stamp=1.1,
                 **SCAN)

@@ -218,6 +218,7 @@ class LabelGrid:
         self.tracks = MotionTracks(TrackConfig(confirm_within=rule.track_confirm_time))
         self.cell_track = (np.full(self.geometry.shape, -1, dtype=np.int64)
                            if rule.trail_distance > 0.0 else None)
+        self._marked = np.zeros(0, dtype=np.int64)   # flat cells that may hold a track
         self._scan_fan = (0.0, 1.0)         # map-frame bearing of beam 0, beam step [rad]
 
     def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
@@ -376,23 +377,29 @@ class LabelGrid:
         starts, ends, hit_index = runs
         run_ids = self.tracks.hit_ids[hit_index]
         window = self.cell_track[rows, cols]
+        window[self.last_window[2] == ScanInput.HIT] = -1    # marks are of the last hit
         for track in np.unique(run_ids[run_ids >= 0]):
             own = run_ids == track
-            window[run_cover(starts[own], ends[own], window.shape)] = track
+            cover = run_cover(starts[own], ends[own], window.shape)
+            window[cover] = track
+            local_rr, local_cc = np.nonzero(cover)
+            self._marked = np.concatenate((
+                self._marked,
+                (local_rr + rows.start) * self.geometry.cols + local_cc + cols.start))
+        if self._marked.shape[0] > 4096:
+            self._marked = np.unique(self._marked)
 
     def _expire_trails(self, stamp):
         """Set out-of-view mobile cells whose object the scan sees far from them to explored."""
         tracks = self.tracks
-        marked = np.flatnonzero(self.cell_track.ravel() >= 0)
-        if not marked.size:
+        seen = tracks.last_seen == stamp
+        if not seen.any() or not self._marked.size:
             return
+        marked = np.unique(self._marked)
         rr, cc = np.divmod(marked, self.geometry.cols)
         marks = self.cell_track[rr, cc]
-        kept = (self.labels[rr, cc] == CellLabel.MOBILE_OBSTACLE) & np.isin(marks, tracks.ids)
+        kept = (marks >= 0) & (self.labels[rr, cc] == CellLabel.MOBILE_OBSTACLE)
         self.cell_track[rr[~kept], cc[~kept]] = -1
-        seen = tracks.last_seen == stamp
-        if not seen.any():
-            return
         rr, cc, marks = rr[kept], cc[kept], marks[kept]
         order = np.argsort(tracks.ids[seen])
         seen_ids = tracks.ids[seen][order]
@@ -413,6 +420,9 @@ class LabelGrid:
         trail = out_of_view & far
         self.labels[rr[trail], cc[trail]] = CellLabel.EXPLORED
         self.cell_track[rr[trail], cc[trail]] = -1
+        cleared = np.zeros(found.shape[0], dtype=bool)
+        cleared[np.flatnonzero(found)[trail]] = True
+        self._marked = marked[kept][~cleared]
 
     def _restart_clocks_if_time_went_back(self, stamp):
         """After a jump back in time (a restarted simulation), no hit is newer than now."""
@@ -451,3 +461,4 @@ class LabelGrid:
         self.tracks.reset()
         if self.cell_track is not None:
             self.cell_track.fill(-1)
+        self._marked = np.zeros(0, dtype=np.int64)

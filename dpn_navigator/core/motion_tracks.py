@@ -174,8 +174,15 @@ def seen_free_points(points_xy, laser_xy, first_angle, increment, beam_reach, ma
     high = np.ceil(centre + half).astype(np.int64)
     beams = beam_reach.shape[0]
     free = np.zeros(points_xy.shape[0], dtype=bool)
-    for i in np.flatnonzero((low >= 0) & (high < beams) & (rho > margin)):
-        free[i] = beam_reach[low[i]:high[i] + 1].min() >= rho[i] + margin
+    inside = np.flatnonzero((low >= 0) & (high < beams) & (rho > margin))
+    if not inside.size:
+        return free
+    # The least reach over each point's beams [low, high], all points at once.
+    lengths = high[inside] - low[inside] + 1
+    starts = np.concatenate(([0], np.cumsum(lengths)[:-1]))
+    beams_of = (np.arange(lengths.sum()) - np.repeat(starts - low[inside], lengths))
+    least = np.minimum.reduceat(beam_reach[beams_of], starts)
+    free[inside] = least >= rho[inside] + margin
     return free
 
 
@@ -262,6 +269,9 @@ class MotionTracks:
             laser_xy, hits_x, hits_y, hit_beams, beam_count, segment, arc)
         small = extent <= self.config.compact_size
         segments = centroid_x.shape[0]
+        # Segment ids are sorted: segment s holds hits first[s]:stop[s].
+        first = np.searchsorted(segment, np.arange(segments))
+        stop = np.append(first[1:], count)
         # Segments with motion evidence: the centroid of their moving hits.
         moving_count = np.bincount(segment[moving], minlength=segments)
         evidence = moving_count > 0
@@ -271,26 +281,30 @@ class MotionTracks:
             for s in np.flatnonzero(evidence):
                 track = self._continue(np.array([mx[s], my[s]]) / moving_count[s], stamp,
                                        confirmed=True)
-                self.hit_ids[moving & (segment == s)] = self.ids[track]
+                own = slice(first[s], stop[s])
+                self.hit_ids[own][moving[own]] = self.ids[track]
         compact = small & (open_sides == 2)
         vacated = np.zeros(segments, dtype=bool)
         if self.config.vacated and beam_reach is not None:
             vacated = self._vacated(stamp, centroid_x, centroid_y, compact & ~evidence,
                                     laser_xy, first_angle, increment, beam_reach)
-        for s in np.flatnonzero(compact & ~evidence):
+        candidates = compact & ~evidence
+        if not self.positions.shape[0]:
+            candidates &= vacated               # nothing to continue: only new tracks
+        for s in np.flatnonzero(candidates):
             position = np.array([centroid_x[s], centroid_y[s]])
             track = self._continue(position, stamp, confirmed=bool(vacated[s]))
             if track >= 0:
-                followed[segment == s] = True
-                self.hit_ids[segment == s] = self.ids[track]
-        if self.config.half_open_gate > 0.0:
+                followed[first[s]:stop[s]] = True
+                self.hit_ids[first[s]:stop[s]] = self.ids[track]
+        if self.config.half_open_gate > 0.0 and self.positions.shape[0]:
             for s in np.flatnonzero(small & (open_sides == 1) & ~evidence):
                 position = np.array([centroid_x[s], centroid_y[s]])
                 track = self._continue(position, stamp, confirmed=False,
                                        gate=self.config.half_open_gate)
                 if track >= 0:
-                    followed[segment == s] = True
-                    self.hit_ids[segment == s] = self.ids[track]
+                    followed[first[s]:stop[s]] = True
+                    self.hit_ids[first[s]:stop[s]] = self.ids[track]
         keep = stamp - self._history_stamp <= self.config.history
         self._history_xy = np.vstack((self._history_xy[keep],
                                       np.column_stack((centroid_x[compact],
