@@ -15,7 +15,7 @@ S, M = CellLabel.STEADY_OBSTACLE, CellLabel.MOBILE_OBSTACLE
 BEAMS = 181
 SCAN = {'angle_min': -math.pi / 2, 'angle_increment': math.pi / (BEAMS - 1), 'range_min': 0.1,
         'range_max': 8.0}
-DPN = dict(free_evidence_radius=0.6, moving_object_size=0.7)
+DPN = {'free_evidence_radius': 0.6, 'moving_object_size': 0.7}
 
 
 def disc_scan(laser, centre, radius=0.25):

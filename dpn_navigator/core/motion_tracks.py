@@ -245,6 +245,11 @@ class MotionTracks:
             Hits on objects seen to move in this scan (``moving_object_hits``).
         segment_gap : float
             As in ``moving_object_hits`` [m].
+        first_angle, increment : float, optional
+            Map-frame bearing of beam 0 and the step between beams [rad].
+        beam_reach : (L,) ndarray of float64, optional
+            How far each beam saw free space [m] (``seen_free_points``); without it no
+            segment is seen to move by the place it left.
 
         Returns
         -------
