@@ -260,12 +260,12 @@ class MotionTracks:
         """
         count = hits_x.shape[0]
         followed = np.zeros(count, dtype=bool)
-        self.hit_ids = np.full(count, -1, dtype=np.int64)
-        if self.config.confirm_within == 0.0:
-            return followed
         if stamp < self._last_stamp:
             self.reset()                        # time went back: a restarted simulation
         self._last_stamp = stamp
+        self.hit_ids = np.full(count, -1, dtype=np.int64)
+        if self.config.confirm_within == 0.0:
+            return followed
         self._drop_dead(stamp)
         if count == 0:
             return followed
