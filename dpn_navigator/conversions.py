@@ -276,7 +276,9 @@ def line_strip_marker(points_xy, namespace, marker_id, rgba, width, stamp, frame
     marker.pose.orientation.w = 1.0
     marker.scale.x = float(width)
     marker.color = ColorRGBA(r=rgba[0], g=rgba[1], b=rgba[2], a=rgba[3])
-    marker.points = [Point(x=x, y=y, z=0.05) for x, y in points_xy.tolist()]
+    # Plain floats from tolist(): the field checks (a third of the time on a long path) can go.
+    marker.points = [Point(x=x, y=y, z=0.05, check_fields=False)
+                     for x, y in points_xy.tolist()]
     return marker
 
 
