@@ -21,6 +21,7 @@ import numpy as np
 from .cell_label import blocked_mask, CellLabel, LABEL_DTYPE, ScanInput, TRANSITION
 from .free_evidence import surely_free
 from .grid_geometry import GridGeometry
+from .motion_tracks import MotionTracks, TrackConfig
 from .moving_objects import moving_object_hits
 from .scan_features import hit_runs, run_cover, scan_input
 from .scan_polygon import check_pose, check_scan, scan_points
@@ -120,6 +121,18 @@ class LabelRule:
         Ghost expiry [s]. A mobile obstacle cell that no hit has been within the safety radius
         of for this long, and that the latest scan does not see (f1 = f2 = 0), goes back to
         explored. 0 turns it off. Needs the scan's ``stamp``.
+    track_confirm_time : float
+        Motion tracks [s] (``motion_tracks``): an object seen to move is followed from scan to
+        scan, and a compact, free-standing segment that continues it is a moving object (its
+        hits count as moving hits above) even without evidence of its own; a compact
+        free-standing segment next to where one stood a moment ago, now seen empty, is seen to
+        move. A track nothing showed moving for this long is dropped. 0 turns it off. Needs
+        ``moving_object_size`` > 0 and the scan's ``stamp``.
+    trail_distance : float
+        Trails [m]: a mobile cell last labelled by a followed object goes back to explored
+        while out of view (f1 = f2 = 0) once the scan sees that object at least this far from
+        the cell: the object has moved on, what it left is a trail. 0 turns it off. Needs
+        ``track_confirm_time`` > 0.
 
     """
 
@@ -128,15 +141,23 @@ class LabelRule:
     evidence_margin: float = 0.15
     segment_gap: float = 0.3
     mobile_expiry: float = 0.0
+    track_confirm_time: float = 0.0
+    trail_distance: float = 0.0
 
     def __post_init__(self):
         for name in ('free_evidence_radius', 'moving_object_size', 'evidence_margin',
-                     'mobile_expiry'):
+                     'mobile_expiry', 'track_confirm_time', 'trail_distance'):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0.0):
                 raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
         if not (math.isfinite(self.segment_gap) and self.segment_gap > 0.0):
             raise ValueError(f'segment_gap must be positive, got {self.segment_gap!r} m')
+        if self.trail_distance > 0.0 and self.track_confirm_time == 0.0:
+            raise ValueError('trail_distance needs track_confirm_time > 0: a trail is left by '
+                             'a followed object')
+        if self.track_confirm_time > 0.0 and self.moving_object_size == 0.0:
+            raise ValueError('track_confirm_time needs moving_object_size > 0: tracks follow '
+                             'moving objects')
         if self.moving_object_size > 0.0 and self.free_evidence_radius == 0.0:
             raise ValueError('moving_object_size needs free_evidence_radius > 0: motion is '
                              'shown by hits in space surely seen free')
@@ -173,6 +194,11 @@ class LabelGrid:
     last_hit : (rows, cols) ndarray of float64, or None
         Stamp of the last scan with f1 = 1 on each cell [s], ``-inf`` before any; None unless
         ``rule.mobile_expiry`` > 0.
+    tracks : MotionTracks
+        The moving objects followed (none unless ``rule.track_confirm_time`` > 0).
+    cell_track : (rows, cols) ndarray of int64, or None
+        The track (``MotionTracks.ids``) whose hits last labelled each cell mobile, -1 for
+        none; None unless ``rule.trail_distance`` > 0.
     last_window : (slice, slice, (n_rows, n_cols) ndarray of uint8)
         The latest update's window and its FSM input (``ScanInput``); empty slices when the
         scan missed the grid. Cells outside the window had input ``NONE``.
@@ -189,6 +215,11 @@ class LabelGrid:
                          if rule.mobile_expiry > 0.0 else None)
         self._last_stamp = -math.inf
         self.last_window = _EMPTY_WINDOW
+        self.tracks = MotionTracks(TrackConfig(confirm_within=rule.track_confirm_time))
+        self.cell_track = (np.full(self.geometry.shape, -1, dtype=np.int64)
+                           if rule.trail_distance > 0.0 else None)
+        self._marked = np.zeros(0, dtype=np.int64)   # flat cells that may hold a track
+        self._scan_fan = (0.0, 1.0)         # map-frame bearing of beam 0, beam step [rad]
 
     def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
                safety_radius, path=None, angle_max=None, stamp=None):
@@ -235,11 +266,13 @@ class LabelGrid:
             raise ValueError(f'safety_radius must be finite and >= 0, got {safety_radius!r} m')
         path = check_path(path, self.geometry.shape)
         expiring = self.rule.mobile_expiry > 0.0
-        if expiring:
+        if expiring or self.rule.track_confirm_time > 0.0:
             if stamp is None or not math.isfinite(stamp):
-                raise ValueError(f'mobile_expiry needs a finite scan stamp, got {stamp!r}')
+                raise ValueError('the label rule (mobile_expiry, track_confirm_time) needs a '
+                                 f'finite scan stamp, got {stamp!r}')
             self._restart_clocks_if_time_went_back(float(stamp))
         points = scan_points(pose, ranges, angle_min, angle_increment, range_min, range_max)
+        self._scan_fan = (pose[2] + angle_min, angle_increment)
         # Every cell within r of a hit (f1), or within the evidence radius of one.
         reach = max(safety_radius, self.rule.free_evidence_radius)
         rows, cols = self.geometry.cell_window(
@@ -263,10 +296,12 @@ class LabelGrid:
         window[...] = np.take(_TRANSITION_BY_CODE, (before << 2) | cell_input)
         if self.rule.free_evidence_radius > 0.0:
             self._apply_free_evidence(rows, cols, points, safety_radius, before, cell_input,
-                                      window, runs)
+                                      window, runs, stamp)
         if expiring:
             self.last_hit[rows, cols][cell_input == ScanInput.HIT] = stamp
             self._expire_mobile(float(stamp))
+        if self.cell_track is not None:
+            self._expire_trails(float(stamp))
         if path is None or not path.shape[0]:
             return False
         on_window = ((path[:, 0] >= rows.start) & (path[:, 0] < rows.stop)
@@ -278,7 +313,7 @@ class LabelGrid:
         return bool(new_obstacle.any())
 
     def _apply_free_evidence(self, rows, cols, points, safety_radius, before, cell_input,
-                             window, runs):
+                             window, runs, stamp=None):
         """
         Conservative free space and object-level relabelling over the window, in place.
 
@@ -291,13 +326,14 @@ class LabelGrid:
         window[(before == CellLabel.EXPLORED) & hit & ~seen_free] = CellLabel.STEADY_OBSTACLE
         if self.rule.moving_object_size > 0.0:
             near_moving = self._near_moving_objects(rows, cols, points, safety_radius,
-                                                    seen_free, runs)
+                                                    seen_free, runs, stamp)
             window[hit] = np.where(near_moving[hit], CellLabel.MOBILE_OBSTACLE,
                                    CellLabel.STEADY_OBSTACLE)
         seen_free |= surely_free(self.geometry, rows, cols, points,
                                  self.rule.free_evidence_radius, cell_input, safety_radius)
 
-    def _near_moving_objects(self, rows, cols, points, safety_radius, seen_free, runs):
+    def _near_moving_objects(self, rows, cols, points, safety_radius, seen_free, runs,
+                             stamp):
         """
         Find the window cells within the safety radius of a hit on an object seen to move.
 
@@ -324,12 +360,73 @@ class LabelGrid:
                 seen_free, candidates.shape[0])
         moving = moving_object_hits(points.hits_x, points.hits_y, points.hit_beams, evidence,
                                     self.rule.segment_gap, self.rule.moving_object_size)
+        if self.rule.track_confirm_time > 0.0:
+            moving |= self.tracks.update(
+                float(stamp), (points.vertices_x[0], points.vertices_y[0]), points.hits_x,
+                points.hits_y, points.hit_beams, points.vertices_x.shape[0] - 2, moving,
+                self.rule.segment_gap, *self._scan_fan,
+                np.hypot(points.vertices_x[1:-1] - points.vertices_x[0],
+                         points.vertices_y[1:-1] - points.vertices_y[0]))
         starts, ends, hit_index = runs
+        if self.cell_track is not None:
+            self._stamp_tracks(rows, cols, runs)
         return run_cover(starts[moving[hit_index]], ends[moving[hit_index]], seen_free.shape)
+
+    def _stamp_tracks(self, rows, cols, runs):
+        """Note in ``cell_track`` which track's hits are within the safety radius of a cell."""
+        starts, ends, hit_index = runs
+        run_ids = self.tracks.hit_ids[hit_index]
+        window = self.cell_track[rows, cols]
+        window[self.last_window[2] == ScanInput.HIT] = -1    # marks are of the last hit
+        for track in np.unique(run_ids[run_ids >= 0]):
+            own = run_ids == track
+            cover = run_cover(starts[own], ends[own], window.shape)
+            window[cover] = track
+            local_rr, local_cc = np.nonzero(cover)
+            self._marked = np.concatenate((
+                self._marked,
+                (local_rr + rows.start) * self.geometry.cols + local_cc + cols.start))
+        if self._marked.shape[0] > 4096:
+            self._marked = np.unique(self._marked)
+
+    def _expire_trails(self, stamp):
+        """Set out-of-view mobile cells whose object the scan sees far from them to explored."""
+        tracks = self.tracks
+        seen = tracks.last_seen == stamp
+        if not seen.any() or not self._marked.size:
+            return
+        marked = np.unique(self._marked)
+        rr, cc = np.divmod(marked, self.geometry.cols)
+        marks = self.cell_track[rr, cc]
+        kept = (marks >= 0) & (self.labels[rr, cc] == CellLabel.MOBILE_OBSTACLE)
+        self.cell_track[rr[~kept], cc[~kept]] = -1
+        rr, cc, marks = rr[kept], cc[kept], marks[kept]
+        order = np.argsort(tracks.ids[seen])
+        seen_ids = tracks.ids[seen][order]
+        seen_xy = tracks.positions[seen][order]
+        which = np.minimum(np.searchsorted(seen_ids, marks), seen_ids.shape[0] - 1)
+        found = seen_ids[which] == marks
+        rr, cc, which = rr[found], cc[found], which[found]
+        rows, cols, cell_input = self.last_window
+        out_of_view = np.ones(rr.shape[0], dtype=bool)
+        if cell_input.size:
+            inside = ((rr >= rows.start) & (rr < rows.stop) & (cc >= cols.start)
+                      & (cc < cols.stop))
+            out_of_view[inside] = (cell_input[rr[inside] - rows.start, cc[inside] - cols.start]
+                                   == ScanInput.NONE)
+        centre_x, centre_y = self.geometry.cell_to_world(rr, cc)
+        far = (np.hypot(centre_x - seen_xy[which, 0], centre_y - seen_xy[which, 1])
+               >= self.rule.trail_distance)
+        trail = out_of_view & far
+        self.labels[rr[trail], cc[trail]] = CellLabel.EXPLORED
+        self.cell_track[rr[trail], cc[trail]] = -1
+        cleared = np.zeros(found.shape[0], dtype=bool)
+        cleared[np.flatnonzero(found)[trail]] = True
+        self._marked = marked[kept][~cleared]
 
     def _restart_clocks_if_time_went_back(self, stamp):
         """After a jump back in time (a restarted simulation), no hit is newer than now."""
-        if stamp < self._last_stamp:
+        if stamp < self._last_stamp and self.last_hit is not None:
             np.minimum(self.last_hit, stamp, out=self.last_hit)
         self._last_stamp = stamp
 
@@ -361,3 +458,7 @@ class LabelGrid:
             self.last_hit.fill(-math.inf)
         self._last_stamp = -math.inf
         self.last_window = _EMPTY_WINDOW
+        self.tracks.reset()
+        if self.cell_track is not None:
+            self.cell_track.fill(-1)
+        self._marked = np.zeros(0, dtype=np.int64)
