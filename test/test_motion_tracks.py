@@ -15,7 +15,7 @@ S, M = CellLabel.STEADY_OBSTACLE, CellLabel.MOBILE_OBSTACLE
 BEAMS = 181
 SCAN = {'angle_min': -math.pi / 2, 'angle_increment': math.pi / (BEAMS - 1), 'range_min': 0.1,
         'range_max': 8.0}
-DPN = dict(free_evidence_radius=0.6, moving_object_size=0.7)
+DPN = {'free_evidence_radius': 0.6, 'moving_object_size': 0.7}
 
 
 def disc_scan(laser, centre, radius=0.25):
@@ -87,12 +87,18 @@ def test_pillar_passed_by_a_moving_laser_is_never_mobile():
     assert not np.any(grid.labels == M)
 
 
-def test_time_going_back_drops_every_track():
-    grid, _ = run(LabelRule(**DPN, track_confirm_time=5.0), walking_away, 1.0)
+@pytest.mark.parametrize('object_in_view', [False, True])
+def test_time_going_back_drops_every_track(object_in_view):
+    rule = LabelRule(**DPN, track_confirm_time=5.0, mobile_expiry=5.0, trail_distance=1.2)
+    grid, _ = run(rule, walking_away, 1.0)
     assert grid.tracks.positions.shape[0] == 1
     laser = (1.0, 6.0, 0.0)
-    grid.update(laser, np.full(BEAMS, np.inf), safety_radius=0.6, stamp=0.0, **SCAN)
-    assert grid.tracks.positions.shape[0] == 0
+    ranges = (disc_scan(laser, walking_away(1.1)) if object_in_view
+              else np.full(BEAMS, np.inf))
+    grid.update(laser, ranges, safety_radius=0.6, stamp=0.0, **SCAN)
+    # A restarted clock: the tracks start over; the object is not seen to move yet.
+    assert grid.tracks.ids.tolist() == []
+    assert grid.tracks.hit_ids.shape[0] == np.count_nonzero(np.isfinite(ranges))
 
 
 def test_tracks_need_a_stamp():

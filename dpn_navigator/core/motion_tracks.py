@@ -245,6 +245,11 @@ class MotionTracks:
             Hits on objects seen to move in this scan (``moving_object_hits``).
         segment_gap : float
             As in ``moving_object_hits`` [m].
+        first_angle, increment : float, optional
+            Map-frame bearing of beam 0 and the step between beams [rad].
+        beam_reach : (L,) ndarray of float64, optional
+            How far each beam saw free space [m] (``seen_free_points``); without it no
+            segment is seen to move by the place it left.
 
         Returns
         -------
@@ -255,12 +260,12 @@ class MotionTracks:
         """
         count = hits_x.shape[0]
         followed = np.zeros(count, dtype=bool)
-        self.hit_ids = np.full(count, -1, dtype=np.int64)
-        if self.config.confirm_within == 0.0:
-            return followed
         if stamp < self._last_stamp:
             self.reset()                        # time went back: a restarted simulation
         self._last_stamp = stamp
+        self.hit_ids = np.full(count, -1, dtype=np.int64)
+        if self.config.confirm_within == 0.0:
+            return followed
         self._drop_dead(stamp)
         if count == 0:
             return followed
