@@ -14,38 +14,33 @@ mobile cell that no hit has confirmed for that long goes back to explored while 
 """
 
 from dataclasses import dataclass
+import functools
 import math
 
 import numpy as np
 
-from .cell_label import blocked_mask, CellLabel, LABEL_DTYPE, ScanInput, TRANSITION
-from .free_evidence import surely_free
+from .cell_label import blocked_mask, CellLabel, LABEL_DTYPE
 from .grid_geometry import GridGeometry
-from .moving_objects import moving_object_hits
-from .scan_features import hit_runs, run_cover, scan_input
+from .label_kernel import expire_listed, update_window
+from .scan_features import squared_radius_bound
 from .scan_polygon import check_pose, check_scan, scan_points
-
-# TRANSITION flattened for one-step lookup with index (label << 2) | scan_input.
-_TRANSITION_BY_CODE = np.zeros(4 * len(CellLabel), dtype=LABEL_DTYPE)
-for _label in CellLabel:
-    for _scan_input in ScanInput:
-        _TRANSITION_BY_CODE[(_label << 2) | _scan_input] = TRANSITION[_label, _scan_input]
-_TRANSITION_BY_CODE.setflags(write=False)
 
 _EMPTY_WINDOW = (slice(0, 0), slice(0, 0), np.zeros((0, 0), dtype=LABEL_DTYPE))
 
+# Stand-ins for the state arrays of the parts of a rule that are off: the kernel takes the
+# same types whatever the rule, so it is compiled once.
+_NO_BOOL = np.zeros((1, 1), dtype=bool)
+_NO_TIME = np.zeros((1, 1), dtype=np.float64)
+_NO_PATH = np.zeros((0, 2), dtype=np.int64)
 
-def _runs_touching(runs, cells, hit_count):
-    """
-    Tell for each hit whether one of its runs holds a True cell.
+#: Entries of the list of mobile cells at first; it doubles when full.
+_INITIAL_MOBILE_LIST = 256
 
-    ``runs`` is ``hit_runs(..., return_hits=True)`` over the window of ``cells`` (bool).
-    """
-    starts, ends, hit_index = runs
-    before = np.concatenate(([0], np.cumsum(cells.ravel())))
-    touching = np.zeros(hit_count, dtype=bool)
-    touching[hit_index[before[ends] > before[starts]]] = True
-    return touching
+
+@functools.lru_cache(maxsize=64)
+def _squared_bound(radius):
+    """`squared_radius_bound`, remembered: the radii of a grid never change."""
+    return squared_radius_bound(radius)
 
 
 def check_path(path, shape):
@@ -142,8 +137,37 @@ class LabelRule:
                              'shown by hits in space surely seen free')
 
 
+    def kernel_arguments(self):
+        """
+        Return the rule as the label kernel takes it (``label_kernel.update_window``).
+
+        Returns
+        -------
+        tuple
+            ``(free_on, free_radius, free_bound, objects_on, evidence_radius,
+            evidence_bound, segment_gap, object_size, expiry_on)``, the bounds being
+            ``squared_radius_bound`` of the radius before them.
+
+        """
+        evidence_radius = max(self.free_evidence_radius - self.evidence_margin, 0.0)
+        return (self.free_evidence_radius > 0.0, self.free_evidence_radius,
+                _squared_bound(self.free_evidence_radius), self.moving_object_size > 0.0,
+                evidence_radius, _squared_bound(evidence_radius), self.segment_gap,
+                self.moving_object_size, self.mobile_expiry > 0.0)
+
+
 #: The paper's rule: f1, f2 and the FSM table, nothing else.
 PAPER_RULE = LabelRule()
+
+
+def warm_up_label_update():
+    """Compile (or load from the cache) the label kernels with one tiny scan, every rule part."""
+    rule = LabelRule(free_evidence_radius=0.5, moving_object_size=0.5, mobile_expiry=1.0)
+    grid = LabelGrid(2.0, 2.0, 0.5, rule=rule)
+    ranges = np.array([0.75, np.inf, 0.75])
+    for stamp in (0.0, 2.0):
+        grid.update((1.0, 1.0, 0.0), ranges, -0.5, 0.5, 0.1, 1.5, 0.25, path=[[0, 0]],
+                    stamp=stamp)
 
 
 class LabelGrid:
@@ -177,6 +201,14 @@ class LabelGrid:
         The latest update's window and its FSM input (``ScanInput``); empty slices when the
         scan missed the grid. Cells outside the window had input ``NONE``.
 
+    Notes
+    -----
+    An update is one compiled kernel over the window the scan reaches
+    (``label_kernel.update_window``); nothing is done over the whole grid. The ghost expiry
+    keeps a list of the cells it has seen become mobile and visits only those, and only when
+    the earliest hit among them is ``mobile_expiry`` old. Code that writes ``labels`` or
+    ``last_hit`` itself (tests, a forgetting navigator) calls `labels_changed` afterwards.
+
     """
 
     def __init__(self, width, height, resolution=0.5, origin=(0.0, 0.0), rule=PAPER_RULE):
@@ -187,6 +219,14 @@ class LabelGrid:
                           if rule.free_evidence_radius > 0.0 else None)
         self.last_hit = (np.full(self.geometry.shape, -math.inf)
                          if rule.mobile_expiry > 0.0 else None)
+        self._kernel_rule = rule.kernel_arguments()
+        # The ghost expiry's list of mobile cells (flat indices, the first _mobile_count), the
+        # grid of which cells it holds, and a lower bound of their last_hit.
+        self._listed = (np.zeros(self.geometry.shape, dtype=bool)
+                        if rule.mobile_expiry > 0.0 else None)
+        self._mobile_cells = np.empty(_INITIAL_MOBILE_LIST, dtype=np.int64)
+        self._mobile_count = 0
+        self._earliest_hit = math.inf
         self._last_stamp = -math.inf
         self.last_window = _EMPTY_WINDOW
 
@@ -238,7 +278,8 @@ class LabelGrid:
         if expiring:
             if stamp is None or not math.isfinite(stamp):
                 raise ValueError(f'mobile_expiry needs a finite scan stamp, got {stamp!r}')
-            self._restart_clocks_if_time_went_back(float(stamp))
+            stamp = float(stamp)
+            self._restart_clocks_if_time_went_back(stamp)
         points = scan_points(pose, ranges, angle_min, angle_increment, range_min, range_max)
         # Every cell within r of a hit (f1), or within the evidence radius of one.
         reach = max(safety_radius, self.rule.free_evidence_radius)
@@ -248,98 +289,77 @@ class LabelGrid:
         if rows.start == rows.stop or cols.start == cols.stop:
             self.last_window = _EMPTY_WINDOW
             if expiring:
-                self._expire_mobile(float(stamp))
+                self._expire_mobile(stamp)
             return False
-        runs = None
-        if self.rule.moving_object_size > 0.0:
-            # f1's runs, with the hit of each, serve the objects' rule too.
-            runs = hit_runs(self.geometry, rows, cols, self.geometry.window_centres(rows, cols),
-                            points.hits_x, points.hits_y, safety_radius, return_hits=True)
-        cell_input = scan_input(self.geometry, rows, cols, points, safety_radius, runs)
+        replan, cell_input, new_mobile = update_window(
+            self.labels, _NO_BOOL if self.seen_free is None else self.seen_free,
+            _NO_TIME if self.last_hit is None else self.last_hit,
+            _NO_BOOL if self._listed is None else self._listed, rows, cols, self.geometry,
+            points, _squared_bound(safety_radius), self._kernel_rule,
+            stamp if expiring else 0.0,
+            _NO_PATH if path is None else np.ascontiguousarray(path))
         self.last_window = (rows, cols, cell_input)
-        window = self.labels[rows, cols]
-        before = window.copy()
-        # np.take is about twice as fast as fancy indexing for this lookup.
-        window[...] = np.take(_TRANSITION_BY_CODE, (before << 2) | cell_input)
-        if self.rule.free_evidence_radius > 0.0:
-            self._apply_free_evidence(rows, cols, points, safety_radius, before, cell_input,
-                                      window, runs)
         if expiring:
-            self.last_hit[rows, cols][cell_input == ScanInput.HIT] = stamp
-            self._expire_mobile(float(stamp))
-        if path is None or not path.shape[0]:
-            return False
-        on_window = ((path[:, 0] >= rows.start) & (path[:, 0] < rows.stop)
-                     & (path[:, 1] >= cols.start) & (path[:, 1] < cols.stop))
-        path_rr = path[on_window, 0] - rows.start
-        path_cc = path[on_window, 1] - cols.start
-        new_obstacle = (~blocked_mask(before[path_rr, path_cc])
-                        & blocked_mask(window[path_rr, path_cc]))
-        return bool(new_obstacle.any())
+            self._list_mobile(new_mobile, stamp)
+            self._expire_mobile(stamp)
+        return replan
 
-    def _apply_free_evidence(self, rows, cols, points, safety_radius, before, cell_input,
-                             window, runs):
-        """
-        Conservative free space and object-level relabelling over the window, in place.
-
-        ``before`` holds the window's labels before this scan, ``window`` (a view into
-        ``labels``) those after the paper's FSM; ``runs`` are f1's runs with their hits
-        (``hit_runs(..., return_hits=True)``) when the objects' rule is on.
-        """
-        seen_free = self.seen_free[rows, cols]
-        hit = cell_input == ScanInput.HIT
-        window[(before == CellLabel.EXPLORED) & hit & ~seen_free] = CellLabel.STEADY_OBSTACLE
-        if self.rule.moving_object_size > 0.0:
-            near_moving = self._near_moving_objects(rows, cols, points, safety_radius,
-                                                    seen_free, runs)
-            window[hit] = np.where(near_moving[hit], CellLabel.MOBILE_OBSTACLE,
-                                   CellLabel.STEADY_OBSTACLE)
-        seen_free |= surely_free(self.geometry, rows, cols, points,
-                                 self.rule.free_evidence_radius, cell_input, safety_radius)
-
-    def _near_moving_objects(self, rows, cols, points, safety_radius, seen_free, runs):
-        """
-        Find the window cells within the safety radius of a hit on an object seen to move.
-
-        A hit shows motion when a cell within ``free_evidence_radius - evidence_margin`` of it
-        was once surely seen free (``seen_free``, before this scan): never so for a hit on a
-        steady wall, which would then have been inside that scan's polygon.
-        """
-        centres = self.geometry.window_centres(rows, cols)
-        evidence_radius = max(self.rule.free_evidence_radius - self.rule.evidence_margin, 0.0)
-        hit_count = points.hits_x.shape[0]
-        evidence = _runs_touching(runs, seen_free, hit_count)
-        if evidence_radius > safety_radius:
-            evidence = _runs_touching(
-                hit_runs(self.geometry, rows, cols, centres, points.hits_x, points.hits_y,
-                         evidence_radius, return_hits=True), seen_free, hit_count)
-        elif evidence_radius < safety_radius and evidence.any():
-            # Only hits with a surely-free cell within r can have one within the smaller
-            # evidence radius; most hits (walls) have none.
-            candidates = np.flatnonzero(evidence)
-            evidence = np.zeros(hit_count, dtype=bool)
-            evidence[candidates] = _runs_touching(
-                hit_runs(self.geometry, rows, cols, centres, points.hits_x[candidates],
-                         points.hits_y[candidates], evidence_radius, return_hits=True),
-                seen_free, candidates.shape[0])
-        moving = moving_object_hits(points.hits_x, points.hits_y, points.hit_beams, evidence,
-                                    self.rule.segment_gap, self.rule.moving_object_size)
-        starts, ends, hit_index = runs
-        return run_cover(starts[moving[hit_index]], ends[moving[hit_index]], seen_free.shape)
+    def _list_mobile(self, cells, stamp):
+        """Append cells just made mobile (their last hit is ``stamp``) to the list."""
+        count = cells.shape[0]
+        if not count:
+            return
+        needed = self._mobile_count + count
+        if needed > self._mobile_cells.shape[0]:
+            grown = np.empty(max(needed, 2 * self._mobile_cells.shape[0]), dtype=np.int64)
+            grown[:self._mobile_count] = self._mobile_cells[:self._mobile_count]
+            self._mobile_cells = grown
+        self._mobile_cells[self._mobile_count:needed] = cells
+        self._mobile_count = needed
+        self._earliest_hit = min(self._earliest_hit, stamp)
 
     def _restart_clocks_if_time_went_back(self, stamp):
         """After a jump back in time (a restarted simulation), no hit is newer than now."""
         if stamp < self._last_stamp:
             np.minimum(self.last_hit, stamp, out=self.last_hit)
+            self._earliest_hit = min(self._earliest_hit, stamp)
         self._last_stamp = stamp
 
     def _expire_mobile(self, stamp):
-        """Set mobile cells out of view and unconfirmed for ``mobile_expiry`` to explored."""
+        """
+        Set mobile cells out of view and unconfirmed for ``mobile_expiry`` to explored.
+
+        Only the listed cells are visited, and only when the earliest last hit among them is
+        old enough: ``stamp - last_hit`` is monotone in ``last_hit``, so no cell is stale
+        while ``stamp - earliest < mobile_expiry``.
+        """
+        if not self._mobile_count or stamp - self._earliest_hit < self.rule.mobile_expiry:
+            return
         rows, cols, cell_input = self.last_window
-        stale = ((self.labels == CellLabel.MOBILE_OBSTACLE)
-                 & (stamp - self.last_hit >= self.rule.mobile_expiry))
-        stale[rows, cols] &= cell_input == ScanInput.NONE
-        self.labels[stale] = CellLabel.EXPLORED
+        self._mobile_count, self._earliest_hit = expire_listed(
+            self.labels, self.last_hit, self._listed, self._mobile_cells, self._mobile_count,
+            stamp, self.rule.mobile_expiry, rows, cols, cell_input)
+
+    def labels_changed(self):
+        """
+        Relist the mobile cells after ``labels`` or ``last_hit`` were written from outside.
+
+        Updates keep the ghost expiry's list of mobile cells themselves; a caller that sets
+        cells mobile by hand, or changes ``last_hit``, calls this (a whole-grid pass) so that
+        the expiry sees them. Without ``mobile_expiry`` it does nothing.
+
+        """
+        if self._listed is None:
+            return
+        mobile = self.labels == CellLabel.MOBILE_OBSTACLE
+        self._listed[...] = mobile
+        cells = np.flatnonzero(mobile)
+        self._mobile_cells = np.empty(max(_INITIAL_MOBILE_LIST, 2 * cells.shape[0]),
+                                      dtype=np.int64)
+        self._mobile_count = cells.shape[0]
+        self._mobile_cells[:self._mobile_count] = cells
+        self._earliest_hit = (float(self.last_hit.ravel()[cells].min()) if cells.shape[0]
+                              else math.inf)
 
     def blocked(self):
         """
@@ -359,5 +379,8 @@ class LabelGrid:
             self.seen_free.fill(False)
         if self.last_hit is not None:
             self.last_hit.fill(-math.inf)
+            self._listed.fill(False)
+        self._mobile_count = 0
+        self._earliest_hit = math.inf
         self._last_stamp = -math.inf
         self.last_window = _EMPTY_WINDOW

@@ -1,0 +1,432 @@
+"""
+The compiled label update: one scan folded into a window of the grid, in place.
+
+`update_window` does, for the window the scan can reach, everything ``LabelGrid.update`` does
+per cell: f2 by even-odd crossings along each row, f1 as the cells within the safety radius of
+each hit, the FSM, and the dpn ``LabelRule`` (conservative free space, object-level
+relabelling, the hit clock of the ghost expiry). `expire_listed` is the ghost expiry itself,
+visiting only the cells listed as mobile, not the whole grid.
+
+Every test is the floating-point expression of the literal twin in the tests
+(``test/literal_reference.py``), evaluated in the same order, so the result equals it cell for
+cell:
+
+- f1 and every disc: ``dx * dx + dy * dy <= bound`` with ``bound`` from
+  ``scan_features.squared_radius_bound`` (the same answers as ``sqrt(...) <= r``);
+- f2: edge ``(a, b)`` crosses the ray from centre ``(x, y)`` along +x when
+  ``(y_a > y) != (y_b > y)`` and ``x < x_a + (x_b - x_a) * (y - y_a) / (y_b - y_a)``;
+- an edge band as in ``free_evidence``: ``0 <= dot <= length2`` and
+  ``abs(cross) / sqrt(length2) <= radius``.
+
+The work grows with the beams and the window's cells, never with the grid.
+
+"""
+
+import math
+
+import numpy as np
+
+from .cell_label import CellLabel, ScanInput
+from .jit import kernel
+
+_NON_EXPLORED = int(CellLabel.NON_EXPLORED)
+_EXPLORED = int(CellLabel.EXPLORED)
+_STEADY = int(CellLabel.STEADY_OBSTACLE)
+_MOBILE = int(CellLabel.MOBILE_OBSTACLE)
+_NONE = int(ScanInput.NONE)
+_INSIDE = int(ScanInput.INSIDE)
+_HIT = int(ScanInput.HIT)
+
+#: Slack of the candidate boxes of the edge bands [m]: far more than the rounding of bounds.
+_BOX_SLACK = 1e-6
+
+
+@kernel
+def _count_below(first, count, origin, resolution, value, or_equal):
+    """
+    Count the centres ``origin + (first + k + 0.5) * resolution``, k < count, below ``value``.
+
+    Below means ``< value``, or ``<= value`` with ``or_equal``: numpy's ``searchsorted``
+    left and right. An estimate from the division, settled with the exact comparisons.
+    """
+    estimate = math.floor((value - origin) / resolution - 0.5) + 1.0 - first
+    k = int(min(max(estimate, 0.0), float(count)))
+    while k > 0:
+        centre = origin + (float(first + k - 1) + 0.5) * resolution
+        if centre > value or (centre == value and not or_equal):
+            k -= 1
+        else:
+            break
+    while k < count:
+        centre = origin + (float(first + k) + 0.5) * resolution
+        if centre < value or (centre == value and or_equal):
+            k += 1
+        else:
+            break
+    return k
+
+
+@kernel
+def _mark_discs(mark, xs, ys, count, selected, row0, col0, x0, y0, resolution, radius, bound):
+    """
+    Set ``mark`` on the window cells within ``radius`` of the first ``count`` selected points.
+
+    ``mark`` is the window's ``(n_rows, n_cols)`` array, its cell ``(0, 0)`` the grid's
+    ``(row0, col0)``; a point counts where ``selected`` is True (or always when it is empty).
+    """
+    n_rows, n_cols = mark.shape
+    for k in range(count):
+        if selected.shape[0] and not selected[k]:
+            continue
+        px = xs[k]
+        py = ys[k]
+        first_row = _count_below(row0, n_rows, y0, resolution, py - radius - resolution,
+                                 False)
+        end_row = _count_below(row0, n_rows, y0, resolution, py + radius + resolution, True)
+        first_col = _count_below(col0, n_cols, x0, resolution, px - radius - resolution,
+                                 False)
+        end_col = _count_below(col0, n_cols, x0, resolution, px + radius + resolution, True)
+        for i in range(first_row, end_row):
+            dy = (y0 + (float(row0 + i) + 0.5) * resolution) - py
+            dy2 = dy * dy
+            for j in range(first_col, end_col):
+                dx = (x0 + (float(col0 + j) + 0.5) * resolution) - px
+                if dx * dx + dy2 <= bound:
+                    mark[i, j] = True
+
+
+@kernel
+def _fill_inside(cell_input, row0, col0, x0, y0, resolution, vertices_x, vertices_y):
+    """Set ``cell_input`` to 1 (f2) on window centres inside the polygon, 0 elsewhere."""
+    n_rows, n_cols = cell_input.shape
+    toggles = np.zeros((n_rows, n_cols + 1), dtype=np.uint8)
+    for a in range(vertices_x.shape[0] - 1):
+        xa = vertices_x[a]
+        ya = vertices_y[a]
+        xb = vertices_x[a + 1]
+        yb = vertices_y[a + 1]
+        # Rows with min(ya, yb) <= y < max(ya, yb): exactly (ya > y) != (yb > y).
+        first_row = _count_below(row0, n_rows, y0, resolution, min(ya, yb), False)
+        end_row = _count_below(row0, n_rows, y0, resolution, max(ya, yb), False)
+        for i in range(first_row, end_row):
+            y = y0 + (float(row0 + i) + 0.5) * resolution
+            x_cross = xa + (xb - xa) * (y - ya) / (yb - ya)
+            # The centres left of the crossing (x < x_cross) see it on their ray.
+            toggles[i, _count_below(col0, n_cols, x0, resolution, x_cross, False)] ^= 1
+    for i in range(n_rows):
+        # Each row holds an even number of crossings: the parity up to a centre is that of
+        # the crossings right of it.
+        parity = 0
+        for j in range(n_cols):
+            parity ^= toggles[i, j]
+            cell_input[i, j] = parity
+
+
+@kernel
+def _mark_edge_bands(mark, cell_input, row0, col0, x0, y0, resolution, vertices_x,
+                     vertices_y, radius):
+    """Set ``mark`` on the window's INSIDE cells within ``radius`` of some polygon edge."""
+    n_rows, n_cols = mark.shape
+    reach = radius + _BOX_SLACK
+    for a in range(vertices_x.shape[0] - 1):
+        xa = vertices_x[a]
+        ya = vertices_y[a]
+        ex = vertices_x[a + 1] - xa
+        ey = vertices_y[a + 1] - ya
+        length2 = ex * ex + ey * ey
+        if not length2 > 0.0:
+            continue
+        length = math.sqrt(length2)
+        first_row = _count_below(row0, n_rows, y0, resolution, min(ya, ya + ey) - reach, False)
+        end_row = _count_below(row0, n_rows, y0, resolution, max(ya, ya + ey) + reach, True)
+        for i in range(first_row, end_row):
+            cy = y0 + (float(row0 + i) + 0.5) * resolution
+            # The part of the edge within reach of the row in y, as parameters of a + t e.
+            if ey == 0.0:
+                t_lo = 0.0
+                t_hi = 1.0
+            else:
+                t_1 = (cy - reach - ya) / ey
+                t_2 = (cy + reach - ya) / ey
+                t_lo = min(max(min(t_1, t_2), 0.0), 1.0)
+                t_hi = min(max(max(t_1, t_2), 0.0), 1.0)
+            x_1 = xa + t_lo * ex
+            x_2 = xa + t_hi * ex
+            first_col = _count_below(col0, n_cols, x0, resolution,
+                                     min(x_1, x_2) - reach - resolution, False)
+            end_col = _count_below(col0, n_cols, x0, resolution,
+                                   max(x_1, x_2) + reach + resolution, True)
+            for j in range(first_col, end_col):
+                if mark[i, j] or cell_input[i, j] != _INSIDE:
+                    continue
+                cx = x0 + (float(col0 + j) + 0.5) * resolution
+                dot = (cx - xa) * ex + (cy - ya) * ey
+                cross = (cx - xa) * ey - (cy - ya) * ex
+                if 0.0 <= dot <= length2 and abs(cross) / length <= radius:
+                    mark[i, j] = True
+
+
+@kernel
+def _moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_size):
+    """``moving_objects.moving_object_hits`` as a loop, with the same arithmetic."""
+    count = hits_x.shape[0]
+    moving = np.zeros(count, dtype=np.bool_)
+    segment = np.zeros(count, dtype=np.int64)
+    arc = np.zeros(count, dtype=np.float64)
+    for k in range(1, count):
+        dx = hits_x[k] - hits_x[k - 1]
+        dy = hits_y[k] - hits_y[k - 1]
+        step = math.sqrt(dx * dx + dy * dy)
+        cut = step > segment_gap or hit_beams[k] - hit_beams[k - 1] != 1
+        segment[k] = segment[k - 1] + (1 if cut else 0)
+        arc[k] = arc[k - 1] + step
+    # The nearest hit with evidence at or before each hit, then at or after it.
+    last = -1
+    for k in range(count):
+        if evidence[k]:
+            last = k
+        if last >= 0 and segment[last] == segment[k] and arc[k] - arc[last] <= object_size:
+            moving[k] = True
+    last = -1
+    for k in range(count - 1, -1, -1):
+        if evidence[k]:
+            last = k
+        if last >= 0 and segment[last] == segment[k] and arc[last] - arc[k] <= object_size:
+            moving[k] = True
+    return moving
+
+
+@kernel
+def _hit_evidence(seen_free, hits_x, hits_y, x0, y0, resolution, radius, bound):
+    """Tell for each hit whether a cell once surely seen free lies within ``radius``."""
+    rows, cols = seen_free.shape
+    count = hits_x.shape[0]
+    evidence = np.zeros(count, dtype=np.bool_)
+    for k in range(count):
+        px = hits_x[k]
+        py = hits_y[k]
+        first_row = _count_below(0, rows, y0, resolution, py - radius - resolution, False)
+        end_row = _count_below(0, rows, y0, resolution, py + radius + resolution, True)
+        first_col = _count_below(0, cols, x0, resolution, px - radius - resolution, False)
+        end_col = _count_below(0, cols, x0, resolution, px + radius + resolution, True)
+        for i in range(first_row, end_row):
+            dy = (y0 + (float(i) + 0.5) * resolution) - py
+            dy2 = dy * dy
+            for j in range(first_col, end_col):
+                if not seen_free[i, j]:
+                    continue
+                dx = (x0 + (float(j) + 0.5) * resolution) - px
+                if dx * dx + dy2 <= bound:
+                    evidence[k] = True
+                    break
+            if evidence[k]:
+                break
+    return evidence
+
+
+@kernel
+def _update_window(labels, seen_free, last_hit, listed, row0, col0, cell_input, x0, y0,
+                   resolution, vertices_x, vertices_y, hits_x, hits_y, hit_beams,
+                   safety_bound, free_on, free_radius, free_bound, objects_on,
+                   evidence_radius, evidence_bound, segment_gap, object_size, expiry_on,
+                   stamp, path, new_mobile):
+    """
+    Fold one scan into the window ``labels[row0:row0 + n_rows, col0:col0 + n_cols]``.
+
+    Parameters
+    ----------
+    labels : (rows, cols) ndarray of uint8
+        The grid's labels, updated in place.
+    seen_free : (rows, cols) ndarray of bool
+        Cells once surely seen free, updated in place; read only with ``free_on``.
+    last_hit : (rows, cols) ndarray of float64
+        Stamp of each cell's last hit, updated in place; only with ``expiry_on``.
+    listed : (rows, cols) ndarray of bool
+        Cells in the grid's list of mobile cells; set here for the cells this scan makes
+        mobile (with ``expiry_on``), which are also written to ``new_mobile``.
+    row0, col0 : int
+        The window's first row and column.
+    cell_input : (n_rows, n_cols) ndarray of uint8
+        Filled with the window's FSM input (``ScanInput``).
+    x0, y0, resolution : float
+        The grid's origin and cell side [m].
+    vertices_x, vertices_y : (L + 2,) ndarray of float64
+        The closed scan polygon [m].
+    hits_x, hits_y : (K,) ndarray of float64
+        Hit points [m]; ``hit_beams`` (K,) int64 their beams.
+    safety_bound : float
+        ``squared_radius_bound`` of the safety radius.
+    free_on, objects_on, expiry_on : bool
+        Which parts of the ``LabelRule`` are on.
+    free_radius, free_bound, evidence_radius, evidence_bound : float
+        The free-evidence and motion-evidence radii [m] and their squared bounds.
+    segment_gap, object_size : float
+        As in ``LabelRule`` [m].
+    stamp : float
+        The scan's time [s]; read with ``expiry_on``.
+    path : (N, 2) ndarray of int64
+        The planned path's cells (may be empty).
+    new_mobile : (n_rows * n_cols,) ndarray of int64
+        Receives the flat grid indices of the cells newly listed.
+
+    Returns
+    -------
+    replan : bool
+        A path cell went from free to an obstacle.
+    new_count : int
+        How many entries of ``new_mobile`` were written.
+
+    """
+    n_rows, n_cols = cell_input.shape
+    grid_cols = labels.shape[1]
+    _fill_inside(cell_input, row0, col0, x0, y0, resolution, vertices_x, vertices_y)
+    no_selection = np.zeros(0, dtype=np.bool_)
+    hit = np.zeros((n_rows, n_cols), dtype=np.bool_)
+    _mark_discs(hit, hits_x, hits_y, hits_x.shape[0], no_selection, row0, col0, x0, y0, resolution,
+                math.sqrt(safety_bound), safety_bound)
+    for i in range(n_rows):
+        for j in range(n_cols):
+            if hit[i, j]:
+                cell_input[i, j] = _HIT
+    near_moving = hit                      # only read with objects_on, then overwritten
+    if objects_on:
+        evidence = _hit_evidence(seen_free, hits_x, hits_y, x0, y0, resolution,
+                                 evidence_radius, evidence_bound)
+        moving = _moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_size)
+        near_moving = np.zeros((n_rows, n_cols), dtype=np.bool_)
+        _mark_discs(near_moving, hits_x, hits_y, hits_x.shape[0], moving, row0, col0, x0, y0, resolution,
+                    math.sqrt(safety_bound), safety_bound)
+    not_free = hit
+    if free_on:
+        not_free = np.zeros((n_rows, n_cols), dtype=np.bool_)
+        # Every vertex but the closing repeat of the first.
+        _mark_discs(not_free, vertices_x, vertices_y, vertices_x.shape[0] - 1, no_selection,
+                    row0, col0, x0, y0, resolution, free_radius, free_bound)
+        _mark_edge_bands(not_free, cell_input, row0, col0, x0, y0, resolution, vertices_x,
+                         vertices_y, free_radius)
+    # The path's labels before the update, for the replan flag.
+    path_before = np.empty(path.shape[0], dtype=np.uint8)
+    for k in range(path.shape[0]):
+        path_before[k] = labels[path[k, 0], path[k, 1]]
+    new_count = 0
+    for i in range(n_rows):
+        for j in range(n_cols):
+            scan = cell_input[i, j]
+            if scan == _NONE:
+                continue
+            row = row0 + i
+            col = col0 + j
+            old = labels[row, col]
+            if scan == _INSIDE:
+                new = _EXPLORED
+                if free_on and not not_free[i, j]:
+                    seen_free[row, col] = True
+            else:
+                if old == _NON_EXPLORED:
+                    new = _STEADY
+                elif old == _EXPLORED:
+                    new = _MOBILE
+                else:
+                    new = old
+                if objects_on:
+                    new = _MOBILE if near_moving[i, j] else _STEADY
+                elif free_on and old == _EXPLORED and not seen_free[row, col]:
+                    new = _STEADY
+                if expiry_on:
+                    last_hit[row, col] = stamp
+                    if new == _MOBILE and not listed[row, col]:
+                        listed[row, col] = True
+                        new_mobile[new_count] = row * grid_cols + col
+                        new_count += 1
+            labels[row, col] = new
+    replan = False
+    for k in range(path.shape[0]):
+        before = path_before[k]
+        if before == _NON_EXPLORED or before == _EXPLORED:
+            if labels[path[k, 0], path[k, 1]] >= _STEADY:
+                replan = True
+    return replan, new_count
+
+
+@kernel
+def _expire_listed(labels, last_hit, listed, cells, count, stamp, mobile_expiry, row0, col0,
+                   cell_input):
+    """
+    Expire the listed mobile cells that are stale and out of view; drop non-mobile ones.
+
+    Returns the count of cells kept (compacted to the front of ``cells``) and the earliest
+    ``last_hit`` among them (``inf`` when none).
+    """
+    grid_cols = labels.shape[1]
+    n_rows, n_cols = cell_input.shape
+    kept = 0
+    earliest = math.inf
+    for k in range(count):
+        flat = cells[k]
+        row = flat // grid_cols
+        col = flat - row * grid_cols
+        if labels[row, col] != _MOBILE:
+            listed[row, col] = False
+            continue
+        i = row - row0
+        j = col - col0
+        in_view = 0 <= i < n_rows and 0 <= j < n_cols and cell_input[i, j] != _NONE
+        if not in_view and stamp - last_hit[row, col] >= mobile_expiry:
+            labels[row, col] = _EXPLORED
+            listed[row, col] = False
+            continue
+        cells[kept] = flat
+        kept += 1
+        earliest = min(earliest, last_hit[row, col])
+    return kept, earliest
+
+
+def update_window(labels, seen_free, last_hit, listed, rows, cols, geometry, points,
+                  safety_bound, rule_arguments, stamp, path):
+    """
+    Fold one scan into a window of the grid in place (see `_update_window`).
+
+    Parameters
+    ----------
+    labels, seen_free, last_hit, listed : ndarray
+        The grid's state arrays (``(1, 1)`` stand-ins for the parts the rule leaves off).
+    rows, cols : slice
+        The window, non-empty.
+    geometry : GridGeometry
+    points : ScanPoints
+    safety_bound : float
+        ``squared_radius_bound(safety_radius)``.
+    rule_arguments : tuple
+        ``LabelRule.kernel_arguments()``: ``(free_on, free_radius, free_bound, objects_on,
+        evidence_radius, evidence_bound, segment_gap, object_size, expiry_on)``.
+    stamp : float
+        The scan's time [s] (any float when the expiry is off).
+    path : (N, 2) ndarray of int64
+
+    Returns
+    -------
+    replan : bool
+    cell_input : (n_rows, n_cols) ndarray of uint8
+    new_mobile : (M,) ndarray of int64
+        Flat indices of the cells listed as mobile by this scan.
+
+    """
+    n_rows = rows.stop - rows.start
+    n_cols = cols.stop - cols.start
+    cell_input = np.empty((n_rows, n_cols), dtype=np.uint8)
+    new_mobile = np.empty(n_rows * n_cols if rule_arguments[8] else 0, dtype=np.int64)
+    x0, y0 = geometry.origin
+    replan, new_count = _update_window(
+        labels, seen_free, last_hit, listed, rows.start, cols.start, cell_input, x0, y0,
+        geometry.resolution, points.vertices_x, points.vertices_y, points.hits_x,
+        points.hits_y, points.hit_beams, safety_bound, *rule_arguments, float(stamp), path,
+        new_mobile)
+    return bool(replan), cell_input, new_mobile[:new_count]
+
+
+def expire_listed(labels, last_hit, listed, cells, count, stamp, mobile_expiry, rows, cols,
+                  cell_input):
+    """Run `_expire_listed` over ``cells[:count]``; return ``(kept, earliest last_hit)``."""
+    kept, earliest = _expire_listed(labels, last_hit, listed, cells, count, float(stamp),
+                                    float(mobile_expiry), rows.start, cols.start, cell_input)
+    return int(kept), float(earliest)

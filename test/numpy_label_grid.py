@@ -1,0 +1,200 @@
+"""
+The numpy label update that the compiled kernel replaced, kept as a reference.
+
+``NumpyLabelGrid`` is ``LabelGrid`` with the update of commit 83e3dc1: vectorised numpy over
+the scan's window (``scan_features``, ``free_evidence``, ``moving_objects``), and a ghost
+expiry that sweeps the whole grid every scan. Tests check the kernel against it on long scan
+sequences; the core benchmark times the two side by side.
+
+"""
+
+import math
+
+from dpn_navigator.core.cell_label import blocked_mask, CellLabel, LABEL_DTYPE, ScanInput
+from dpn_navigator.core.cell_label import TRANSITION
+from dpn_navigator.core.free_evidence import surely_free
+from dpn_navigator.core.label_grid import check_path, LabelGrid
+from dpn_navigator.core.moving_objects import moving_object_hits
+from dpn_navigator.core.scan_features import hit_runs, run_cover, scan_input
+from dpn_navigator.core.scan_polygon import check_pose, check_scan, scan_points
+import numpy as np
+
+# TRANSITION flattened for one-step lookup with index (label << 2) | scan_input.
+_TRANSITION_BY_CODE = np.zeros(4 * len(CellLabel), dtype=LABEL_DTYPE)
+for _label in CellLabel:
+    for _scan_input in ScanInput:
+        _TRANSITION_BY_CODE[(_label << 2) | _scan_input] = TRANSITION[_label, _scan_input]
+_TRANSITION_BY_CODE.setflags(write=False)
+
+_EMPTY_WINDOW = (slice(0, 0), slice(0, 0), np.zeros((0, 0), dtype=LABEL_DTYPE))
+
+
+def _runs_touching(runs, cells, hit_count):
+    """
+    Tell for each hit whether one of its runs holds a True cell.
+
+    ``runs`` is ``hit_runs(..., return_hits=True)`` over the window of ``cells`` (bool).
+    """
+    starts, ends, hit_index = runs
+    before = np.concatenate(([0], np.cumsum(cells.ravel())))
+    touching = np.zeros(hit_count, dtype=bool)
+    touching[hit_index[before[ends] > before[starts]]] = True
+    return touching
+
+
+class NumpyLabelGrid(LabelGrid):
+    """``LabelGrid`` with the numpy update of commit 83e3dc1 (see the module docstring)."""
+
+    def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
+               safety_radius, path=None, angle_max=None, stamp=None):
+        """
+        Fold one laser scan into the labels and say whether the path needs replanning.
+
+        Parameters
+        ----------
+        pose : (float, float, float)
+            The laser's ``(x, y, yaw)`` in the map frame [m, m, rad]; may lie off the grid.
+        ranges : (L,) array_like of float
+            Ranges [m], REP 117 (``+inf`` no return; NaN, ``-inf`` or short: invalid).
+        angle_min, angle_increment : float
+            Laser-frame angle of the first beam and the step between beams [rad].
+        range_min, range_max : float
+            Valid return interval ``[range_min, range_max)`` [m].
+        safety_radius : float
+            f1's ``r`` [m]: cells whose centre is within it of a hit become obstacles.
+        path : (N, 2) array_like of int, optional
+            The planned path as ``(row, col)`` cells.
+        angle_max : float, optional
+            Angle of the last beam [rad]; when given, the beam count is checked against it.
+        stamp : float, optional
+            Time of the scan [s], any clock; needed with ``rule.mobile_expiry`` > 0.
+
+        Returns
+        -------
+        replan : bool
+            True when a cell of ``path`` went from free (non-explored or explored) to an
+            obstacle in this update. Under the paper's rule these are exactly its two
+            transitions, non-explored -> steady and explored -> mobile.
+
+        Raises
+        ------
+        ValueError
+            For a non-finite pose, malformed scan fields, a negative or non-finite safety
+            radius, a malformed path or a missing stamp; the labels are then unchanged.
+
+        """
+        pose = check_pose(pose)
+        ranges = check_scan(ranges, angle_min, angle_increment, range_min, range_max, angle_max)
+        safety_radius = float(safety_radius)
+        if not (math.isfinite(safety_radius) and safety_radius >= 0.0):
+            raise ValueError(f'safety_radius must be finite and >= 0, got {safety_radius!r} m')
+        path = check_path(path, self.geometry.shape)
+        expiring = self.rule.mobile_expiry > 0.0
+        if expiring:
+            if stamp is None or not math.isfinite(stamp):
+                raise ValueError(f'mobile_expiry needs a finite scan stamp, got {stamp!r}')
+            self._restart_clocks_if_time_went_back(float(stamp))
+        points = scan_points(pose, ranges, angle_min, angle_increment, range_min, range_max)
+        # Every cell within r of a hit (f1), or within the evidence radius of one.
+        reach = max(safety_radius, self.rule.free_evidence_radius)
+        rows, cols = self.geometry.cell_window(
+            float(points.vertices_x.min()) - reach, float(points.vertices_x.max()) + reach,
+            float(points.vertices_y.min()) - reach, float(points.vertices_y.max()) + reach)
+        if rows.start == rows.stop or cols.start == cols.stop:
+            self.last_window = _EMPTY_WINDOW
+            if expiring:
+                self._expire_mobile(float(stamp))
+            return False
+        runs = None
+        if self.rule.moving_object_size > 0.0:
+            # f1's runs, with the hit of each, serve the objects' rule too.
+            runs = hit_runs(self.geometry, rows, cols, self.geometry.window_centres(rows, cols),
+                            points.hits_x, points.hits_y, safety_radius, return_hits=True)
+        cell_input = scan_input(self.geometry, rows, cols, points, safety_radius, runs)
+        self.last_window = (rows, cols, cell_input)
+        window = self.labels[rows, cols]
+        before = window.copy()
+        # np.take is about twice as fast as fancy indexing for this lookup.
+        window[...] = np.take(_TRANSITION_BY_CODE, (before << 2) | cell_input)
+        if self.rule.free_evidence_radius > 0.0:
+            self._apply_free_evidence(rows, cols, points, safety_radius, before, cell_input,
+                                      window, runs)
+        if expiring:
+            self.last_hit[rows, cols][cell_input == ScanInput.HIT] = stamp
+            self._expire_mobile(float(stamp))
+        if path is None or not path.shape[0]:
+            return False
+        on_window = ((path[:, 0] >= rows.start) & (path[:, 0] < rows.stop)
+                     & (path[:, 1] >= cols.start) & (path[:, 1] < cols.stop))
+        path_rr = path[on_window, 0] - rows.start
+        path_cc = path[on_window, 1] - cols.start
+        new_obstacle = (~blocked_mask(before[path_rr, path_cc])
+                        & blocked_mask(window[path_rr, path_cc]))
+        return bool(new_obstacle.any())
+
+    def _apply_free_evidence(self, rows, cols, points, safety_radius, before, cell_input,
+                             window, runs):
+        """
+        Conservative free space and object-level relabelling over the window, in place.
+
+        ``before`` holds the window's labels before this scan, ``window`` (a view into
+        ``labels``) those after the paper's FSM; ``runs`` are f1's runs with their hits
+        (``hit_runs(..., return_hits=True)``) when the objects' rule is on.
+        """
+        seen_free = self.seen_free[rows, cols]
+        hit = cell_input == ScanInput.HIT
+        window[(before == CellLabel.EXPLORED) & hit & ~seen_free] = CellLabel.STEADY_OBSTACLE
+        if self.rule.moving_object_size > 0.0:
+            near_moving = self._near_moving_objects(rows, cols, points, safety_radius,
+                                                    seen_free, runs)
+            window[hit] = np.where(near_moving[hit], CellLabel.MOBILE_OBSTACLE,
+                                   CellLabel.STEADY_OBSTACLE)
+        seen_free |= surely_free(self.geometry, rows, cols, points,
+                                 self.rule.free_evidence_radius, cell_input, safety_radius)
+
+    def _near_moving_objects(self, rows, cols, points, safety_radius, seen_free, runs):
+        """
+        Find the window cells within the safety radius of a hit on an object seen to move.
+
+        A hit shows motion when a cell within ``free_evidence_radius - evidence_margin`` of it
+        was once surely seen free (``seen_free``, before this scan): never so for a hit on a
+        steady wall, which would then have been inside that scan's polygon.
+        """
+        centres = self.geometry.window_centres(rows, cols)
+        evidence_radius = max(self.rule.free_evidence_radius - self.rule.evidence_margin, 0.0)
+        hit_count = points.hits_x.shape[0]
+        evidence = _runs_touching(runs, seen_free, hit_count)
+        if evidence_radius > safety_radius:
+            evidence = _runs_touching(
+                hit_runs(self.geometry, rows, cols, centres, points.hits_x, points.hits_y,
+                         evidence_radius, return_hits=True), seen_free, hit_count)
+        elif evidence_radius < safety_radius and evidence.any():
+            # Only hits with a surely-free cell within r can have one within the smaller
+            # evidence radius; most hits (walls) have none.
+            candidates = np.flatnonzero(evidence)
+            evidence = np.zeros(hit_count, dtype=bool)
+            evidence[candidates] = _runs_touching(
+                hit_runs(self.geometry, rows, cols, centres, points.hits_x[candidates],
+                         points.hits_y[candidates], evidence_radius, return_hits=True),
+                seen_free, candidates.shape[0])
+        moving = moving_object_hits(points.hits_x, points.hits_y, points.hit_beams, evidence,
+                                    self.rule.segment_gap, self.rule.moving_object_size)
+        starts, ends, hit_index = runs
+        return run_cover(starts[moving[hit_index]], ends[moving[hit_index]], seen_free.shape)
+
+    def _restart_clocks_if_time_went_back(self, stamp):
+        """After a jump back in time (a restarted simulation), no hit is newer than now."""
+        if stamp < self._last_stamp:
+            np.minimum(self.last_hit, stamp, out=self.last_hit)
+        self._last_stamp = stamp
+
+    def _expire_mobile(self, stamp):
+        """Set mobile cells out of view and unconfirmed for ``mobile_expiry`` to explored."""
+        rows, cols, cell_input = self.last_window
+        stale = ((self.labels == CellLabel.MOBILE_OBSTACLE)
+                 & (stamp - self.last_hit >= self.rule.mobile_expiry))
+        stale[rows, cols] &= cell_input == ScanInput.NONE
+        self.labels[stale] = CellLabel.EXPLORED
+
+    def labels_changed(self):
+        """Nothing to do: the whole-grid expiry needs no list of mobile cells."""

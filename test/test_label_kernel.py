@@ -1,0 +1,108 @@
+"""
+The compiled label update against the numpy update it replaced, on long realistic sequences.
+
+The hypothesis tests of ``test_label_grid.py`` hold the kernel to the literal twin on small
+grids; these run many 640-beam scans of a hall with boxes that move (wanderers), under the
+paper's rule and the navigator's default rule, and compare every array after every scan with
+``NumpyLabelGrid`` (the numpy update and whole-grid ghost expiry of commit 83e3dc1).
+
+"""
+
+import math
+
+from dpn_navigator.core.cell_label import CellLabel
+from dpn_navigator.core.label_grid import LabelGrid, LabelRule, PAPER_RULE
+from dpn_navigator.core.navigator import NavigatorConfig
+from numpy.testing import assert_array_equal
+from numpy_label_grid import NumpyLabelGrid
+import numpy as np
+import pytest
+from scan_scenes import ANGLE_INCREMENT, ANGLE_MIN, free_pose, hall, RANGE_MAX, RANGE_MIN
+from scan_scenes import ray_cast
+
+TRUTH_RESOLUTION = 0.05
+DPN_RULE = NavigatorConfig(width=1.0, height=1.0).label_rule()
+
+
+def moving_box_world(static, step, rng_seed):
+    """Return ``static`` with three 0.6 m boxes that move along fixed headings each step."""
+    occupied = static.copy()
+    rng = np.random.default_rng(rng_seed)
+    n = static.shape[0]
+    side = int(round(0.6 / TRUTH_RESOLUTION))
+    for _ in range(3):
+        r0, c0 = rng.integers(side, n - 2 * side, 2)
+        dr, dc = rng.integers(-6, 7, 2)
+        r = int(np.clip(r0 + dr * step, 0, n - side))
+        c = int(np.clip(c0 + dc * step, 0, n - side))
+        occupied[r:r + side, c:c + side] = True
+    return occupied
+
+
+def assert_same_state(fast, reference):
+    assert_array_equal(fast.labels, reference.labels)
+    for name in ('seen_free', 'last_hit'):
+        if getattr(reference, name) is not None:
+            assert_array_equal(getattr(fast, name), getattr(reference, name))
+    rows, cols, cell_input = fast.last_window
+    ref_rows, ref_cols, ref_input = reference.last_window
+    assert (rows, cols) == (ref_rows, ref_cols)
+    assert_array_equal(cell_input, ref_input)
+
+
+@pytest.mark.parametrize('rule', [PAPER_RULE, DPN_RULE,
+                                  LabelRule(free_evidence_radius=0.9, moving_object_size=1.2,
+                                            mobile_expiry=0.6)],
+                         ids=['paper', 'dpn', 'wide'])
+def test_kernel_equals_the_numpy_update_on_hall_sequences(rule):
+    rng = np.random.default_rng(3)
+    size = 30.0
+    static = hall(size, 12, rng, TRUTH_RESOLUTION)
+    fast = LabelGrid(size, size, 0.5, rule=rule)
+    reference = NumpyLabelGrid(size, size, 0.5, rule=rule)
+    replans = 0
+    stamp = 0.0
+    for step in range(70):
+        world = moving_box_world(static, step, 11)
+        pose = free_pose(world, rng, TRUTH_RESOLUTION)
+        ranges = ray_cast(world, pose, TRUTH_RESOLUTION)
+        ranges[rng.random(ranges.shape[0]) < 0.02] = np.nan
+        # A straight path through the middle of the hall, so that the flag fires.
+        path = np.array([[30, c] for c in range(5, 55)] + [[r, 30] for r in range(5, 55)])
+        # Time mostly goes forward, by up to 0.4 s; once it jumps back (a restart).
+        stamp = 1.0 if step == 50 else stamp + rng.choice([0.1, 0.2, 0.4])
+        args = (pose, ranges, ANGLE_MIN, ANGLE_INCREMENT, RANGE_MIN, RANGE_MAX, 0.6)
+        want = reference.update(*args, path=path, stamp=stamp)
+        got = fast.update(*args, path=path, stamp=stamp)
+        assert got == want
+        replans += got
+        assert_same_state(fast, reference)
+    assert replans > 0
+    assert np.count_nonzero(fast.labels == CellLabel.STEADY_OBSTACLE) > 100
+    if rule.moving_object_size > 0.0:
+        assert np.count_nonzero(fast.labels == CellLabel.MOBILE_OBSTACLE) > 0
+
+
+def test_mobile_list_follows_forgetting_and_reset():
+    rule = LabelRule(mobile_expiry=1.0)
+    fast = LabelGrid(10.0, 10.0, rule=rule)
+    reference = NumpyLabelGrid(10.0, 10.0, rule=rule)
+    ranges = np.full(640, 3.0)
+    for grid in (fast, reference):
+        grid.labels[2:5, 2:5] = CellLabel.EXPLORED
+        grid.labels_changed()
+        # Something stands in explored space: those cells become mobile.
+        grid.update((3.0, 1.0, math.pi / 2), ranges, ANGLE_MIN, ANGLE_INCREMENT, RANGE_MIN,
+                    RANGE_MAX, 0.6, stamp=0.0)
+        grid.labels[grid.labels == CellLabel.MOBILE_OBSTACLE] = CellLabel.STEADY_OBSTACLE
+        grid.labels[0, 0] = CellLabel.MOBILE_OBSTACLE          # set by hand, never hit
+        grid.labels_changed()
+    assert_same_state(fast, reference)
+    for stamp in (0.5, 1.5, 2.5):
+        for grid in (fast, reference):
+            grid.update((8.0, 8.0, 0.0), ranges, ANGLE_MIN, ANGLE_INCREMENT, RANGE_MIN,
+                        RANGE_MAX, 0.6, stamp=stamp)
+        assert_same_state(fast, reference)
+    assert fast.labels[0, 0] == CellLabel.EXPLORED
+    fast.reset()
+    assert not fast.labels.any() and fast._mobile_count == 0
