@@ -164,9 +164,12 @@ def warm_up_label_update():
     """Compile (or load from the cache) the label kernels with one tiny scan, every rule part."""
     rule = LabelRule(free_evidence_radius=0.5, moving_object_size=0.5, mobile_expiry=1.0)
     grid = LabelGrid(2.0, 2.0, 0.5, rule=rule)
+    grid.labels[0, 0] = CellLabel.MOBILE_OBSTACLE          # to expire at the second scan
+    grid.last_hit[0, 0] = 0.0
+    grid.labels_changed()
     ranges = np.array([0.75, np.inf, 0.75])
     for stamp in (0.0, 2.0):
-        grid.update((1.0, 1.0, 0.0), ranges, -0.5, 0.5, 0.1, 1.5, 0.25, path=[[0, 0]],
+        grid.update((1.0, 1.5, 0.0), ranges, -0.5, 0.5, 0.1, 1.5, 0.25, path=[[0, 0]],
                     stamp=stamp)
 
 
