@@ -14,16 +14,14 @@ mobile cell that no hit has confirmed for that long goes back to explored while 
 """
 
 from dataclasses import dataclass
-import functools
 import math
 
 import numpy as np
 
 from .cell_label import blocked_mask, CellLabel, LABEL_DTYPE
 from .grid_geometry import GridGeometry
-from .label_kernel import expire_listed, update_window
-from .scan_features import squared_radius_bound
-from .scan_polygon import check_pose, check_scan, scan_points
+from .label_kernel import expire_listed, scan_update, squared_bound
+from .scan_polygon import check_pose, check_scan
 
 _EMPTY_WINDOW = (slice(0, 0), slice(0, 0), np.zeros((0, 0), dtype=LABEL_DTYPE))
 
@@ -35,12 +33,6 @@ _NO_PATH = np.zeros((0, 2), dtype=np.int64)
 
 #: Entries of the list of mobile cells at first; it doubles when full.
 _INITIAL_MOBILE_LIST = 256
-
-
-@functools.lru_cache(maxsize=64)
-def _squared_bound(radius):
-    """`squared_radius_bound`, remembered: the radii of a grid never change."""
-    return squared_radius_bound(radius)
 
 
 def check_path(path, shape):
@@ -151,8 +143,8 @@ class LabelRule:
         """
         evidence_radius = max(self.free_evidence_radius - self.evidence_margin, 0.0)
         return (self.free_evidence_radius > 0.0, self.free_evidence_radius,
-                _squared_bound(self.free_evidence_radius), self.moving_object_size > 0.0,
-                evidence_radius, _squared_bound(evidence_radius), self.segment_gap,
+                squared_bound(self.free_evidence_radius), self.moving_object_size > 0.0,
+                evidence_radius, squared_bound(evidence_radius), self.segment_gap,
                 self.moving_object_size, self.mobile_expiry > 0.0)
 
 
@@ -283,25 +275,12 @@ class LabelGrid:
                 raise ValueError(f'mobile_expiry needs a finite scan stamp, got {stamp!r}')
             stamp = float(stamp)
             self._restart_clocks_if_time_went_back(stamp)
-        points = scan_points(pose, ranges, angle_min, angle_increment, range_min, range_max)
-        # Every cell within r of a hit (f1), or within the evidence radius of one.
-        reach = max(safety_radius, self.rule.free_evidence_radius)
-        rows, cols = self.geometry.cell_window(
-            float(points.vertices_x.min()) - reach, float(points.vertices_x.max()) + reach,
-            float(points.vertices_y.min()) - reach, float(points.vertices_y.max()) + reach)
-        if rows.start == rows.stop or cols.start == cols.stop:
-            self.last_window = _EMPTY_WINDOW
-            if expiring:
-                self._expire_mobile(stamp)
-            return False
-        replan, cell_input, new_mobile = update_window(
+        replan, self.last_window, new_mobile = scan_update(
             self.labels, _NO_BOOL if self.seen_free is None else self.seen_free,
             _NO_TIME if self.last_hit is None else self.last_hit,
-            _NO_BOOL if self._listed is None else self._listed, rows, cols, self.geometry,
-            points, _squared_bound(safety_radius), self._kernel_rule,
-            stamp if expiring else 0.0,
-            _NO_PATH if path is None else np.ascontiguousarray(path))
-        self.last_window = (rows, cols, cell_input)
+            _NO_BOOL if self._listed is None else self._listed, self.geometry, pose, ranges,
+            angle_min, angle_increment, range_min, range_max, safety_radius, self._kernel_rule,
+            stamp if expiring else 0.0, _NO_PATH if path is None else path)
         if expiring:
             self._list_mobile(new_mobile, stamp)
             self._expire_mobile(stamp)

@@ -22,12 +22,14 @@ The work grows with the beams and the window's cells, never with the grid.
 
 """
 
+import functools
 import math
 
 import numpy as np
 
 from .cell_label import CellLabel, ScanInput
 from .jit import kernel
+from .scan_features import squared_radius_bound
 
 _NON_EXPLORED = int(CellLabel.NON_EXPLORED)
 _EXPLORED = int(CellLabel.EXPLORED)
@@ -37,42 +39,60 @@ _NONE = int(ScanInput.NONE)
 _INSIDE = int(ScanInput.INSIDE)
 _HIT = int(ScanInput.HIT)
 
-#: Slack of the candidate boxes of the edge bands [m]: far more than the rounding of bounds.
+@functools.lru_cache(maxsize=64)
+def squared_bound(radius):
+    """Return ``squared_radius_bound(radius)``, remembered: a grid's radii never change."""
+    return squared_radius_bound(radius)
+
+
+#: Slack of the rows searched around a disc or an edge band [m]: far above the rounding of
+#: ``dy`` for coordinates up to ``MAX_POSE_COORDINATE`` plus a laser's range.
 _BOX_SLACK = 1e-6
 
 
 @kernel
-def _count_below(first, count, origin, resolution, value, or_equal):
+def _count_below(first, count, origin, resolution, value):
     """
     Count the centres ``origin + (first + k + 0.5) * resolution``, k < count, below ``value``.
 
-    Below means ``< value``, or ``<= value`` with ``or_equal``: numpy's ``searchsorted``
-    left and right. An estimate from the division, settled with the exact comparisons.
+    numpy's ``searchsorted(centres, value, 'left')``: an estimate from the division, settled
+    with the exact comparisons.
     """
-    estimate = math.floor((value - origin) / resolution - 0.5) + 1.0 - first
+    estimate = np.floor((value - origin) / resolution - 0.5) + 1.0 - first
     k = int(min(max(estimate, 0.0), float(count)))
-    while k > 0:
-        centre = origin + (float(first + k - 1) + 0.5) * resolution
-        if centre > value or (centre == value and not or_equal):
-            k -= 1
-        else:
-            break
-    while k < count:
-        centre = origin + (float(first + k) + 0.5) * resolution
-        if centre < value or (centre == value and or_equal):
-            k += 1
-        else:
-            break
+    while k > 0 and origin + (float(first + k - 1) + 0.5) * resolution >= value:
+        k -= 1
+    while k < count and origin + (float(first + k) + 0.5) * resolution < value:
+        k += 1
     return k
 
 
 @kernel
-def _mark_discs(mark, xs, ys, count, selected, row0, col0, x0, y0, resolution, radius, bound):
+def _box_first(first, count, origin, resolution, value):
+    """
+    First index ``k`` in ``[0, count]`` of the centres ``origin + (first + k + 0.5) * res``
+    that may lie at or above ``value``, with a cell to spare for rounding.
+    """
+    estimate = np.floor((value - origin) / resolution - 0.5) - first
+    return int(min(max(estimate, 0.0), float(count)))
+
+
+@kernel
+def _box_end(first, count, origin, resolution, value):
+    """One past the last index in ``[0, count]`` whose centre may lie at or below ``value``."""
+    estimate = np.floor((value - origin) / resolution - 0.5) + 2.0 - first
+    return int(min(max(estimate, 0.0), float(count)))
+
+
+@kernel
+def _mark_discs(mark, xs, ys, count, selected, row0, col0, x0, y0, resolution, radius, bound,
+                cell_input, only_inside):
     """
     Set ``mark`` on the window cells within ``radius`` of the first ``count`` selected points.
 
     ``mark`` is the window's ``(n_rows, n_cols)`` array, its cell ``(0, 0)`` the grid's
     ``(row0, col0)``; a point counts where ``selected`` is True (or always when it is empty).
+    With ``only_inside``, only cells whose ``cell_input`` is INSIDE are marked.
     """
     n_rows, n_cols = mark.shape
     for k in range(count):
@@ -80,16 +100,17 @@ def _mark_discs(mark, xs, ys, count, selected, row0, col0, x0, y0, resolution, r
             continue
         px = xs[k]
         py = ys[k]
-        first_row = _count_below(row0, n_rows, y0, resolution, py - radius - resolution,
-                                 False)
-        end_row = _count_below(row0, n_rows, y0, resolution, py + radius + resolution, True)
-        first_col = _count_below(col0, n_cols, x0, resolution, px - radius - resolution,
-                                 False)
-        end_col = _count_below(col0, n_cols, x0, resolution, px + radius + resolution, True)
+        reach = radius + _BOX_SLACK * (1.0 + 1e-6 * abs(py))
+        first_row = _count_below(row0, n_rows, y0, resolution, py - reach)
+        end_row = _count_below(row0, n_rows, y0, resolution, py + reach)
+        first_col = _box_first(col0, n_cols, x0, resolution, px - radius)
+        end_col = _box_end(col0, n_cols, x0, resolution, px + radius)
         for i in range(first_row, end_row):
             dy = (y0 + (float(row0 + i) + 0.5) * resolution) - py
             dy2 = dy * dy
             for j in range(first_col, end_col):
+                if only_inside and cell_input[i, j] != _INSIDE:
+                    continue
                 dx = (x0 + (float(col0 + j) + 0.5) * resolution) - px
                 if dx * dx + dy2 <= bound:
                     mark[i, j] = True
@@ -106,13 +127,13 @@ def _fill_inside(cell_input, row0, col0, x0, y0, resolution, vertices_x, vertice
         xb = vertices_x[a + 1]
         yb = vertices_y[a + 1]
         # Rows with min(ya, yb) <= y < max(ya, yb): exactly (ya > y) != (yb > y).
-        first_row = _count_below(row0, n_rows, y0, resolution, min(ya, yb), False)
-        end_row = _count_below(row0, n_rows, y0, resolution, max(ya, yb), False)
+        first_row = _count_below(row0, n_rows, y0, resolution, min(ya, yb))
+        end_row = _count_below(row0, n_rows, y0, resolution, max(ya, yb))
         for i in range(first_row, end_row):
             y = y0 + (float(row0 + i) + 0.5) * resolution
             x_cross = xa + (xb - xa) * (y - ya) / (yb - ya)
             # The centres left of the crossing (x < x_cross) see it on their ray.
-            toggles[i, _count_below(col0, n_cols, x0, resolution, x_cross, False)] ^= 1
+            toggles[i, _count_below(col0, n_cols, x0, resolution, x_cross)] ^= 1
     for i in range(n_rows):
         # Each row holds an even number of crossings: the parity up to a centre is that of
         # the crossings right of it.
@@ -127,35 +148,37 @@ def _mark_edge_bands(mark, cell_input, row0, col0, x0, y0, resolution, vertices_
                      vertices_y, radius):
     """Set ``mark`` on the window's INSIDE cells within ``radius`` of some polygon edge."""
     n_rows, n_cols = mark.shape
-    reach = radius + _BOX_SLACK
     for a in range(vertices_x.shape[0] - 1):
         xa = vertices_x[a]
         ya = vertices_y[a]
+        reach = radius + _BOX_SLACK * (1.0 + 1e-6 * abs(ya))
         ex = vertices_x[a + 1] - xa
         ey = vertices_y[a + 1] - ya
         length2 = ex * ex + ey * ey
         if not length2 > 0.0:
             continue
         length = math.sqrt(length2)
-        first_row = _count_below(row0, n_rows, y0, resolution, min(ya, ya + ey) - reach, False)
-        end_row = _count_below(row0, n_rows, y0, resolution, max(ya, ya + ey) + reach, True)
+        # Rows with centres in [y_low - reach, y_high + reach] (the + 1: one equal to it).
+        first_row = _count_below(row0, n_rows, y0, resolution, min(ya, ya + ey) - reach)
+        end_row = min(_count_below(row0, n_rows, y0, resolution, max(ya, ya + ey) + reach) + 1,
+                      n_rows)
+        # An edge shorter than a cell is searched over one box of columns; a longer one, row
+        # by row over the columns near the part of it within reach of the row.
+        short = length < resolution
+        first_col = _box_first(col0, n_cols, x0, resolution, min(xa, xa + ex) - reach)
+        end_col = _box_end(col0, n_cols, x0, resolution, max(xa, xa + ex) + reach)
         for i in range(first_row, end_row):
             cy = y0 + (float(row0 + i) + 0.5) * resolution
-            # The part of the edge within reach of the row in y, as parameters of a + t e.
-            if ey == 0.0:
-                t_lo = 0.0
-                t_hi = 1.0
-            else:
+            if not short and ey != 0.0:
+                # The part of the edge within reach of the row in y: a + t e, t_lo <= t <= t_hi.
                 t_1 = (cy - reach - ya) / ey
                 t_2 = (cy + reach - ya) / ey
                 t_lo = min(max(min(t_1, t_2), 0.0), 1.0)
                 t_hi = min(max(max(t_1, t_2), 0.0), 1.0)
-            x_1 = xa + t_lo * ex
-            x_2 = xa + t_hi * ex
-            first_col = _count_below(col0, n_cols, x0, resolution,
-                                     min(x_1, x_2) - reach - resolution, False)
-            end_col = _count_below(col0, n_cols, x0, resolution,
-                                   max(x_1, x_2) + reach + resolution, True)
+                x_1 = xa + t_lo * ex
+                x_2 = xa + t_hi * ex
+                first_col = _box_first(col0, n_cols, x0, resolution, min(x_1, x_2) - reach)
+                end_col = _box_end(col0, n_cols, x0, resolution, max(x_1, x_2) + reach)
             for j in range(first_col, end_col):
                 if mark[i, j] or cell_input[i, j] != _INSIDE:
                     continue
@@ -205,10 +228,10 @@ def _hit_evidence(seen_free, hits_x, hits_y, x0, y0, resolution, radius, bound):
     for k in range(count):
         px = hits_x[k]
         py = hits_y[k]
-        first_row = _count_below(0, rows, y0, resolution, py - radius - resolution, False)
-        end_row = _count_below(0, rows, y0, resolution, py + radius + resolution, True)
-        first_col = _count_below(0, cols, x0, resolution, px - radius - resolution, False)
-        end_col = _count_below(0, cols, x0, resolution, px + radius + resolution, True)
+        first_row = _box_first(0, rows, y0, resolution, py - radius)
+        end_row = _box_end(0, rows, y0, resolution, py + radius)
+        first_col = _box_first(0, cols, x0, resolution, px - radius)
+        end_col = _box_end(0, cols, x0, resolution, px + radius)
         for i in range(first_row, end_row):
             dy = (y0 + (float(i) + 0.5) * resolution) - py
             dy2 = dy * dy
@@ -225,9 +248,53 @@ def _hit_evidence(seen_free, hits_x, hits_y, x0, y0, resolution, radius, bound):
 
 
 @kernel
+def _scan_points(ranges, x, y, yaw, angle_min, angle_increment, range_min, range_max):
+    """
+    ``scan_polygon.scan_points`` as a loop: the closed polygon and the hits of a scan.
+
+    Beam ``i`` points along ``yaw + (angle_min + i * angle_increment)``; ``math.cos`` and
+    ``math.sin`` are the C library's, as in the literal twin.
+    """
+    beams = ranges.shape[0]
+    vertices_x = np.empty(beams + 2)
+    vertices_y = np.empty(beams + 2)
+    vertices_x[0] = vertices_x[beams + 1] = x
+    vertices_y[0] = vertices_y[beams + 1] = y
+    hit_beams = np.empty(beams, dtype=np.int64)
+    hit_count = 0
+    for i in range(beams):
+        reading = ranges[i]
+        theta = yaw + (angle_min + float(i) * angle_increment)
+        if reading >= range_min and reading < range_max:     # False for NaN
+            reach = reading
+            hit_beams[hit_count] = i
+            hit_count += 1
+        elif reading >= range_max:                           # True for +inf
+            reach = range_max
+        else:
+            reach = 0.0
+        vertices_x[i + 1] = x + reach * math.cos(theta)
+        vertices_y[i + 1] = y + reach * math.sin(theta)
+    hit_beams = hit_beams[:hit_count].copy()
+    hits_x = np.empty(hit_count)
+    hits_y = np.empty(hit_count)
+    for k in range(hit_count):
+        hits_x[k] = vertices_x[hit_beams[k] + 1]
+        hits_y[k] = vertices_y[hit_beams[k] + 1]
+    return vertices_x, vertices_y, hits_x, hits_y, hit_beams
+
+
+@kernel
+def _window_bound(low, origin, resolution, margin, count):
+    """``GridGeometry.cell_window``'s bound of one axis (``margin`` negative for the low end)."""
+    index = np.floor((low - origin) / resolution) + margin
+    return int(min(max(index, 0.0), float(count)))
+
+
+@kernel
 def _update_window(labels, seen_free, last_hit, listed, row0, col0, cell_input, x0, y0,
                    resolution, vertices_x, vertices_y, hits_x, hits_y, hit_beams,
-                   safety_bound, free_on, free_radius, free_bound, objects_on,
+                   safety_radius, safety_bound, free_on, free_radius, free_bound, objects_on,
                    evidence_radius, evidence_bound, segment_gap, object_size, expiry_on,
                    stamp, path, new_mobile):
     """
@@ -254,8 +321,8 @@ def _update_window(labels, seen_free, last_hit, listed, row0, col0, cell_input, 
         The closed scan polygon [m].
     hits_x, hits_y : (K,) ndarray of float64
         Hit points [m]; ``hit_beams`` (K,) int64 their beams.
-    safety_bound : float
-        ``squared_radius_bound`` of the safety radius.
+    safety_radius, safety_bound : float
+        f1's ``r`` [m] and its ``squared_radius_bound``.
     free_on, objects_on, expiry_on : bool
         Which parts of the ``LabelRule`` are on.
     free_radius, free_bound, evidence_radius, evidence_bound : float
@@ -282,8 +349,8 @@ def _update_window(labels, seen_free, last_hit, listed, row0, col0, cell_input, 
     _fill_inside(cell_input, row0, col0, x0, y0, resolution, vertices_x, vertices_y)
     no_selection = np.zeros(0, dtype=np.bool_)
     hit = np.zeros((n_rows, n_cols), dtype=np.bool_)
-    _mark_discs(hit, hits_x, hits_y, hits_x.shape[0], no_selection, row0, col0, x0, y0, resolution,
-                math.sqrt(safety_bound), safety_bound)
+    _mark_discs(hit, hits_x, hits_y, hits_x.shape[0], no_selection, row0, col0, x0, y0,
+                resolution, safety_radius, safety_bound, cell_input, False)
     for i in range(n_rows):
         for j in range(n_cols):
             if hit[i, j]:
@@ -294,14 +361,21 @@ def _update_window(labels, seen_free, last_hit, listed, row0, col0, cell_input, 
                                  evidence_radius, evidence_bound)
         moving = _moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_size)
         near_moving = np.zeros((n_rows, n_cols), dtype=np.bool_)
-        _mark_discs(near_moving, hits_x, hits_y, hits_x.shape[0], moving, row0, col0, x0, y0, resolution,
-                    math.sqrt(safety_bound), safety_bound)
+        _mark_discs(near_moving, hits_x, hits_y, hits_x.shape[0], moving, row0, col0, x0, y0,
+                    resolution, safety_radius, safety_bound, cell_input, False)
     not_free = hit
     if free_on:
         not_free = np.zeros((n_rows, n_cols), dtype=np.bool_)
-        # Every vertex but the closing repeat of the first.
-        _mark_discs(not_free, vertices_x, vertices_y, vertices_x.shape[0] - 1, no_selection,
-                    row0, col0, x0, y0, resolution, free_radius, free_bound)
+        # Every vertex but the closing repeat of the first; only INSIDE cells matter. Within
+        # the safety radius a hit's disc holds only HIT cells, so only the vertices that are
+        # not hits need theirs then.
+        not_hit = no_selection
+        if free_radius <= safety_radius:
+            not_hit = np.ones(vertices_x.shape[0], dtype=np.bool_)
+            for k in range(hit_beams.shape[0]):
+                not_hit[hit_beams[k] + 1] = False
+        _mark_discs(not_free, vertices_x, vertices_y, vertices_x.shape[0] - 1, not_hit, row0,
+                    col0, x0, y0, resolution, free_radius, free_bound, cell_input, True)
         _mark_edge_bands(not_free, cell_input, row0, col0, x0, y0, resolution, vertices_x,
                          vertices_y, free_radius)
     # The path's labels before the update, for the replan flag.
@@ -381,47 +455,88 @@ def _expire_listed(labels, last_hit, listed, cells, count, stamp, mobile_expiry,
     return kept, earliest
 
 
-def update_window(labels, seen_free, last_hit, listed, rows, cols, geometry, points,
-                  safety_bound, rule_arguments, stamp, path):
+@kernel
+def _scan_update(labels, seen_free, last_hit, listed, ranges, x, y, yaw, angle_min,
+                 angle_increment, range_min, range_max, x0, y0, resolution, reach,
+                 safety_radius, safety_bound, free_on, free_radius, free_bound, objects_on,
+                 evidence_radius, evidence_bound, segment_gap, object_size, expiry_on, stamp,
+                 path):
     """
-    Fold one scan into a window of the grid in place (see `_update_window`).
+    The scan's points and window, then `_update_window` over it.
+
+    Returns ``(replan, row0, row_end, col0, col_end, cell_input, new_mobile)``; an empty
+    window (the scan misses the grid) changes nothing.
+    """
+    vertices_x, vertices_y, hits_x, hits_y, hit_beams = _scan_points(
+        ranges, x, y, yaw, angle_min, angle_increment, range_min, range_max)
+    rows, cols = labels.shape
+    # GridGeometry.cell_window of the polygon's box widened by reach, margin 1.
+    row0 = _window_bound(vertices_y.min() - reach, y0, resolution, -1.0, rows)
+    row_end = max(row0, _window_bound(vertices_y.max() + reach, y0, resolution, 2.0, rows))
+    col0 = _window_bound(vertices_x.min() - reach, x0, resolution, -1.0, cols)
+    col_end = max(col0, _window_bound(vertices_x.max() + reach, x0, resolution, 2.0, cols))
+    n_rows = row_end - row0
+    n_cols = col_end - col0
+    if n_rows == 0 or n_cols == 0:
+        return (False, 0, 0, 0, 0, np.zeros((0, 0), dtype=np.uint8),
+                np.zeros(0, dtype=np.int64))
+    cell_input = np.empty((n_rows, n_cols), dtype=np.uint8)
+    new_mobile = np.empty(n_rows * n_cols if expiry_on else 0, dtype=np.int64)
+    replan, new_count = _update_window(
+        labels, seen_free, last_hit, listed, row0, col0, cell_input, x0, y0, resolution,
+        vertices_x, vertices_y, hits_x, hits_y, hit_beams, safety_radius, safety_bound,
+        free_on, free_radius, free_bound, objects_on, evidence_radius, evidence_bound,
+        segment_gap, object_size, expiry_on, stamp, path, new_mobile)
+    return replan, row0, row_end, col0, col_end, cell_input, new_mobile[:new_count].copy()
+
+
+def scan_update(labels, seen_free, last_hit, listed, geometry, pose, ranges, angle_min,
+                angle_increment, range_min, range_max, safety_radius, rule_arguments, stamp,
+                path):
+    """
+    Fold one validated scan into the grid's state arrays in place.
 
     Parameters
     ----------
-    labels, seen_free, last_hit, listed : ndarray
-        The grid's state arrays (``(1, 1)`` stand-ins for the parts the rule leaves off).
-    rows, cols : slice
-        The window, non-empty.
+    labels : (rows, cols) ndarray of uint8
+    seen_free, listed : (rows, cols) ndarray of bool
+        ``(1, 1)`` stand-ins when the rule keeps no such state.
+    last_hit : (rows, cols) ndarray of float64
+        Likewise.
     geometry : GridGeometry
-    points : ScanPoints
-    safety_bound : float
-        ``squared_radius_bound(safety_radius)``.
+    pose : (float, float, float)
+        The laser's ``(x, y, yaw)`` [m, m, rad], checked.
+    ranges : (L,) ndarray of float64
+        Checked ranges [m].
+    angle_min, angle_increment, range_min, range_max : float
+        The scan's fields, checked.
+    safety_radius : float
+        f1's ``r`` [m].
     rule_arguments : tuple
         ``LabelRule.kernel_arguments()``: ``(free_on, free_radius, free_bound, objects_on,
         evidence_radius, evidence_bound, segment_gap, object_size, expiry_on)``.
     stamp : float
         The scan's time [s] (any float when the expiry is off).
     path : (N, 2) ndarray of int64
+        The planned path's cells, on the grid.
 
     Returns
     -------
     replan : bool
-    cell_input : (n_rows, n_cols) ndarray of uint8
+    window : (slice, slice, (n_rows, n_cols) ndarray of uint8)
+        The window the scan reached and its FSM input (``ScanInput``).
     new_mobile : (M,) ndarray of int64
-        Flat indices of the cells listed as mobile by this scan.
+        Flat indices of the cells this scan made mobile and listed (with the expiry on).
 
     """
-    n_rows = rows.stop - rows.start
-    n_cols = cols.stop - cols.start
-    cell_input = np.empty((n_rows, n_cols), dtype=np.uint8)
-    new_mobile = np.empty(n_rows * n_cols if rule_arguments[8] else 0, dtype=np.int64)
     x0, y0 = geometry.origin
-    replan, new_count = _update_window(
-        labels, seen_free, last_hit, listed, rows.start, cols.start, cell_input, x0, y0,
-        geometry.resolution, points.vertices_x, points.vertices_y, points.hits_x,
-        points.hits_y, points.hit_beams, safety_bound, *rule_arguments, float(stamp), path,
-        new_mobile)
-    return bool(replan), cell_input, new_mobile[:new_count]
+    reach = max(safety_radius, rule_arguments[1])
+    replan, row0, row_end, col0, col_end, cell_input, new_mobile = _scan_update(
+        labels, seen_free, last_hit, listed, np.ascontiguousarray(ranges), pose[0], pose[1],
+        pose[2], float(angle_min), float(angle_increment), float(range_min), float(range_max),
+        x0, y0, geometry.resolution, reach, safety_radius, squared_bound(safety_radius),
+        *rule_arguments, float(stamp), np.ascontiguousarray(path))
+    return bool(replan), (slice(row0, row_end), slice(col0, col_end), cell_input), new_mobile
 
 
 def expire_listed(labels, last_hit, listed, cells, count, stamp, mobile_expiry, rows, cols,
