@@ -106,3 +106,45 @@ def test_mobile_list_follows_forgetting_and_reset():
     assert fast.labels[0, 0] == CellLabel.EXPLORED
     fast.reset()
     assert not fast.labels.any() and fast._mobile_count == 0
+
+
+def test_planning_masks_equal_the_full_recompute_at_every_plan(monkeypatch):
+    from dpn_navigator.core import planning_masks
+    from dpn_navigator.core.cell_label import blocked_mask
+    from dpn_navigator.core.navigator import Navigator
+    from dpn_navigator.core.planning_masks import touches_blocked
+    config = NavigatorConfig(width=30.0, height=30.0, mobile_expiry=0.5,
+                             forget_obstacles_after=1.0)
+    navigator = Navigator(config)
+    searched = []
+    real_search = planning_masks.astar_checked
+
+    def checked_search(blocked, start, goal, cost, max_cost, cut_corners):
+        # The old navigator: masks from the whole label grid, footprint cleared, then cost.
+        full = blocked_mask(navigator.grid.labels)
+        rows, cols, near = navigator._footprint(pose)
+        full[rows, cols] &= ~near
+        full[start] = False
+        assert_array_equal(blocked, full)
+        full_cost = config.obstacle_proximity_cost * touches_blocked(full)
+        assert_array_equal(cost, full_cost)
+        assert max_cost == full_cost.max()
+        searched.append(start)
+        return real_search(blocked, start, goal, cost, max_cost, cut_corners)
+
+    monkeypatch.setattr(planning_masks, 'astar_checked', checked_search)
+    rng = np.random.default_rng(5)
+    static = hall(30.0, 12, rng, TRUTH_RESOLUTION)
+    navigator.set_goal(25.0, 25.0)
+    for step in range(60):
+        world = moving_box_world(static, step, 2)
+        pose = free_pose(world, rng, TRUTH_RESOLUTION)
+        ranges = ray_cast(world, pose, TRUTH_RESOLUTION)
+        navigator.step(0.3 * step, pose, ranges, ANGLE_MIN, ANGLE_INCREMENT, RANGE_MIN,
+                       RANGE_MAX)
+        if step % 7 == 0:
+            navigator._plan(pose)                  # also right after scans, not only on flags
+        if step == 30:
+            navigator._spell_forgets = step % 2
+            navigator._forget_unseen_obstacles(pose)
+    assert len(searched) > 20

@@ -165,6 +165,56 @@ def warm_up_label_update():
                     stamp=stamp)
 
 
+class ChangeTracker:
+    """
+    A box around the cells of a ``LabelGrid`` that changed since its owner last looked.
+
+    Made by ``LabelGrid.change_tracker``; every update widens it by the scan's window and the
+    cells the ghost expiry touched, `LabelGrid.labels_changed` and ``reset`` make it the whole
+    grid. The owner (a planner's masks, a published map) refreshes what it derives from the
+    labels inside `take` and nothing else.
+
+    """
+
+    def __init__(self, shape):
+        self._shape = shape
+        self._box = [0, shape[0], 0, shape[1]]            # all changed: nothing derived yet
+
+    def widen(self, rows, cols):
+        """Add the cells of ``labels[rows, cols]`` (slices, possibly empty)."""
+        if rows.start >= rows.stop or cols.start >= cols.stop:
+            return
+        box = self._box
+        if box[0] >= box[1]:
+            self._box = [rows.start, rows.stop, cols.start, cols.stop]
+            return
+        box[0] = min(box[0], rows.start)
+        box[1] = max(box[1], rows.stop)
+        box[2] = min(box[2], cols.start)
+        box[3] = max(box[3], cols.stop)
+
+    def widen_all(self):
+        """Mark every cell changed."""
+        self._box = [0, self._shape[0], 0, self._shape[1]]
+
+    def take(self):
+        """
+        Return the changed box and start a new one, empty.
+
+        Returns
+        -------
+        rows, cols : slice
+            A box holding every cell changed since the last call (empty slices when none).
+        whole : bool
+            True when the box is the whole grid.
+
+        """
+        row_lo, row_hi, col_lo, col_hi = self._box
+        self._box = [0, 0, 0, 0]
+        whole = (row_lo, row_hi, col_lo, col_hi) == (0, self._shape[0], 0, self._shape[1])
+        return slice(row_lo, max(row_lo, row_hi)), slice(col_lo, max(col_lo, col_hi)), whole
+
+
 class LabelGrid:
     """
     Occupancy grid whose cells carry one of the four ``CellLabel`` values.
@@ -223,7 +273,29 @@ class LabelGrid:
         self._mobile_count = 0
         self._earliest_hit = math.inf
         self._last_stamp = -math.inf
+        self._trackers = []
         self.last_window = _EMPTY_WINDOW
+
+    def change_tracker(self):
+        """
+        Return a new `ChangeTracker` of this grid, at first holding every cell.
+
+        Returns
+        -------
+        ChangeTracker
+
+        """
+        tracker = ChangeTracker(self.geometry.shape)
+        self._trackers.append(tracker)
+        return tracker
+
+    def _widen_trackers(self, rows, cols):
+        for tracker in self._trackers:
+            tracker.widen(rows, cols)
+
+    def _widen_trackers_all(self):
+        for tracker in self._trackers:
+            tracker.widen_all()
 
     def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
                safety_radius, path=None, angle_max=None, stamp=None):
@@ -281,6 +353,7 @@ class LabelGrid:
             _NO_BOOL if self._listed is None else self._listed, self.geometry, pose, ranges,
             angle_min, angle_increment, range_min, range_max, safety_radius, self._kernel_rule,
             stamp if expiring else 0.0, _NO_PATH if path is None else path)
+        self._widen_trackers(self.last_window[0], self.last_window[1])
         if expiring:
             self._list_mobile(new_mobile, stamp)
             self._expire_mobile(stamp)
@@ -317,10 +390,10 @@ class LabelGrid:
         """
         if not self._mobile_count or stamp - self._earliest_hit < self.rule.mobile_expiry:
             return
-        rows, cols, cell_input = self.last_window
-        self._mobile_count, self._earliest_hit = expire_listed(
+        self._mobile_count, self._earliest_hit, (rows, cols) = expire_listed(
             self.labels, self.last_hit, self._listed, self._mobile_cells, self._mobile_count,
-            stamp, self.rule.mobile_expiry, rows, cols, cell_input)
+            stamp, self.rule.mobile_expiry, self.last_window)
+        self._widen_trackers(rows, cols)
 
     def labels_changed(self):
         """
@@ -328,9 +401,10 @@ class LabelGrid:
 
         Updates keep the ghost expiry's list of mobile cells themselves; a caller that sets
         cells mobile by hand, or changes ``last_hit``, calls this (a whole-grid pass) so that
-        the expiry sees them. Without ``mobile_expiry`` it does nothing.
+        the expiry sees them, and so that every `ChangeTracker` holds the whole grid.
 
         """
+        self._widen_trackers_all()
         if self._listed is None:
             return
         mobile = self.labels == CellLabel.MOBILE_OBSTACLE
@@ -366,3 +440,4 @@ class LabelGrid:
         self._earliest_hit = math.inf
         self._last_stamp = -math.inf
         self.last_window = _EMPTY_WINDOW
+        self._widen_trackers_all()

@@ -1,7 +1,7 @@
 """
 The compiled label update: one scan folded into a window of the grid, in place.
 
-`update_window` does, for the window the scan can reach, everything ``LabelGrid.update`` does
+`scan_update` does, for the window the scan can reach, everything ``LabelGrid.update`` does
 per cell: f2 by even-odd crossings along each row, f1 as the cells within the safety radius of
 each hit, the FSM, and the dpn ``LabelRule`` (conservative free space, object-level
 relabelling, the hit clock of the ghost expiry). `expire_listed` is the ghost expiry itself,
@@ -428,13 +428,18 @@ def _expire_listed(labels, last_hit, listed, cells, count, stamp, mobile_expiry,
     """
     Expire the listed mobile cells that are stale and out of view; drop non-mobile ones.
 
-    Returns the count of cells kept (compacted to the front of ``cells``) and the earliest
-    ``last_hit`` among them (``inf`` when none).
+    Returns the count of cells kept (compacted to the front of ``cells``), the earliest
+    ``last_hit`` among them (``inf`` when none), and the half-open box ``(row_lo, row_hi,
+    col_lo, col_hi)`` of the cells expired (empty when none).
     """
-    grid_cols = labels.shape[1]
+    grid_rows, grid_cols = labels.shape
     n_rows, n_cols = cell_input.shape
     kept = 0
     earliest = math.inf
+    row_lo = grid_rows
+    row_hi = 0
+    col_lo = grid_cols
+    col_hi = 0
     for k in range(count):
         flat = cells[k]
         row = flat // grid_cols
@@ -448,11 +453,15 @@ def _expire_listed(labels, last_hit, listed, cells, count, stamp, mobile_expiry,
         if not in_view and stamp - last_hit[row, col] >= mobile_expiry:
             labels[row, col] = _EXPLORED
             listed[row, col] = False
+            row_lo = min(row_lo, row)
+            row_hi = max(row_hi, row + 1)
+            col_lo = min(col_lo, col)
+            col_hi = max(col_hi, col + 1)
             continue
         cells[kept] = flat
         kept += 1
         earliest = min(earliest, last_hit[row, col])
-    return kept, earliest
+    return kept, earliest, row_lo, row_hi, col_lo, col_hi
 
 
 @kernel
@@ -539,9 +548,22 @@ def scan_update(labels, seen_free, last_hit, listed, geometry, pose, ranges, ang
     return bool(replan), (slice(row0, row_end), slice(col0, col_end), cell_input), new_mobile
 
 
-def expire_listed(labels, last_hit, listed, cells, count, stamp, mobile_expiry, rows, cols,
-                  cell_input):
-    """Run `_expire_listed` over ``cells[:count]``; return ``(kept, earliest last_hit)``."""
-    kept, earliest = _expire_listed(labels, last_hit, listed, cells, count, float(stamp),
-                                    float(mobile_expiry), rows.start, cols.start, cell_input)
-    return int(kept), float(earliest)
+def expire_listed(labels, last_hit, listed, cells, count, stamp, mobile_expiry, window):
+    """
+    Run `_expire_listed` over ``cells[:count]`` after the scan of ``window``.
+
+    Returns
+    -------
+    kept : int
+    earliest : float
+        The earliest last hit of the cells kept [s], ``inf`` when none.
+    expired : (slice, slice)
+        Rows and columns of a box around the cells expired (empty when none).
+
+    """
+    rows, cols, cell_input = window
+    kept, earliest, row_lo, row_hi, col_lo, col_hi = _expire_listed(
+        labels, last_hit, listed, cells, count, float(stamp), float(mobile_expiry), rows.start,
+        cols.start, cell_input)
+    return (int(kept), float(earliest),
+            (slice(row_lo, max(row_lo, row_hi)), slice(col_lo, max(col_lo, col_hi))))
