@@ -27,9 +27,15 @@ import math
 
 import numpy as np
 
-from .cell_label import CellLabel, ScanInput
+from .cell_label import CellLabel, ScanInput, TRANSITION
 from .jit import kernel
 from .scan_features import squared_radius_bound
+
+# TRANSITION flattened for one lookup with index (label << 2) | scan_input.
+_TRANSITION_BY_CODE = np.zeros(4 * len(CellLabel), dtype=np.uint8)
+for _label in CellLabel:
+    for _scan_input in ScanInput:
+        _TRANSITION_BY_CODE[(_label << 2) | _scan_input] = TRANSITION[_label, _scan_input]
 
 _NON_EXPLORED = int(CellLabel.NON_EXPLORED)
 _EXPLORED = int(CellLabel.EXPLORED)
@@ -85,14 +91,44 @@ def _box_end(first, count, origin, resolution, value):
 
 
 @kernel
-def _mark_discs(mark, xs, ys, count, selected, row0, col0, x0, y0, resolution, radius, bound,
-                cell_input, only_inside):
+def _disc_span(first_col, end_col, col0, x0, resolution, px, dy2, bound):
     """
-    Set ``mark`` on the window cells within ``radius`` of the first ``count`` selected points.
+    Shrink ``[first_col, end_col)`` to the columns whose centre passes ``dx*dx + dy2 <= bound``.
+
+    Those columns are contiguous (every step of the expression is monotone in ``|dx|``), and
+    the given range must hold them all; returns the half-open ``(first, end)``, maybe empty.
+    """
+    while first_col < end_col:
+        dx = (x0 + (float(col0 + first_col) + 0.5) * resolution) - px
+        if dx * dx + dy2 <= bound:
+            break
+        first_col += 1
+    while end_col > first_col:
+        dx = (x0 + (float(col0 + end_col - 1) + 0.5) * resolution) - px
+        if dx * dx + dy2 <= bound:
+            break
+        end_col -= 1
+    return first_col, end_col
+
+
+@kernel
+def _disc_rows(py, radius, row0, n_rows, y0, resolution):
+    """Window rows ``[first, end)`` whose centres may lie within ``radius`` of ``py``."""
+    reach = radius + _BOX_SLACK * (1.0 + 1e-6 * abs(py))
+    return (_count_below(row0, n_rows, y0, resolution, py - reach),
+            _count_below(row0, n_rows, y0, resolution, py + reach))
+
+
+@kernel
+def _mark_discs(mark, value, xs, ys, count, selected, row0, col0, x0, y0, resolution, radius,
+                bound, extent):
+    """
+    Set ``mark`` to ``value`` on the window cells within ``radius`` of the selected points.
 
     ``mark`` is the window's ``(n_rows, n_cols)`` array, its cell ``(0, 0)`` the grid's
-    ``(row0, col0)``; a point counts where ``selected`` is True (or always when it is empty).
-    With ``only_inside``, only cells whose ``cell_input`` is INSIDE are marked.
+    ``(row0, col0)``; the first ``count`` points count where ``selected`` is True (all when
+    it is empty). Each disc is marked as one run of cells per row. When ``extent`` has rows,
+    ``extent[i]`` is widened to hold the columns marked in row ``i``.
     """
     n_rows, n_cols = mark.shape
     for k in range(count):
@@ -100,53 +136,83 @@ def _mark_discs(mark, xs, ys, count, selected, row0, col0, x0, y0, resolution, r
             continue
         px = xs[k]
         py = ys[k]
-        reach = radius + _BOX_SLACK * (1.0 + 1e-6 * abs(py))
-        first_row = _count_below(row0, n_rows, y0, resolution, py - reach)
-        end_row = _count_below(row0, n_rows, y0, resolution, py + reach)
-        first_col = _box_first(col0, n_cols, x0, resolution, px - radius)
-        end_col = _box_end(col0, n_cols, x0, resolution, px + radius)
+        first_row, end_row = _disc_rows(py, radius, row0, n_rows, y0, resolution)
         for i in range(first_row, end_row):
             dy = (y0 + (float(row0 + i) + 0.5) * resolution) - py
             dy2 = dy * dy
-            for j in range(first_col, end_col):
-                if only_inside and cell_input[i, j] != _INSIDE:
-                    continue
-                dx = (x0 + (float(col0 + j) + 0.5) * resolution) - px
-                if dx * dx + dy2 <= bound:
-                    mark[i, j] = True
+            if dy2 > bound:
+                continue
+            half = math.sqrt(bound - dy2)
+            first, end = _disc_span(_box_first(col0, n_cols, x0, resolution, px - half),
+                                    _box_end(col0, n_cols, x0, resolution, px + half),
+                                    col0, x0, resolution, px, dy2, bound)
+            if first >= end:
+                continue
+            mark[i, first:end] = value
+            if extent.shape[0]:
+                extent[i, 0] = min(extent[i, 0], first)
+                extent[i, 1] = max(extent[i, 1], end)
 
 
 @kernel
-def _fill_inside(cell_input, row0, col0, x0, y0, resolution, vertices_x, vertices_y):
-    """Set ``cell_input`` to 1 (f2) on window centres inside the polygon, 0 elsewhere."""
+def _fill_inside(cell_input, row0, col0, x0, y0, resolution, vertices_x, vertices_y, extent):
+    """
+    Set ``cell_input`` (all 0) to 1 (f2) on window centres inside the polygon.
+
+    Each edge toggles the parity of the centres left of where it crosses a row; sorted, a
+    row's crossings bound its runs of inside centres, which are filled whole. ``extent[i]``
+    becomes the columns ``[first, end)`` filled in row ``i``.
+    """
     n_rows, n_cols = cell_input.shape
-    toggles = np.zeros((n_rows, n_cols + 1), dtype=np.uint8)
-    for a in range(vertices_x.shape[0] - 1):
+    edges = vertices_x.shape[0] - 1
+    # Rows with min(ya, yb) <= y < max(ya, yb): exactly (ya > y) != (yb > y).
+    first_rows = np.empty(edges, dtype=np.int64)
+    end_rows = np.empty(edges, dtype=np.int64)
+    starts = np.zeros(n_rows + 1, dtype=np.int64)
+    for a in range(edges):
+        ya = vertices_y[a]
+        yb = vertices_y[a + 1]
+        first_rows[a] = _count_below(row0, n_rows, y0, resolution, min(ya, yb))
+        end_rows[a] = _count_below(row0, n_rows, y0, resolution, max(ya, yb))
+        for i in range(first_rows[a], end_rows[a]):
+            starts[i + 1] += 1
+    for i in range(n_rows):
+        starts[i + 1] += starts[i]
+    filled = starts[:n_rows].copy()
+    crossings = np.empty(starts[n_rows], dtype=np.int64)
+    for a in range(edges):
         xa = vertices_x[a]
         ya = vertices_y[a]
         xb = vertices_x[a + 1]
         yb = vertices_y[a + 1]
-        # Rows with min(ya, yb) <= y < max(ya, yb): exactly (ya > y) != (yb > y).
-        first_row = _count_below(row0, n_rows, y0, resolution, min(ya, yb))
-        end_row = _count_below(row0, n_rows, y0, resolution, max(ya, yb))
-        for i in range(first_row, end_row):
+        for i in range(first_rows[a], end_rows[a]):
             y = y0 + (float(row0 + i) + 0.5) * resolution
             x_cross = xa + (xb - xa) * (y - ya) / (yb - ya)
             # The centres left of the crossing (x < x_cross) see it on their ray.
-            toggles[i, _count_below(col0, n_cols, x0, resolution, x_cross)] ^= 1
+            crossings[filled[i]] = _count_below(col0, n_cols, x0, resolution, x_cross)
+            filled[i] += 1
     for i in range(n_rows):
-        # Each row holds an even number of crossings: the parity up to a centre is that of
-        # the crossings right of it.
-        parity = 0
-        for j in range(n_cols):
-            parity ^= toggles[i, j]
-            cell_input[i, j] = parity
+        row_crossings = crossings[starts[i]:starts[i + 1]]
+        for k in range(1, row_crossings.shape[0]):          # insertion sort: rows hold few
+            value = row_crossings[k]
+            m = k - 1
+            while m >= 0 and row_crossings[m] > value:
+                row_crossings[m + 1] = row_crossings[m]
+                m -= 1
+            row_crossings[m + 1] = value
+        # An even number per row: inside between the 1st and 2nd, the 3rd and 4th, ...
+        for k in range(0, row_crossings.shape[0] - 1, 2):
+            first = row_crossings[k]
+            end = row_crossings[k + 1]
+            if first < end:
+                cell_input[i, first:end] = _INSIDE
+                extent[i, 0] = min(extent[i, 0], first)
+                extent[i, 1] = max(extent[i, 1], end)
 
 
 @kernel
-def _mark_edge_bands(mark, cell_input, row0, col0, x0, y0, resolution, vertices_x,
-                     vertices_y, radius):
-    """Set ``mark`` on the window's INSIDE cells within ``radius`` of some polygon edge."""
+def _mark_edge_bands(mark, row0, col0, x0, y0, resolution, vertices_x, vertices_y, radius):
+    """Set ``mark`` on the window's cells within ``radius`` of some polygon edge."""
     n_rows, n_cols = mark.shape
     for a in range(vertices_x.shape[0] - 1):
         xa = vertices_x[a]
@@ -179,14 +245,25 @@ def _mark_edge_bands(mark, cell_input, row0, col0, x0, y0, resolution, vertices_
                 x_2 = xa + t_hi * ex
                 first_col = _box_first(col0, n_cols, x0, resolution, min(x_1, x_2) - reach)
                 end_col = _box_end(col0, n_cols, x0, resolution, max(x_1, x_2) + reach)
-            for j in range(first_col, end_col):
-                if mark[i, j] or cell_input[i, j] != _INSIDE:
-                    continue
-                cx = x0 + (float(col0 + j) + 0.5) * resolution
-                dot = (cx - xa) * ex + (cy - ya) * ey
-                cross = (cx - xa) * ey - (cy - ya) * ex
-                if 0.0 <= dot <= length2 and abs(cross) / length <= radius:
-                    mark[i, j] = True
+            # The band's cells in a row are contiguous (dot and cross are monotone along the
+            # row): shrink the candidates to them from both ends, then mark them all.
+            while first_col < end_col and not _in_band(
+                    x0 + (float(col0 + first_col) + 0.5) * resolution, cy, xa, ya, ex, ey,
+                    length2, length, radius):
+                first_col += 1
+            while end_col > first_col and not _in_band(
+                    x0 + (float(col0 + end_col - 1) + 0.5) * resolution, cy, xa, ya, ex, ey,
+                    length2, length, radius):
+                end_col -= 1
+            mark[i, first_col:end_col] = True
+
+
+@kernel
+def _in_band(cx, cy, xa, ya, ex, ey, length2, length, radius):
+    """Tell whether ``(cx, cy)`` projects onto edge ``a + t e`` within ``radius`` of it."""
+    dot = (cx - xa) * ex + (cy - ya) * ey
+    cross = (cx - xa) * ey - (cy - ya) * ex
+    return 0.0 <= dot <= length2 and abs(cross) / length <= radius
 
 
 @kernel
@@ -228,18 +305,18 @@ def _hit_evidence(seen_free, hits_x, hits_y, x0, y0, resolution, radius, bound):
     for k in range(count):
         px = hits_x[k]
         py = hits_y[k]
-        first_row = _box_first(0, rows, y0, resolution, py - radius)
-        end_row = _box_end(0, rows, y0, resolution, py + radius)
-        first_col = _box_first(0, cols, x0, resolution, px - radius)
-        end_col = _box_end(0, cols, x0, resolution, px + radius)
+        first_row, end_row = _disc_rows(py, radius, 0, rows, y0, resolution)
         for i in range(first_row, end_row):
             dy = (y0 + (float(i) + 0.5) * resolution) - py
             dy2 = dy * dy
-            for j in range(first_col, end_col):
-                if not seen_free[i, j]:
-                    continue
-                dx = (x0 + (float(j) + 0.5) * resolution) - px
-                if dx * dx + dy2 <= bound:
+            if dy2 > bound:
+                continue
+            half = math.sqrt(bound - dy2)
+            first, end = _disc_span(_box_first(0, cols, x0, resolution, px - half),
+                                    _box_end(0, cols, x0, resolution, px + half),
+                                    0, x0, resolution, px, dy2, bound)
+            for j in range(first, end):
+                if seen_free[i, j]:
                     evidence[k] = True
                     break
             if evidence[k]:
@@ -346,45 +423,52 @@ def _update_window(labels, seen_free, last_hit, listed, row0, col0, cell_input, 
     """
     n_rows, n_cols = cell_input.shape
     grid_cols = labels.shape[1]
-    _fill_inside(cell_input, row0, col0, x0, y0, resolution, vertices_x, vertices_y)
+    # extent[i]: the columns [first, end) of row i that the scan touches (f1 or f2).
+    extent = np.empty((n_rows, 2), dtype=np.int64)
+    extent[:, 0] = n_cols
+    extent[:, 1] = 0
+    cell_input[...] = _NONE
+    _fill_inside(cell_input, row0, col0, x0, y0, resolution, vertices_x, vertices_y, extent)
     no_selection = np.zeros(0, dtype=np.bool_)
-    hit = np.zeros((n_rows, n_cols), dtype=np.bool_)
-    _mark_discs(hit, hits_x, hits_y, hits_x.shape[0], no_selection, row0, col0, x0, y0,
-                resolution, safety_radius, safety_bound, cell_input, False)
-    for i in range(n_rows):
-        for j in range(n_cols):
-            if hit[i, j]:
-                cell_input[i, j] = _HIT
-    near_moving = hit                      # only read with objects_on, then overwritten
+    no_extent = np.zeros((0, 2), dtype=np.int64)
+    _mark_discs(cell_input, _HIT, hits_x, hits_y, hits_x.shape[0], no_selection, row0, col0,
+                x0, y0, resolution, safety_radius, safety_bound, extent)
+    near_moving = np.zeros((0, 0), dtype=np.bool_)      # read only with objects_on
     if objects_on:
         evidence = _hit_evidence(seen_free, hits_x, hits_y, x0, y0, resolution,
                                  evidence_radius, evidence_bound)
         moving = _moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_size)
         near_moving = np.zeros((n_rows, n_cols), dtype=np.bool_)
-        _mark_discs(near_moving, hits_x, hits_y, hits_x.shape[0], moving, row0, col0, x0, y0,
-                    resolution, safety_radius, safety_bound, cell_input, False)
-    not_free = hit
+        _mark_discs(near_moving, True, hits_x, hits_y, hits_x.shape[0], moving, row0, col0,
+                    x0, y0, resolution, safety_radius, safety_bound, no_extent)
+    not_free = np.zeros((0, 0), dtype=np.bool_)         # read only with free_on
     if free_on:
         not_free = np.zeros((n_rows, n_cols), dtype=np.bool_)
-        # Every vertex but the closing repeat of the first; only INSIDE cells matter. Within
-        # the safety radius a hit's disc holds only HIT cells, so only the vertices that are
-        # not hits need theirs then.
+        # Every vertex but the closing repeat of the first. Within the safety radius a hit's
+        # disc holds only HIT cells, so only the vertices that are not hits need theirs then.
         not_hit = no_selection
         if free_radius <= safety_radius:
             not_hit = np.ones(vertices_x.shape[0], dtype=np.bool_)
             for k in range(hit_beams.shape[0]):
                 not_hit[hit_beams[k] + 1] = False
-        _mark_discs(not_free, vertices_x, vertices_y, vertices_x.shape[0] - 1, not_hit, row0,
-                    col0, x0, y0, resolution, free_radius, free_bound, cell_input, True)
-        _mark_edge_bands(not_free, cell_input, row0, col0, x0, y0, resolution, vertices_x,
-                         vertices_y, free_radius)
+        _mark_discs(not_free, True, vertices_x, vertices_y, vertices_x.shape[0] - 1, not_hit,
+                    row0, col0, x0, y0, resolution, free_radius, free_bound, no_extent)
+        _mark_edge_bands(not_free, row0, col0, x0, y0, resolution, vertices_x, vertices_y,
+                         free_radius)
     # The path's labels before the update, for the replan flag.
     path_before = np.empty(path.shape[0], dtype=np.uint8)
     for k in range(path.shape[0]):
         path_before[k] = labels[path[k, 0], path[k, 1]]
     new_count = 0
-    for i in range(n_rows):
-        for j in range(n_cols):
+    if not (free_on or expiry_on):
+        # The paper's rule: the FSM table alone, branch-free along each row's touched run.
+        for i in range(n_rows):
+            window = labels[row0 + i, col0 + extent[i, 0]:col0 + extent[i, 1]]
+            inputs = cell_input[i, extent[i, 0]:extent[i, 1]]
+            for j in range(window.shape[0]):
+                window[j] = _TRANSITION_BY_CODE[(window[j] << 2) | inputs[j]]
+    for i in range(n_rows if free_on or expiry_on else 0):
+        for j in range(extent[i, 0], extent[i, 1]):
             scan = cell_input[i, j]
             if scan == _NONE:
                 continue
