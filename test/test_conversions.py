@@ -5,9 +5,9 @@ import math
 
 from builtin_interfaces.msg import Time
 from dpn_navigator.conversions import (labels_to_occupancy_grid, laser_scan_fields,
-                                       OccupancyGridBuffer,
                                        line_strip_marker, make_laser_scan, marker_points,
-                                       occupancy_grid_values, odometry_to_pose,
+                                       occupancy_grid_values, OccupancyGridBuffer,
+                                       odometry_to_pose,
                                        pose_to_odometry, quaternion_to_yaw, sphere_marker,
                                        twist_to_velocity, velocity_to_twist, yaw_to_quaternion)
 from dpn_navigator.core import CellLabel

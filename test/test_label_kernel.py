@@ -13,9 +13,9 @@ import math
 from dpn_navigator.core.cell_label import CellLabel
 from dpn_navigator.core.label_grid import LabelGrid, LabelRule, PAPER_RULE
 from dpn_navigator.core.navigator import NavigatorConfig
+import numpy as np
 from numpy.testing import assert_array_equal
 from numpy_label_grid import NumpyLabelGrid
-import numpy as np
 import pytest
 from scan_scenes import ANGLE_INCREMENT, ANGLE_MIN, free_pose, hall, RANGE_MAX, RANGE_MIN
 from scan_scenes import ray_cast

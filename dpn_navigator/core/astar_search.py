@@ -137,9 +137,10 @@ def astar_checked(blocked, start, goal, cell_cost, max_cell_cost, cut_corners):
     cell_cost : (rows, cols) or (rows * cols,) ndarray of float64, or None
         C-contiguous, finite and non-negative.
     max_cell_cost : float
-        An upper bound of ``cell_cost`` (0 without one); it sets the fixed point of the costs
-        (see `astar`), so the same bound gives the same paths.
+        The largest value of ``cell_cost`` (0 without one); it sets the fixed point of the
+        costs (see `astar`), so it must be the one `astar` would find for the same paths.
     cut_corners : bool
+        As for `astar`.
 
     Returns
     -------

@@ -128,10 +128,9 @@ class LabelRule:
             raise ValueError('moving_object_size needs free_evidence_radius > 0: motion is '
                              'shown by hits in space surely seen free')
 
-
     def kernel_arguments(self):
         """
-        Return the rule as the label kernel takes it (``label_kernel.update_window``).
+        Return the rule as the label kernel takes it (``label_kernel.scan_update``).
 
         Returns
         -------
@@ -249,7 +248,7 @@ class LabelGrid:
     Notes
     -----
     An update is one compiled kernel over the window the scan reaches
-    (``label_kernel.update_window``); nothing is done over the whole grid. The ghost expiry
+    (``label_kernel.scan_update``); nothing is done over the whole grid. The ghost expiry
     keeps a list of the cells it has seen become mobile and visits only those, and only when
     the earliest hit among them is ``mobile_expiry`` old. Code that writes ``labels`` or
     ``last_hit`` itself (tests, a forgetting navigator) calls `labels_changed` afterwards.

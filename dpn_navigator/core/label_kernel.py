@@ -45,6 +45,7 @@ _NONE = int(ScanInput.NONE)
 _INSIDE = int(ScanInput.INSIDE)
 _HIT = int(ScanInput.HIT)
 
+
 @functools.lru_cache(maxsize=64)
 def squared_bound(radius):
     """Return ``squared_radius_bound(radius)``, remembered: a grid's radii never change."""
@@ -76,8 +77,10 @@ def _count_below(first, count, origin, resolution, value):
 @kernel
 def _box_first(first, count, origin, resolution, value):
     """
-    First index ``k`` in ``[0, count]`` of the centres ``origin + (first + k + 0.5) * res``
-    that may lie at or above ``value``, with a cell to spare for rounding.
+    Return a first index in ``[0, count]`` whose centre may lie at or above ``value``.
+
+    The centres are ``origin + (first + k + 0.5) * resolution``; the index has a cell to
+    spare for rounding.
     """
     estimate = np.floor((value - origin) / resolution - 0.5) - first
     return int(min(max(estimate, 0.0), float(count)))
@@ -397,7 +400,9 @@ def _update_window(labels, seen_free, last_hit, listed, row0, col0, cell_input, 
     vertices_x, vertices_y : (L + 2,) ndarray of float64
         The closed scan polygon [m].
     hits_x, hits_y : (K,) ndarray of float64
-        Hit points [m]; ``hit_beams`` (K,) int64 their beams.
+        Hit points [m].
+    hit_beams : (K,) ndarray of int64
+        Their beams.
     safety_radius, safety_bound : float
         f1's ``r`` [m] and its ``squared_radius_bound``.
     free_on, objects_on, expiry_on : bool
@@ -555,7 +560,7 @@ def _scan_update(labels, seen_free, last_hit, listed, ranges, x, y, yaw, angle_m
                  evidence_radius, evidence_bound, segment_gap, object_size, expiry_on, stamp,
                  path):
     """
-    The scan's points and window, then `_update_window` over it.
+    Find the scan's points and window, then run `_update_window` over it.
 
     Returns ``(replan, row0, row_end, col0, col_end, cell_input, new_mobile)``; an empty
     window (the scan misses the grid) changes nothing.
@@ -592,11 +597,13 @@ def scan_update(labels, seen_free, last_hit, listed, geometry, pose, ranges, ang
     Parameters
     ----------
     labels : (rows, cols) ndarray of uint8
+        The grid's labels.
     seen_free, listed : (rows, cols) ndarray of bool
         ``(1, 1)`` stand-ins when the rule keeps no such state.
     last_hit : (rows, cols) ndarray of float64
         Likewise.
     geometry : GridGeometry
+        The grid's placement.
     pose : (float, float, float)
         The laser's ``(x, y, yaw)`` [m, m, rad], checked.
     ranges : (L,) ndarray of float64

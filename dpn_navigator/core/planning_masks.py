@@ -42,6 +42,7 @@ def touches_blocked_in(blocked, rows, cols):
     Parameters
     ----------
     blocked : (H, W) ndarray of bool
+        Cells A* may not enter.
     rows, cols : slice
         The window, inside the grid.
 
@@ -69,7 +70,7 @@ def touches_blocked_in(blocked, rows, cols):
 
 
 def _grown(rows, cols, shape):
-    """The window ``(rows, cols)`` widened by one cell on every side, clipped to ``shape``."""
+    """Widen the window ``(rows, cols)`` by one cell on every side, clipped to ``shape``."""
     return (slice(max(rows.start - 1, 0), min(rows.stop + 1, shape[0])),
             slice(max(cols.start - 1, 0), min(cols.stop + 1, shape[1])))
 
