@@ -50,16 +50,17 @@ def assert_same_state(fast, reference):
     assert_array_equal(cell_input, ref_input)
 
 
-@pytest.mark.parametrize('rule', [PAPER_RULE, DPN_RULE,
-                                  LabelRule(free_evidence_radius=0.9, moving_object_size=1.2,
-                                            mobile_expiry=0.6)],
-                         ids=['paper', 'dpn', 'wide'])
-def test_kernel_equals_the_numpy_update_on_hall_sequences(rule):
+@pytest.mark.parametrize('rule, resolution', [
+    (PAPER_RULE, 0.5), (DPN_RULE, 0.5), (PAPER_RULE, 0.1), (DPN_RULE, 0.1),
+    (LabelRule(free_evidence_radius=0.9, moving_object_size=1.2, mobile_expiry=0.6), 0.5)],
+    ids=['paper', 'dpn', 'paper-fine', 'dpn-fine', 'wide'])
+def test_kernel_equals_the_numpy_update_on_hall_sequences(rule, resolution):
+    # Fine cells put many rows in each disc and band, and polygon edges shorter than a cell.
     rng = np.random.default_rng(3)
-    size = 30.0
-    static = hall(size, 12, rng, TRUTH_RESOLUTION)
-    fast = LabelGrid(size, size, 0.5, rule=rule)
-    reference = NumpyLabelGrid(size, size, 0.5, rule=rule)
+    size = 30.0 if resolution == 0.5 else 12.0
+    static = hall(size, 12 if resolution == 0.5 else 3, rng, TRUTH_RESOLUTION)
+    fast = LabelGrid(size, size, resolution, rule=rule)
+    reference = NumpyLabelGrid(size, size, resolution, rule=rule)
     replans = 0
     stamp = 0.0
     for step in range(70):
@@ -67,8 +68,10 @@ def test_kernel_equals_the_numpy_update_on_hall_sequences(rule):
         pose = free_pose(world, rng, TRUTH_RESOLUTION)
         ranges = ray_cast(world, pose, TRUTH_RESOLUTION)
         ranges[rng.random(ranges.shape[0]) < 0.02] = np.nan
-        # A straight path through the middle of the hall, so that the flag fires.
-        path = np.array([[30, c] for c in range(5, 55)] + [[r, 30] for r in range(5, 55)])
+        # A cross through the middle of the hall, so that the flag fires.
+        middle = fast.labels.shape[0] // 2
+        path = np.array([[middle, c] for c in range(2 * middle)]
+                        + [[r, middle] for r in range(2 * middle)])
         # Time mostly goes forward, by up to 0.4 s; once it jumps back (a restart).
         stamp = 1.0 if step == 50 else stamp + rng.choice([0.1, 0.2, 0.4])
         args = (pose, ranges, ANGLE_MIN, ANGLE_INCREMENT, RANGE_MIN, RANGE_MAX, 0.6)
@@ -79,6 +82,7 @@ def test_kernel_equals_the_numpy_update_on_hall_sequences(rule):
         assert_same_state(fast, reference)
     assert replans > 0
     assert np.count_nonzero(fast.labels == CellLabel.STEADY_OBSTACLE) > 100
+    assert np.count_nonzero(fast.seen_free if fast.seen_free is not None else 1) > 0
     if rule.moving_object_size > 0.0:
         assert np.count_nonzero(fast.labels == CellLabel.MOBILE_OBSTACLE) > 0
 
@@ -148,3 +152,36 @@ def test_planning_masks_equal_the_full_recompute_at_every_plan(monkeypatch):
             navigator._spell_forgets = step % 2
             navigator._forget_unseen_obstacles(pose)
     assert len(searched) > 20
+
+
+@pytest.mark.parametrize('resolution', [0.05, 0.5])
+def test_edge_bands_and_discs_equal_a_test_of_every_cell(resolution):
+    from dpn_navigator.core import label_kernel
+    rng = np.random.default_rng(8)
+    n_rows, n_cols, row0, col0 = 40, 50, 7, 3
+    x0, y0 = -1.3, 0.4
+    cx = x0 + (np.arange(col0, col0 + n_cols) + 0.5) * resolution
+    cy = y0 + (np.arange(row0, row0 + n_rows) + 0.5) * resolution
+    cx, cy = np.meshgrid(cx, cy)
+    low = np.array([x0 + col0 * resolution, y0 + row0 * resolution])
+    span = np.array([n_cols, n_rows]) * resolution
+    radius = 0.6
+    bound = label_kernel.squared_bound(radius)
+    for _ in range(150):
+        # Edges of every length, from a tenth of a cell to across the window.
+        a = low + rng.uniform(-0.2, 1.2, 2) * span
+        b = a + rng.normal(0.0, 1.0, 2) * resolution * rng.choice([0.1, 1.0, 10.0])
+        xs, ys = np.array([a[0], b[0]]), np.array([a[1], b[1]])
+        band = np.zeros((n_rows, n_cols), dtype=bool)
+        label_kernel._mark_edge_bands(band, row0, col0, x0, y0, resolution, xs, ys, radius)
+        ex, ey = b[0] - a[0], b[1] - a[1]
+        length2 = ex * ex + ey * ey
+        dot = (cx - a[0]) * ex + (cy - a[1]) * ey
+        cross = (cx - a[0]) * ey - (cy - a[1]) * ex
+        want = (dot >= 0.0) & (dot <= length2) & (np.abs(cross) / np.sqrt(length2) <= radius)
+        assert_array_equal(band, want)
+        disc = np.zeros((n_rows, n_cols), dtype=bool)
+        label_kernel._mark_discs(disc, True, xs, ys, 1, np.zeros(0, dtype=bool), row0, col0,
+                                 x0, y0, resolution, radius, bound, np.zeros((0, 2), np.int64))
+        dx, dy = a[0] - cx, a[1] - cy
+        assert_array_equal(disc, np.sqrt(dx * dx + dy * dy) <= radius)

@@ -234,10 +234,12 @@ def _mark_edge_bands(mark, row0, col0, x0, y0, resolution, vertices_x, vertices_
         # An edge shorter than a cell is searched over one box of columns; a longer one, row
         # by row over the columns near the part of it within reach of the row.
         short = length < resolution
-        first_col = _box_first(col0, n_cols, x0, resolution, min(xa, xa + ex) - reach)
-        end_col = _box_end(col0, n_cols, x0, resolution, max(xa, xa + ex) + reach)
+        edge_first_col = _box_first(col0, n_cols, x0, resolution, min(xa, xa + ex) - reach)
+        edge_end_col = _box_end(col0, n_cols, x0, resolution, max(xa, xa + ex) + reach)
         for i in range(first_row, end_row):
             cy = y0 + (float(row0 + i) + 0.5) * resolution
+            first_col = edge_first_col
+            end_col = edge_end_col
             if not short and ey != 0.0:
                 # The part of the edge within reach of the row in y: a + t e, t_lo <= t <= t_hi.
                 t_1 = (cy - reach - ya) / ey
