@@ -396,22 +396,18 @@ def bench_updates(rng, repeats):
 
 def bench_node_parts(rng, repeats):
     """Print the tables of a replan's setup and of a published map, new against old."""
-    print('| per replan: masks + a short A* (after one hall scan) | changed box [ms] '
-          '| whole grid before [ms] | ratio | same paths |')
-    print('|---|---|---|---|---|')
-    for cells, resolution in ((200, 0.5), (2000, 0.5)):
-        new_ms, old_ms, same = bench_replan_setup(cells, resolution, rng, repeats)
-        print(f'| {cells}x{cells} cells | {new_ms:.3f} | {old_ms:.3f} | {old_ms / new_ms:.1f}x '
-              f'| {"yes" if same else "NO"} |')
-    print()
-    print('| per published map: OccupancyGrid data (after one hall scan) | changed box [ms] '
-          '| whole grid before [ms] | ratio | same bytes |')
-    print('|---|---|---|---|---|')
-    for cells, resolution in ((200, 0.5), (2000, 0.5)):
-        new_ms, old_ms, same = bench_map_refresh(cells, resolution, rng, repeats)
-        print(f'| {cells}x{cells} cells | {new_ms:.3f} | {old_ms:.3f} | {old_ms / new_ms:.1f}x '
-              f'| {"yes" if same else "NO"} |')
-    print()
+    for title, same_what, bench in (
+            ('per replan: masks + a short A* (after one hall scan)', 'same paths',
+             bench_replan_setup),
+            ('per published map: OccupancyGrid data (after one hall scan)', 'same bytes',
+             bench_map_refresh)):
+        print(f'| {title} | changed box [ms] | whole grid before [ms] | ratio | {same_what} |')
+        print('|---|---|---|---|---|')
+        for cells, resolution in ((200, 0.5), (2000, 0.5)):
+            new_ms, old_ms, same = bench(cells, resolution, rng, repeats)
+            print(f'| {cells}x{cells} cells | {new_ms:.3f} | {old_ms:.3f} '
+                  f'| {old_ms / new_ms:.1f}x | {"yes" if same else "NO"} |')
+        print()
 
 
 def bench_astars(rng, repeats, quick):

@@ -8,15 +8,14 @@ sequences; the core benchmark times the two side by side.
 
 """
 
-import math
 
 from dpn_navigator.core.cell_label import blocked_mask, CellLabel, LABEL_DTYPE, ScanInput
 from dpn_navigator.core.cell_label import TRANSITION
 from dpn_navigator.core.free_evidence import surely_free
-from dpn_navigator.core.label_grid import check_path, LabelGrid
+from dpn_navigator.core.label_grid import LabelGrid
 from dpn_navigator.core.moving_objects import moving_object_hits
 from dpn_navigator.core.scan_features import hit_runs, run_cover, scan_input
-from dpn_navigator.core.scan_polygon import check_pose, check_scan, scan_points
+from dpn_navigator.core.scan_polygon import scan_points
 import numpy as np
 
 # TRANSITION flattened for one-step lookup with index (label << 2) | scan_input.
@@ -47,53 +46,13 @@ class NumpyLabelGrid(LabelGrid):
 
     def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
                safety_radius, path=None, angle_max=None, stamp=None):
-        """
-        Fold one laser scan into the labels and say whether the path needs replanning.
-
-        Parameters
-        ----------
-        pose : (float, float, float)
-            The laser's ``(x, y, yaw)`` in the map frame [m, m, rad]; may lie off the grid.
-        ranges : (L,) array_like of float
-            Ranges [m], REP 117 (``+inf`` no return; NaN, ``-inf`` or short: invalid).
-        angle_min, angle_increment : float
-            Laser-frame angle of the first beam and the step between beams [rad].
-        range_min, range_max : float
-            Valid return interval ``[range_min, range_max)`` [m].
-        safety_radius : float
-            f1's ``r`` [m]: cells whose centre is within it of a hit become obstacles.
-        path : (N, 2) array_like of int, optional
-            The planned path as ``(row, col)`` cells.
-        angle_max : float, optional
-            Angle of the last beam [rad]; when given, the beam count is checked against it.
-        stamp : float, optional
-            Time of the scan [s], any clock; needed with ``rule.mobile_expiry`` > 0.
-
-        Returns
-        -------
-        replan : bool
-            True when a cell of ``path`` went from free (non-explored or explored) to an
-            obstacle in this update. Under the paper's rule these are exactly its two
-            transitions, non-explored -> steady and explored -> mobile.
-
-        Raises
-        ------
-        ValueError
-            For a non-finite pose, malformed scan fields, a negative or non-finite safety
-            radius, a malformed path or a missing stamp; the labels are then unchanged.
-
-        """
-        pose = check_pose(pose)
-        ranges = check_scan(ranges, angle_min, angle_increment, range_min, range_max, angle_max)
-        safety_radius = float(safety_radius)
-        if not (math.isfinite(safety_radius) and safety_radius >= 0.0):
-            raise ValueError(f'safety_radius must be finite and >= 0, got {safety_radius!r} m')
-        path = check_path(path, self.geometry.shape)
+        """Fold one scan into the labels as 83e3dc1 did; as ``LabelGrid.update``."""
+        pose, ranges, safety_radius, path, stamp = self._checked_scan(
+            pose, ranges, angle_min, angle_increment, range_min, range_max, safety_radius, path,
+            angle_max, stamp)
         expiring = self.rule.mobile_expiry > 0.0
         if expiring:
-            if stamp is None or not math.isfinite(stamp):
-                raise ValueError(f'mobile_expiry needs a finite scan stamp, got {stamp!r}')
-            self._restart_clocks_if_time_went_back(float(stamp))
+            self._restart_clocks_if_time_went_back(stamp)
         points = scan_points(pose, ranges, angle_min, angle_increment, range_min, range_max)
         # Every cell within r of a hit (f1), or within the evidence radius of one.
         reach = max(safety_radius, self.rule.free_evidence_radius)

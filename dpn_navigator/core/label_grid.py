@@ -334,17 +334,11 @@ class LabelGrid:
             radius, a malformed path or a missing stamp; the labels are then unchanged.
 
         """
-        pose = check_pose(pose)
-        ranges = check_scan(ranges, angle_min, angle_increment, range_min, range_max, angle_max)
-        safety_radius = float(safety_radius)
-        if not (math.isfinite(safety_radius) and safety_radius >= 0.0):
-            raise ValueError(f'safety_radius must be finite and >= 0, got {safety_radius!r} m')
-        path = check_path(path, self.geometry.shape)
+        pose, ranges, safety_radius, path, stamp = self._checked_scan(
+            pose, ranges, angle_min, angle_increment, range_min, range_max, safety_radius, path,
+            angle_max, stamp)
         expiring = self.rule.mobile_expiry > 0.0
         if expiring:
-            if stamp is None or not math.isfinite(stamp):
-                raise ValueError(f'mobile_expiry needs a finite scan stamp, got {stamp!r}')
-            stamp = float(stamp)
             self._restart_clocks_if_time_went_back(stamp)
         replan, self.last_window, new_mobile = scan_update(
             self.labels, _NO_BOOL if self.seen_free is None else self.seen_free,
@@ -357,6 +351,21 @@ class LabelGrid:
             self._list_mobile(new_mobile, stamp)
             self._expire_mobile(stamp)
         return replan
+
+    def _checked_scan(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
+                      safety_radius, path, angle_max, stamp):
+        """Validate `update`'s arguments; return pose, ranges, radius, path and stamp."""
+        pose = check_pose(pose)
+        ranges = check_scan(ranges, angle_min, angle_increment, range_min, range_max, angle_max)
+        safety_radius = float(safety_radius)
+        if not (math.isfinite(safety_radius) and safety_radius >= 0.0):
+            raise ValueError(f'safety_radius must be finite and >= 0, got {safety_radius!r} m')
+        path = check_path(path, self.geometry.shape)
+        if self.rule.mobile_expiry > 0.0:
+            if stamp is None or not math.isfinite(stamp):
+                raise ValueError(f'mobile_expiry needs a finite scan stamp, got {stamp!r}')
+            stamp = float(stamp)
+        return pose, ranges, safety_radius, path, stamp
 
     def _list_mobile(self, cells, stamp):
         """Append cells just made mobile (their last hit is ``stamp``) to the list."""
