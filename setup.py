@@ -229,7 +229,8 @@ def _data_files():
          [f'resource/{package}' for package in packages]),
         (f'share/{PACKAGE_NAME}', ['package.xml', 'LICENSE']),
         (f'share/{PACKAGE_NAME}/config',
-         sorted(glob('config/*.yaml')) + sorted(glob('config/*.rviz'))),
+         sorted(glob('config/*.yaml')) + sorted(glob('config/*.rviz'))
+         + sorted(glob('config/*.json'))),
         (f'share/{PACKAGE_NAME}/launch', sorted(glob('launch/*.launch.py'))),
     ]
 

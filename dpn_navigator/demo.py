@@ -5,7 +5,9 @@ Both are started as the installed executables ``ros2 run`` resolves
 (``<prefix>/lib/sim_bridge/pybullet_world`` and ``<prefix>/lib/dpn_navigator/dpn``), in a DDS
 domain of their own on localhost. A monitor node watches the topics until the goal is reached
 or the simulated time limit passes, prints the outcome and writes a Fig. 9-style PNG of the
-final map with the planned and executed paths.
+final map with the planned and executed paths. With ``--record DIR`` a recorder node in the
+same process writes every topic of both nodes into the rosbag2 MCAP bag DIR
+(docs/recording.md).
 
 ``make demo`` runs ``python -m dpn_navigator.demo`` on back_and_forth with 3 wanderers.
 
@@ -34,8 +36,11 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 from visualization_msgs.msg import MarkerArray
 
+from .bag_writer import BagPathError, BagWriter
 from .conversions import marker_points, occupancy_grid_values, odometry_to_pose
 from .qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS
+from .recorded_topics import system_topics
+from .topic_recorder import TopicRecorder
 
 
 def installed_executable(package, name):
@@ -142,6 +147,7 @@ class Episode:
     max_angular: float = 0.0
     min_linear: float = 0.0
     commands: int = 0
+    bag_counts: dict = None
 
     @property
     def sim_time(self):
@@ -218,7 +224,7 @@ class EpisodeMonitor(Node):
 
 def run_episode(scenario_name='back_and_forth', task=0, wanderers=3, seed=0,
                 real_time_factor=10.0, time_limit=300.0, wall_limit=600.0, domain_id=None,
-                log_dir='out/demo', stop=True):
+                log_dir='out/demo', stop=True, record=None):
     """
     Start both nodes and watch until the goal is reached or a limit passes.
 
@@ -240,6 +246,10 @@ def run_episode(scenario_name='back_and_forth', task=0, wanderers=3, seed=0,
         Folder for the two processes' output.
     stop : bool
         Stop the processes at the end; otherwise the caller stops them with ``stop_nodes``.
+    record : str or os.PathLike, optional
+        Record every topic of both nodes (``recorded_topics.system_topics``) from before
+        they start until the end into this rosbag2 MCAP bag folder, which must not exist;
+        ``episode.bag_counts`` then holds the messages recorded per topic.
 
     Returns
     -------
@@ -250,18 +260,37 @@ def run_episode(scenario_name='back_and_forth', task=0, wanderers=3, seed=0,
     processes : dict
         The processes, by node name.
 
+    Raises
+    ------
+    BagPathError
+        When ``record`` exists or cannot be written (before anything starts).
+
     """
     if domain_id is None:
         domain_id = int(os.environ.get('ROS_DOMAIN_ID') or random.randint(1, 101))
+    bag = None if record is None else BagWriter(record, system_topics(), custom_data={
+        'scenario': scenario_name, 'task': task, 'wanderers': wanderers, 'seed': seed,
+        'real_time_factor': real_time_factor})
     context = Context()
     rclpy.init(context=context, domain_id=domain_id)
     os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
     monitor = EpisodeMonitor(context)
     executor = SingleThreadedExecutor(context=context)
     executor.add_node(monitor)
-    scenario, processes = start_nodes(scenario_name, task, wanderers, seed, real_time_factor,
-                                      domain_id, log_dir)
+    recorder_node = None
+    if bag is not None:
+        recorder_node = Node('episode_recorder', context=context,
+                             parameter_overrides=[Parameter('use_sim_time', value=True)])
+        TopicRecorder(recorder_node, bag, system_topics())
+        executor.add_node(recorder_node)
     episode = monitor.episode
+    try:
+        scenario, processes = start_nodes(scenario_name, task, wanderers, seed,
+                                          real_time_factor, domain_id, log_dir)
+    except BaseException:
+        if bag is not None:
+            bag.close()
+        raise
     deadline = time.monotonic() + wall_limit
     try:
         while time.monotonic() < deadline:
@@ -277,6 +306,11 @@ def run_episode(scenario_name='back_and_forth', task=0, wanderers=3, seed=0,
     except BaseException:
         stop_nodes(processes)
         raise
+    finally:
+        if bag is not None:
+            bag.close()
+            episode.bag_counts = dict(bag.counts)
+            recorder_node.destroy_node()
     if stop:
         stop_nodes(processes)
     monitor.destroy_node()
@@ -293,12 +327,18 @@ def main(argv=None):
     parser.add_argument('--real-time-factor', type=float, default=10.0)
     parser.add_argument('--time-limit', type=float, default=300.0, help='simulated [s]')
     parser.add_argument('--out', default='out/demo', help='folder for the PNG and the logs')
+    parser.add_argument('--record', metavar='DIR',
+                        help='record every topic of both nodes into the rosbag2 MCAP bag DIR '
+                             '(a new folder; see docs/recording.md)')
     args = parser.parse_args(argv)
     from .figures import save_map_figure
     started = time.monotonic()
-    scenario, episode, context, _ = run_episode(
-        args.scenario, args.task, args.wanderers, args.seed, args.real_time_factor,
-        args.time_limit, log_dir=args.out)
+    try:
+        scenario, episode, context, _ = run_episode(
+            args.scenario, args.task, args.wanderers, args.seed, args.real_time_factor,
+            args.time_limit, log_dir=args.out, record=args.record)
+    except BagPathError as error:
+        parser.exit(2, f'{parser.prog}: error: --record: {error}\n')
     rclpy.try_shutdown(context=context)
     wall = time.monotonic() - started
     print(f'scenario {scenario.name}, task {args.task}, {args.wanderers} wanderers, '
@@ -321,6 +361,9 @@ def main(argv=None):
             goal=scenario.tasks[args.task].goal,
             title=f'{scenario.name}, t = {episode.sim_time:.1f} s')
         print(f'map figure:         {figure}')
+    if episode.bag_counts is not None:
+        print(f'bag:                {args.record} ({sum(episode.bag_counts.values())} messages '
+              f'on {sum(1 for n in episode.bag_counts.values() if n)} topics)')
     return 0 if episode.reached else 1
 
 

@@ -27,7 +27,6 @@ import time
 from diagnostic_msgs.msg import DiagnosticStatus
 from geometry_msgs.msg import PoseStamped
 from nav_msgs.msg import OccupancyGrid, Odometry, Path
-import numpy as np
 from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 from sensor_msgs.msg import LaserScan
@@ -35,15 +34,15 @@ from visualization_msgs.msg import MarkerArray
 
 from .cmd_vel_monitor import CommandTopicMonitor
 from .command_publisher import CommandPublisher
-from .conversions import (laser_scan_fields, line_strip_marker, OccupancyGridBuffer,
-                          odometry_to_pose, points_to_path, pose_to_odometry, sphere_marker,
-                          stamp_to_seconds)
+from .conversions import (laser_scan_fields, OccupancyGridBuffer, odometry_to_pose,
+                          pose_to_odometry, stamp_to_seconds)
 from .core import jit, Navigator, NavigatorStatus
 from .core.pose_history import PoseHistory
 from .core.scan_polygon import check_scan
 from .diagnostics import diagnostic_status, DiagnosticsPublisher
 from .dpn_params import declare_parameters
 from .names import DEFAULT_NAMESPACE
+from .navigator_markers import extend_trail, markers_due, navigator_markers
 from .qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS
 from .safety_params import declare_safety_parameters
 from .sensor_watchdog import SensorWatchdog, steady_arrival_time
@@ -53,12 +52,8 @@ from .spin import run_node
 WATCHDOG_PERIOD = 0.02          # steady clock [s]: first zero command <= sensor_timeout + this
 STOP_ACK_TIMEOUT = 0.2          # wait this long for the last zero command's delivery [s]
 WARN_THROTTLE = 2.0             # [s]
-TRAIL_STEP = 0.05               # executed-path points at least this far apart [m]
-TRAIL_MAX_POINTS = 20000
-MARKER_PERIOD = 0.5             # markers at most this often, besides replans [s]
 STATUS_PERIOD = 1.0             # status refreshed at least this often [s]
 LATENCY_WINDOW = 100            # scans in the reported scan-to-map processing time
-RED, YELLOW, GREEN = (1.0, 0.0, 0.0, 1.0), (1.0, 0.85, 0.0, 1.0), (0.0, 0.8, 0.0, 1.0)
 
 
 class DpnNode(Node):
@@ -174,10 +169,8 @@ class DpnNode(Node):
         self.velocity = velocity if all(math.isfinite(v) for v in velocity) else (0.0, 0.0)
         self.pose_history.add(stamp_to_seconds(msg.header.stamp), pose, self.velocity)
         self.watchdog.heard('odometry', self.now_seconds(), self.arrival_seconds(info))
-        if self.navigator.goal is not None and (
-                not self.trail or math.dist(self.trail[-1], pose[:2]) >= TRAIL_STEP):
-            self.trail.append(pose[:2])
-            del self.trail[:-TRAIL_MAX_POINTS]
+        if self.navigator.goal is not None:
+            extend_trail(self.trail, pose[:2])
 
     def on_scan(self, msg, info=None):
         """Fold the scan into the map, decide the command, publish."""
@@ -228,8 +221,7 @@ class DpnNode(Node):
         status_changed = out.status is not self.last_status
         if status_changed:
             self.publish_status()
-        if (out.replanned or status_changed
-                or abs(now - self.last_marker_time) >= MARKER_PERIOD):
+        if markers_due(out.replanned, status_changed, now, self.last_marker_time):
             self.publish_markers(stamp)
             self.last_marker_time = now
 
@@ -247,19 +239,10 @@ class DpnNode(Node):
 
     def publish_markers(self, stamp):
         """Publish the planned path (as markers and as a ``Path``), the executed path, the goal."""
-        frame = self.params.map_frame
-        markers = MarkerArray()
-        path = self.navigator.path_xy
-        path = np.zeros((0, 2)) if path is None else path
-        markers.markers.append(line_strip_marker(path, 'planned_path', 0, RED, 0.1, stamp,
-                                                 frame_id=frame))
-        markers.markers.append(line_strip_marker(self.trail, 'executed_path', 1, YELLOW, 0.08,
-                                                 stamp, frame_id=frame))
-        if self.navigator.goal is not None:
-            markers.markers.append(sphere_marker(self.navigator.goal, 'goal', 2, GREEN, 0.4,
-                                                 stamp, frame_id=frame))
+        markers, plan = navigator_markers(self.navigator.path_xy, self.trail,
+                                          self.navigator.goal, stamp, self.params.map_frame)
         self.marker_pub.publish(markers)
-        self.plan_pub.publish(points_to_path(path, stamp, frame))
+        self.plan_pub.publish(plan)
 
     def publish_status(self):
         """Publish status, reason and counters (latched ``status`` and ``/diagnostics``)."""

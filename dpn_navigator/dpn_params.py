@@ -51,6 +51,12 @@ FLOAT_PARAMETERS = {
                     'objects [m].', (0.01, 10.0), True),
     'mobile_expiry': (5.0, 'Mobile cells no hit confirmed for this long and out of view go '
                       'back to explored [s]; 0: never (the paper).', (0.0, 3600.0), True),
+    'track_confirm_time': (5.0, 'Motion tracks: a compact free-standing segment near a moving '
+                           'object stays mobile while motion was seen within this long [s]; '
+                           '0: off.', (0.0, 3600.0), True),
+    'trail_distance': (1.2, 'Trails: out-of-view mobile cells whose followed object the scan '
+                       'sees at least this far away go back to explored [m]; 0: off.',
+                       (0.0, 100.0), True),
     'goal_x': (2.0, 'Goal x in the map frame [m]; NaN: wait for a goal on goal_pose.',
                None, True),
     'goal_y': (18.0, 'Goal y in the map frame [m]; NaN: wait for a goal on goal_pose.',
@@ -140,6 +146,8 @@ def declare_parameters(node):
         moving_object_size=values['moving_object_size'],
         evidence_margin=values['evidence_margin'], segment_gap=values['segment_gap'],
         mobile_expiry=values['mobile_expiry'],
+        track_confirm_time=values['track_confirm_time'],
+        trail_distance=values['trail_distance'],
         laser_offset=(values['laser_x'], values['laser_y'], values['laser_yaw']),
         follower=follower)
     goal = None

@@ -23,10 +23,9 @@ can.
 
 import math
 
-from builtin_interfaces.msg import Time
 from diagnostic_msgs.msg import DiagnosticStatus
 from dpn_navigator.command_publisher import command_to_velocity, command_type
-from dpn_navigator.conversions import make_laser_scan, pose_to_odometry
+from dpn_navigator.conversions import make_laser_scan, pose_to_odometry, seconds_to_time
 from dpn_navigator.core import jit
 from dpn_navigator.diagnostics import diagnostic_status, DiagnosticsPublisher
 from dpn_navigator.names import DEFAULT_NAMESPACE
@@ -39,21 +38,15 @@ from rcl_interfaces.msg import IntegerRange, ParameterDescriptor
 from rclpy.node import Node
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import LaserScan
-from visualization_msgs.msg import Marker, MarkerArray
+from visualization_msgs.msg import MarkerArray
 
 from .laser import LaserConfig
 from .robot_frames import FrameNames, RobotFramePublisher
 from .scenario import load_scenario
+from .wanderer_markers import wanderer_markers
 from .world import World, WorldConfig
 
 WARN_THROTTLE = 2.0     # [s]
-P3AT_HEIGHT = 0.277     # [m]
-
-
-def seconds_to_time(seconds):
-    """Return a ``builtin_interfaces/Time`` for a time in seconds."""
-    nanoseconds = int(round(seconds * 1e9))
-    return Time(sec=nanoseconds // 1_000_000_000, nanosec=nanoseconds % 1_000_000_000)
 
 
 def _descriptor(description, int_range=None):
@@ -183,24 +176,8 @@ class PybulletWorldNode(Node):
 
     def publish_wanderers(self, stamp):
         """Publish one cylinder marker per wanderer at its true position."""
-        markers = MarkerArray()
-        diameter = 2.0 * self.world.wanderer_radius
-        for index, (x, y) in enumerate(self.world.wanderer_positions.tolist()):
-            marker = Marker()
-            marker.header.stamp = stamp
-            marker.header.frame_id = self.frames.map
-            marker.ns = 'wanderers'
-            marker.id = index
-            marker.type = Marker.CYLINDER
-            marker.action = Marker.ADD
-            marker.pose.position.x, marker.pose.position.y = x, y
-            marker.pose.position.z = P3AT_HEIGHT / 2.0
-            marker.pose.orientation.w = 1.0
-            marker.scale.x = marker.scale.y = diameter
-            marker.scale.z = P3AT_HEIGHT
-            marker.color.r, marker.color.g, marker.color.b, marker.color.a = 0.9, 0.2, 0.2, 0.9
-            markers.markers.append(marker)
-        self.wanderer_pub.publish(markers)
+        self.wanderer_pub.publish(wanderer_markers(
+            self.world.wanderer_positions, self.world.wanderer_radius, stamp, self.frames.map))
 
     def publish_status(self):
         """Publish simulated time, contacts and counters as a latched ``DiagnosticStatus``."""

@@ -60,6 +60,56 @@ def inverse_pose(pose):
     return (-cos_yaw * x - sin_yaw * y, sin_yaw * x - cos_yaw * y, wrap_angle(-yaw))
 
 
+def laser_mount_transforms(frames, laser_mount, laser_height, stamp):
+    """
+    Return the ``/tf_static`` message of the robot: ``base_link -> laser``.
+
+    Parameters
+    ----------
+    frames : FrameNames
+        Frame ids.
+    laser_mount : (float, float, float)
+        Laser pose on the base frame ``(x, y, yaw)`` [m, m, rad].
+    laser_height : float
+        Height of the scan plane above the base frame [m].
+    stamp : builtin_interfaces.msg.Time
+        Header stamp.
+
+    Returns
+    -------
+    TFMessage
+
+    """
+    return tf_message(transform_stamped(frames.base, frames.laser, laser_mount, stamp,
+                                        z=laser_height))
+
+
+def robot_transforms(frames, true_pose, odom_pose, stamp):
+    """
+    Return the ``/tf`` message of one tick: ``map -> odom`` and ``odom -> base_link``.
+
+    Parameters
+    ----------
+    frames : FrameNames
+        Frame ids.
+    true_pose : (float, float, float)
+        Ground-truth base pose in the map frame [m, m, rad].
+    odom_pose : (float, float, float)
+        Odometry's base pose in the odom frame [m, m, rad].
+    stamp : builtin_interfaces.msg.Time
+        Time both hold at.
+
+    Returns
+    -------
+    TFMessage
+
+    """
+    # map -> odom = true * odom^-1: the odom frame's pose in the map frame.
+    odom_in_map = compose(true_pose, inverse_pose(odom_pose))
+    return tf_message(transform_stamped(frames.map, frames.odom, odom_in_map, stamp),
+                      transform_stamped(frames.odom, frames.base, odom_pose, stamp))
+
+
 class RobotFramePublisher:
     """
     Publish the robot's transforms on ``/tf`` and its laser mount on ``/tf_static``.
@@ -81,9 +131,8 @@ class RobotFramePublisher:
         self.frames = frames
         self.tf_pub = node.create_publisher(TFMessage, TF_TOPIC, TF_QOS)
         self.static_pub = node.create_publisher(TFMessage, TF_STATIC_TOPIC, TF_STATIC_QOS)
-        stamp = node.get_clock().now().to_msg()
-        self.static_pub.publish(tf_message(transform_stamped(
-            frames.base, frames.laser, laser_mount, stamp, z=laser_height)))
+        self.static_pub.publish(laser_mount_transforms(
+            frames, laser_mount, laser_height, node.get_clock().now().to_msg()))
 
     def publish(self, true_pose, odom_pose, stamp):
         """
@@ -99,9 +148,4 @@ class RobotFramePublisher:
             Time both hold at.
 
         """
-        # map -> odom = true * odom^-1: the odom frame's pose in the map frame.
-        odom_in_map = compose(true_pose, inverse_pose(odom_pose))
-        frames = self.frames
-        self.tf_pub.publish(tf_message(
-            transform_stamped(frames.map, frames.odom, odom_in_map, stamp),
-            transform_stamped(frames.odom, frames.base, odom_pose, stamp)))
+        self.tf_pub.publish(robot_transforms(self.frames, true_pose, odom_pose, stamp))

@@ -3,7 +3,9 @@ The numpy label update that the compiled kernel replaced, kept as a reference.
 
 ``NumpyLabelGrid`` is ``LabelGrid`` with the update of commit 83e3dc1: vectorised numpy over
 the scan's window (``scan_features``, ``free_evidence``, ``moving_objects``), and a ghost
-expiry that sweeps the whole grid every scan. Tests check the kernel against it on long scan
+expiry that sweeps the whole grid every scan; with the motion tracks and trails as the numpy
+update of 57d0f72 ran them (the tracks told the object rule's moving hits, the trail marks
+stamped from f1's runs). Tests check the kernel against it on long scan
 sequences; the core benchmark times the two side by side.
 
 """
@@ -54,6 +56,8 @@ class NumpyLabelGrid(LabelGrid):
         if expiring:
             self._restart_clocks_if_time_went_back(stamp)
         points = scan_points(pose, ranges, angle_min, angle_increment, range_min, range_max)
+        self._scan_fan = (pose[2] + angle_min, angle_increment)
+        self._stamp = stamp
         # Every cell within r of a hit (f1), or within the evidence radius of one.
         reach = max(safety_radius, self.rule.free_evidence_radius)
         rows, cols = self.geometry.cell_window(
@@ -81,6 +85,8 @@ class NumpyLabelGrid(LabelGrid):
         if expiring:
             self.last_hit[rows, cols][cell_input == ScanInput.HIT] = stamp
             self._expire_mobile(float(stamp))
+        if self.cell_track is not None:
+            self._expire_trails(float(stamp))
         if path is None or not path.shape[0]:
             return False
         on_window = ((path[:, 0] >= rows.start) & (path[:, 0] < rows.stop)
@@ -138,12 +144,36 @@ class NumpyLabelGrid(LabelGrid):
                 seen_free, candidates.shape[0])
         moving = moving_object_hits(points.hits_x, points.hits_y, points.hit_beams, evidence,
                                     self.rule.segment_gap, self.rule.moving_object_size)
+        if self.rule.track_confirm_time > 0.0:
+            moving |= self.tracks.update(
+                float(self._stamp), (points.vertices_x[0], points.vertices_y[0]),
+                points.hits_x, points.hits_y, points.hit_beams, points.vertices_x.shape[0] - 2,
+                moving, self.rule.segment_gap, *self._scan_fan,
+                np.hypot(points.vertices_x[1:-1] - points.vertices_x[0],
+                         points.vertices_y[1:-1] - points.vertices_y[0]))
         starts, ends, hit_index = runs
+        if self.cell_track is not None:
+            self._stamp_runs(rows, cols, runs)
         return run_cover(starts[moving[hit_index]], ends[moving[hit_index]], seen_free.shape)
+
+    def _stamp_runs(self, rows, cols, runs):
+        """Note in ``cell_track`` which track's hits are within the safety radius of a cell."""
+        starts, ends, hit_index = runs
+        run_ids = self.tracks.hit_ids[hit_index]
+        window = self.cell_track[rows, cols]
+        window[self.last_window[2] == ScanInput.HIT] = -1
+        for track in np.unique(run_ids[run_ids >= 0]):
+            own = run_ids == track
+            cover = run_cover(starts[own], ends[own], window.shape)
+            window[cover] = track
+            local_rr, local_cc = np.nonzero(cover)
+            self._marked = np.concatenate((
+                self._marked,
+                (local_rr + rows.start) * self.geometry.cols + local_cc + cols.start))
 
     def _restart_clocks_if_time_went_back(self, stamp):
         """After a jump back in time (a restarted simulation), no hit is newer than now."""
-        if stamp < self._last_stamp:
+        if stamp < self._last_stamp and self.last_hit is not None:
             np.minimum(self.last_hit, stamp, out=self.last_hit)
         self._last_stamp = stamp
 

@@ -169,3 +169,20 @@ def test_bad_selections_are_refused_before_running(tmp_path, args, message):
     assert message in done.stderr
     assert not (tmp_path / 'out' / 'episodes.csv').exists() or \
         read_log(tmp_path / 'out' / 'episodes.csv') == []
+
+
+@pytest.mark.parametrize('where', ['under_a_file', 'existing_bag'])
+def test_a_bad_record_folder_is_refused_before_running(tmp_path, where):
+    from dpn_navigator.benchmark.episode_bag import episode_bag_name
+    (tmp_path / 'file').write_text('')
+    record, message = tmp_path / 'file' / 'bags', 'cannot create the folder'
+    if where == 'existing_bag':
+        (spec,) = plan_episodes(('back_and_forth',), (0,), (0,), 1, 0)
+        record, message = tmp_path / 'bags', 'exists already: a bag is never overwritten'
+        (record / episode_bag_name(spec)).mkdir(parents=True)
+    done = benchmark('--maps', 'back_and_forth', '--tasks', '0', '--wanderers', '0',
+                     '--repeats', '1', '--no-progress', '--record', str(record),
+                     '--out', str(tmp_path / 'out'), timeout=120)
+    assert done.returncode == 2
+    assert message in done.stderr and 'Traceback' not in done.stderr
+    assert read_log(tmp_path / 'out' / 'episodes.csv') == []

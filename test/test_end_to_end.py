@@ -3,15 +3,18 @@ End to end: the installed executables, as ``ros2 run`` resolves them, in process
 
 The pybullet world (back_and_forth, 2 wanderers) and the dpn navigator talk over real DDS in a
 domain of this test's own; a monitor node in the test process watches the topics, and reads
-``/tf`` and ``/tf_static`` as any TF consumer would.
+``/tf`` and ``/tf_static`` as any TF consumer would, and a recorder node beside it writes every
+topic into a rosbag2 MCAP bag, read back with an independent reader.
 """
 
 import math
 import subprocess
 
+from bag_reading import read_bag, stamp_ns
 from diagnostic_msgs.msg import DiagnosticArray
 from dpn_navigator.demo import installed_executable, ros_environment, run_episode, stop_nodes
 from dpn_navigator.qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS, TF_QOS, TF_STATIC_QOS
+from dpn_navigator.recorded_topics import system_topics
 from nav_msgs.msg import OccupancyGrid, Path
 import numpy as np
 import pytest
@@ -52,7 +55,7 @@ def test_robot_reaches_the_goal_over_ros(ros_domain_id, tmp_path):
     scenario, episode, context, processes = run_episode(
         'back_and_forth', task=1, wanderers=2, seed=0, real_time_factor=5.0,
         time_limit=TIME_LIMIT, wall_limit=240.0, domain_id=ros_domain_id,
-        log_dir=tmp_path, stop=False)
+        log_dir=tmp_path, stop=False, record=tmp_path / 'bag')
     try:
         assert episode.reached, (episode.dpn_status, (tmp_path / 'dpn.log').read_text())
         assert episode.sim_time <= TIME_LIMIT
@@ -119,6 +122,28 @@ def test_robot_reaches_the_goal_over_ros(ros_domain_id, tmp_path):
         assert plans and plans[-1].header.frame_id == 'map'
         assert {'/compabot/dpn', '/compabot/pybullet_world'} <= set(diagnostics)
         late.destroy_node()
+        check_recorded_bag(tmp_path / 'bag', episode)
     finally:
         stop_nodes(processes)
         context.try_shutdown()
+
+
+def check_recorded_bag(folder, episode):
+    """Check the demo's bag against what the monitor saw of the same episode."""
+    bag = read_bag(folder)
+    counts = bag.counts()
+    assert set(counts) == {topic.name for topic in system_topics()}
+    assert dict(counts) == episode.bag_counts
+    assert counts['/tf_static'] == 1
+    # Scans at 10 Hz of simulated time; a busy machine may drop a few, as ros2 bag record would.
+    assert counts['/compabot/scan'] >= 5 * episode.sim_time
+    assert counts['/clock'] >= counts['/compabot/scan'] and counts['/compabot/cmd_vel'] > 100
+    for topic, items in bag.messages.items():
+        times = [t for t, _ in items]
+        assert times == sorted(times), topic     # dated on the recorder's sim clock
+    clock_end = stamp_ns(bag.messages['/clock'][-1][1].clock)
+    assert abs(clock_end / 1e9 - episode.sim_time) < 1.0
+    _, last_map = bag.messages['/compabot/map'][-1]
+    assert set(np.unique(np.array(last_map.data, dtype=np.int8)).tolist()) <= {-1, 0, 70, 100}
+    _, markers = bag.messages['/compabot/marker'][-1]
+    assert [m.ns for m in markers.markers][:2] == ['planned_path', 'executed_path']

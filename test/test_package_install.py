@@ -33,15 +33,17 @@ EXEC_DEPENDS = {
     'diagnostic_msgs', 'python3-yaml', 'tf2_msgs', 'rcl_interfaces', 'builtin_interfaces',
     'ament_index_python', 'launch', 'launch_ros', 'rviz2',
     'rosgraph_msgs', 'python3-numpy', 'python3-numba', 'python3-pybullet-pip',
+    'python3-rosbags-pip',
 }
 TEST_DEPENDS = {
     'ament_flake8', 'ament_pep257', 'python3-hypothesis', 'python3-pytest',
+    'python3-mcap-pip', 'python3-mcap-ros2-support-pip',
 }
 #: rosdep keys of the Python modules the code imports that are not ROS packages.
 PYTHON_MODULE_KEYS = {
     'numpy': 'python3-numpy', 'yaml': 'python3-yaml', 'pybullet': 'python3-pybullet-pip',
     'pybullet_data': 'python3-pybullet-pip', 'matplotlib': 'python3-matplotlib',
-    'tqdm': 'python3-tqdm', 'numba': 'python3-numba',
+    'tqdm': 'python3-tqdm', 'numba': 'python3-numba', 'rosbags': 'python3-rosbags-pip',
 }
 #: Imported only on request, by an optional feature: Ray (``dpn-benchmark --backend ray``,
 #: requirements-ray.txt) has no rosdep key.
@@ -99,6 +101,7 @@ def test_package_is_registered_with_the_install_prefix(install_prefix, package):
 @pytest.mark.parametrize('pattern, subdir', [
     ('config/*.yaml', 'config'),
     ('config/*.rviz', 'config'),
+    ('config/*.json', 'config'),
     ('launch/*.launch.py', 'launch'),
 ])
 def test_config_and_launch_files_are_installed(install_prefix, pattern, subdir):

@@ -6,16 +6,20 @@ Examples::
     dpn-benchmark --profile smoke --out out/smoke
     dpn-benchmark --maps 3 maze /path/to/map.yaml --tasks 0 1 --wanderers 0 5 10 --repeats 2
     dpn-benchmark --profile paper --ray-address auto --out out/paper
+    dpn-benchmark --maps back_and_forth --tasks 0 --wanderers 5 --repeats 1 --record out/bags
+
 
 Episodes are appended to ``OUT/episodes.csv`` as they finish; running the same command again
 skips the episodes already there. At the end ``OUT/summary.md`` and ``OUT/success_rate.png``
 are written from the whole log, with ``OUT/detection.png`` (the map as a detector against the
-wanderer count, ``detection_report``), and with ``--strip`` a Fig. 9-style strip of one
-episode.
+wanderer count, ``detection_report``), with ``--strip`` a Fig. 9-style strip of one episode and
+with ``--animate`` an animated GIF of it. ``--record DIR`` writes every episode run as a
+rosbag2 MCAP bag into DIR (docs/recording.md).
 
 """
 
 import argparse
+from dataclasses import dataclass
 import json
 from pathlib import Path
 import sys
@@ -66,6 +70,14 @@ def build_parser():
     parser.add_argument('--strip', action='store_true',
                         help="also rerun the first map's first task with the most wanderers and "
                              'draw strip.png, a Fig. 9-style strip of map snapshots')
+    parser.add_argument('--animate', action='store_true',
+                        help='also rerun that episode (the one --strip draws) and write '
+                             'episode.gif, an animation of it in the same style')
+    parser.add_argument('--record', metavar='DIR', type=Path,
+                        help='write every episode run (not those already in the log) as a '
+                             'rosbag2 MCAP bag into DIR: what the nodes would have published '
+                             '(docs/recording.md); choose the episodes with --maps, --tasks, '
+                             '--wanderers and --repeats')
     parser.add_argument('--no-detection', action='store_true',
                         help='skip the detection measures (about 8-10 %% of episode time; see '
                              'docs/detection.md): their columns are left empty')
@@ -99,7 +111,7 @@ def main(argv=None):
                              ray_address=args.ray_address, index=args.index,
                              progress=not args.no_progress,
                              navigator_options=NAVIGATORS[args.navigator],
-                             detection=not args.no_detection)
+                             detection=not args.no_detection, record_dir=args.record)
     except ValueError as exc:
         parser.exit(2, f'dpn-benchmark: error: {exc}\n')
     except KeyboardInterrupt:
@@ -123,10 +135,14 @@ def main(argv=None):
                               title=f'Detection against wanderer count, {args.navigator} '
                                     'navigator')
         print(f'wrote {args.out / "detection.png"}')
-    if args.strip and specs:
-        strip = args.out / 'strip.png'
-        write_strip(strip, specs, args.index, navigator_options=NAVIGATORS[args.navigator])
-        print(f'wrote {strip}')
+    if (args.strip or args.animate) and specs:
+        showcase = rerun_showcase(specs, args.index, navigator_options=NAVIGATORS[args.navigator])
+        if args.strip:
+            write_strip(args.out / 'strip.png', showcase)
+            print(f'wrote {args.out / "strip.png"}')
+        if args.animate:
+            write_animation(args.out / 'episode.gif', showcase)
+            print(f'wrote {args.out / "episode.gif"}')
     return 0
 
 
@@ -160,45 +176,118 @@ def check_run_settings(path, settings):
         path.write_text(json.dumps(settings, sort_keys=True) + '\n')
 
 
-def write_strip(path, specs, index=None, panels=4, navigator_options=None):
+@dataclass(frozen=True)
+class Showcase:
     """
-    Rerun one episode with a recorder and draw its Fig. 9-style strip.
+    One episode rerun with an `EpisodeRecorder`, for the strip and the animation.
+
+    Attributes
+    ----------
+    spec : EpisodeSpec
+        The episode.
+    scenario : sim_bridge.scenario.Scenario
+        Its map and tasks.
+    result : EpisodeResult
+        What it measured.
+    recorder : EpisodeRecorder
+        Its snapshots, finished.
+    wall_time : float
+        Wall-clock time of the rerun [s].
+
+    """
+
+    spec: object
+    scenario: object
+    result: object
+    recorder: object
+    wall_time: float
+
+    @property
+    def title(self):
+        """Return the figure title: the episode and its outcome."""
+        spec, result = self.spec, self.result
+        outcome = 'success' if result.success else result.failure
+        return (f'{self.scenario.name}, task {spec.task}, {spec.wanderers} wanderers, seed '
+                f'{spec.seed}: {outcome} at t = {result.time:.0f} s')
+
+
+def rerun_showcase(specs, index=None, navigator_options=None, period=1.0):
+    """
+    Rerun one episode of a protocol with an `EpisodeRecorder`.
 
     The episode is the first spec's map and task with the largest wanderer count of ``specs``,
     repetition 0.
 
     Parameters
     ----------
-    path : str or os.PathLike
-        The PNG to write.
     specs : sequence of EpisodeSpec
         The protocol; at least one.
     index : str or os.PathLike, optional
         The scenario index.
-    panels : int
-        Snapshots in the strip.
     navigator_options : dict, optional
         ``NavigatorConfig`` overrides (see ``protocol.NAVIGATORS``).
+    period : float
+        Simulated time between snapshots [s].
+
+    Returns
+    -------
+    Showcase
 
     """
     from sim_bridge.scenario import load_scenario
     from .episode import run_episode
-    from .snapshots import EpisodeRecorder, pick_snapshots, save_strip_figure
+    from .snapshots import EpisodeRecorder
     first = specs[0]
     spec = max((s for s in specs if (s.map_key, s.task, s.repetition) ==
                 (first.map_key, first.task, 0)), key=lambda s: s.wanderers)
     scenario = load_scenario(spec.map_key, index=index)
-    recorder = EpisodeRecorder(period=1.0)
+    recorder = EpisodeRecorder(period=period)
     started = time.perf_counter()
     result = run_episode(scenario, spec.task, spec.wanderers, spec.seed, recorder=recorder,
                          navigator_options=navigator_options)
     recorder.finish()
-    outcome = 'success' if result.success else result.failure
+    return Showcase(spec, scenario, result, recorder, time.perf_counter() - started)
+
+
+def write_strip(path, showcase, panels=4):
+    """
+    Draw the Fig. 9-style strip of a rerun episode into a PNG.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The PNG to write.
+    showcase : Showcase
+        The episode (`rerun_showcase`).
+    panels : int
+        Snapshots in the strip.
+
+    """
+    from .snapshots import pick_snapshots, save_strip_figure
+    recorder = showcase.recorder
     save_strip_figure(
         path, pick_snapshots(recorder.snapshots, panels), recorder.geometry.resolution,
-        recorder.geometry.origin,
-        goal=scenario.tasks[spec.task].goal,
-        title=f'{scenario.name}, task {spec.task}, {spec.wanderers} wanderers, seed '
-              f'{spec.seed}: {outcome} at t = {result.time:.0f} s '
-              f'({time.perf_counter() - started:.0f} s wall)')
-    return result
+        recorder.geometry.origin, goal=showcase.scenario.tasks[showcase.spec.task].goal,
+        title=f'{showcase.title} ({showcase.wall_time:.0f} s wall)')
+
+
+def write_animation(path, showcase, fps=8.0):
+    """
+    Write the animated GIF of a rerun episode: one frame per snapshot.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The GIF to write.
+    showcase : Showcase
+        The episode (`rerun_showcase`).
+    fps : float
+        Frames per second: with a snapshot every simulated second, ``fps`` times real time.
+
+    """
+    from .animation import save_animation
+    recorder = showcase.recorder
+    save_animation(path, recorder.snapshots, recorder.geometry.resolution,
+                   recorder.geometry.origin,
+                   goal=showcase.scenario.tasks[showcase.spec.task].goal,
+                   title=showcase.title, fps=fps)

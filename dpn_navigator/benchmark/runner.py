@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import functools
 import multiprocessing
 import os
+from pathlib import Path
 import time
 
 from .episode import run_episode, task_setup
@@ -89,9 +90,9 @@ def _task_setup(map_key, index, task):
     return task_setup(_scenario(map_key, index), task, _wanderer_grid(map_key, index))
 
 
-def run_spec(spec, index=None, navigator_options=None, detection=True):
+def run_spec(spec, index=None, navigator_options=None, detection=True, record_dir=None):
     """
-    Run one episode and return its log row.
+    Run one episode and return its log row; record it into a bag if asked.
 
     Parameters
     ----------
@@ -103,11 +104,14 @@ def run_spec(spec, index=None, navigator_options=None, detection=True):
         ``NavigatorConfig`` overrides (see ``protocol.NAVIGATORS``).
     detection : bool
         Measure the map as a detector (``run_episode``'s ``detection``).
+    record_dir : str or os.PathLike, optional
+        Write the episode as a rosbag2 MCAP bag into this folder, named by
+        ``episode_bag.episode_bag_name`` (``EpisodeBagRecorder``).
 
     Returns
     -------
     row : dict
-        Every column of ``episode_log.COLUMNS``.
+        Every column of ``episode_log.COLUMNS``; ``wall_time`` includes the recording.
 
     """
     started = time.perf_counter()
@@ -116,14 +120,46 @@ def run_spec(spec, index=None, navigator_options=None, detection=True):
         raise ValueError(f'map {spec.map_key!r} has {len(scenario.tasks)} tasks; there is no '
                          f'task {spec.task}')
     jit.warm_up()
-    result = run_episode(scenario, spec.task, spec.wanderers, spec.seed,
-                         navigator_options=navigator_options, detection=detection,
-                         setup=_task_setup(spec.map_key, index, spec.task))
+    recorder = None if record_dir is None else _episode_bag(spec, scenario, record_dir)
+    try:
+        result = run_episode(scenario, spec.task, spec.wanderers, spec.seed,
+                             navigator_options=navigator_options, detection=detection,
+                             setup=_task_setup(spec.map_key, index, spec.task),
+                             recorder=recorder)
+    finally:
+        if recorder is not None:
+            recorder.close()
     row = result.as_row()
     del row['scenario']
     row.update(map=spec.map_key, number=scenario.number, family=scenario.family or '',
                repetition=spec.repetition, wall_time=round(time.perf_counter() - started, 3))
     return row
+
+
+def _episode_bag(spec, scenario, record_dir):
+    """Return an `EpisodeBagRecorder` for one episode, in ``record_dir``."""
+    from .episode_bag import EpisodeBagRecorder, episode_bag_name
+    return EpisodeBagRecorder(
+        Path(record_dir) / episode_bag_name(spec),
+        description={'scenario': scenario.name, 'map': spec.map_key, 'task': spec.task,
+                     'wanderers': spec.wanderers, 'repetition': spec.repetition,
+                     'seed': spec.seed})
+
+
+def check_bag_folders(specs, record_dir):
+    """
+    Check that every episode's bag can be written into ``record_dir``, before any runs.
+
+    Raises
+    ------
+    dpn_navigator.bag_writer.BagPathError
+        When a bag folder exists already or ``record_dir`` cannot be written.
+
+    """
+    from ..bag_writer import check_bag_path
+    from .episode_bag import episode_bag_name
+    for spec in specs:
+        check_bag_path(Path(record_dir) / episode_bag_name(spec))
 
 
 def _run_spec_star(args):
@@ -140,7 +176,7 @@ def default_workers():
 
 
 def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, progress=True,
-                 navigator_options=None, detection=True):
+                 navigator_options=None, detection=True, record_dir=None):
     """
     Run the episodes a log does not hold yet and append their rows to it.
 
@@ -164,6 +200,8 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
         ``NavigatorConfig`` overrides for every episode (see ``protocol.NAVIGATORS``).
     detection : bool
         Measure the map as a detector in every episode (the detection columns).
+    record_dir : str or os.PathLike, optional
+        Record every episode run now (not those already in the log) as a bag in this folder.
 
     Returns
     -------
@@ -172,7 +210,8 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
     Raises
     ------
     ValueError
-        If ``workers`` is not positive or the log belongs to another version.
+        If ``workers`` is not positive or the log belongs to another version; a
+        ``BagPathError`` if an episode's bag exists already or cannot be written.
     ImportError
         If ``ray_address`` is given and Ray is not installed.
 
@@ -188,15 +227,19 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
         done = log.done_keys()
         pending = [spec for spec in specs if spec.key not in done]
         skipped = len(specs) - len(pending)
+        if record_dir is not None:
+            record_dir = os.fspath(record_dir)
+            check_bag_folders(pending, record_dir)
         simulated = spent = 0.0
         ran = 0
         with tqdm(total=len(specs), initial=skipped, unit='episode', disable=not progress,
                   dynamic_ncols=True, smoothing=0.05) as bar:
             if ray_address is not None:
                 results, workers = _ray_results(pending, ray_address, index,
-                                                navigator_options, detection)
+                                                navigator_options, detection, record_dir)
             else:
-                results = _local_results(pending, workers, index, navigator_options, detection)
+                results = _local_results(pending, workers, index, navigator_options, detection,
+                                         record_dir)
             for row in results:
                 log.append(row)
                 ran += 1
@@ -210,20 +253,21 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
                     episode_wall_time=spent, workers=workers)
 
 
-def _local_results(pending, workers, index, navigator_options, detection):
+def _local_results(pending, workers, index, navigator_options, detection, record_dir):
     """Yield the rows of pending episodes from local worker processes, as they finish."""
     if workers == 1 or len(pending) <= 1:
         for spec in pending:
-            yield run_spec(spec, index, navigator_options, detection)
+            yield run_spec(spec, index, navigator_options, detection, record_dir)
         return
     # spawn: each worker starts clean (its own pybullet client, no forked state).
     context = multiprocessing.get_context('spawn')
     with context.Pool(min(workers, len(pending))) as pool:
         yield from pool.imap_unordered(
-            _run_spec_star, [(spec, index, navigator_options, detection) for spec in pending])
+            _run_spec_star,
+            [(spec, index, navigator_options, detection, record_dir) for spec in pending])
 
 
-def _ray_results(pending, address, index, navigator_options, detection):
+def _ray_results(pending, address, index, navigator_options, detection, record_dir):
     """Start the pending episodes on Ray; return a generator of rows and Ray's CPU count."""
     import ray
     if not ray.is_initialized():
@@ -233,7 +277,7 @@ def _ray_results(pending, address, index, navigator_options, detection):
     remote = ray.remote(num_cpus=1)(run_spec)
 
     def rows():
-        waiting = [remote.remote(spec, index, navigator_options, detection)
+        waiting = [remote.remote(spec, index, navigator_options, detection, record_dir)
                    for spec in pending]
         while waiting:
             finished, waiting = ray.wait(waiting, num_returns=1)

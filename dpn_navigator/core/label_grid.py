@@ -18,9 +18,11 @@ import math
 
 import numpy as np
 
-from .cell_label import blocked_mask, CellLabel, LABEL_DTYPE
+from .cell_label import blocked_mask, CellLabel, LABEL_DTYPE, ScanInput
 from .grid_geometry import GridGeometry
-from .label_kernel import expire_listed, scan_update, squared_bound
+from .label_kernel import expire_listed, scan_hits, scan_update, squared_bound
+from .motion_tracks import MotionTracks, TrackConfig
+from .scan_features import hit_runs, run_cover
 from .scan_polygon import check_pose, check_scan
 
 _EMPTY_WINDOW = (slice(0, 0), slice(0, 0), np.zeros((0, 0), dtype=LABEL_DTYPE))
@@ -107,6 +109,19 @@ class LabelRule:
         Ghost expiry [s]. A mobile obstacle cell that no hit has been within the safety radius
         of for this long, and that the latest scan does not see (f1 = f2 = 0), goes back to
         explored. 0 turns it off. Needs the scan's ``stamp``.
+    track_confirm_time : float
+        Motion tracks [s] (``motion_tracks``): an object seen to move is followed from scan to
+        scan, and a compact, free-standing segment that continues it is a moving object (its
+        hits count as moving hits above) even without evidence of its own; a compact
+        free-standing segment next to where one stood a moment ago, now seen empty, is seen to
+        move. A track nothing showed moving for this long is dropped. 0 turns it off. Needs
+        ``moving_object_size`` > 0 and the scan's ``stamp``.
+    trail_distance : float
+        Trails [m]: a mobile cell last labelled by a followed object goes back to explored
+        while out of view (f1 = f2 = 0) once the scan sees that object at least this far from
+        the cell: the object has moved on, what it left is a trail. 0 turns it off. Needs
+        ``track_confirm_time`` > 0.
+
 
     """
 
@@ -115,15 +130,23 @@ class LabelRule:
     evidence_margin: float = 0.15
     segment_gap: float = 0.3
     mobile_expiry: float = 0.0
+    track_confirm_time: float = 0.0
+    trail_distance: float = 0.0
 
     def __post_init__(self):
         for name in ('free_evidence_radius', 'moving_object_size', 'evidence_margin',
-                     'mobile_expiry'):
+                     'mobile_expiry', 'track_confirm_time', 'trail_distance'):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0.0):
                 raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
         if not (math.isfinite(self.segment_gap) and self.segment_gap > 0.0):
             raise ValueError(f'segment_gap must be positive, got {self.segment_gap!r} m')
+        if self.trail_distance > 0.0 and self.track_confirm_time == 0.0:
+            raise ValueError('trail_distance needs track_confirm_time > 0: a trail is left by '
+                             'a followed object')
+        if self.track_confirm_time > 0.0 and self.moving_object_size == 0.0:
+            raise ValueError('track_confirm_time needs moving_object_size > 0: tracks follow '
+                             'moving objects')
         if self.moving_object_size > 0.0 and self.free_evidence_radius == 0.0:
             raise ValueError('moving_object_size needs free_evidence_radius > 0: motion is '
                              'shown by hits in space surely seen free')
@@ -153,7 +176,8 @@ PAPER_RULE = LabelRule()
 
 def warm_up_label_update():
     """Compile (or load from the cache) the label kernels with one tiny scan, every rule part."""
-    rule = LabelRule(free_evidence_radius=0.5, moving_object_size=0.5, mobile_expiry=1.0)
+    rule = LabelRule(free_evidence_radius=0.5, moving_object_size=0.5, mobile_expiry=1.0,
+                     track_confirm_time=1.0, trail_distance=1.0)
     grid = LabelGrid(2.0, 2.0, 0.5, rule=rule)
     grid.labels[0, 0] = CellLabel.MOBILE_OBSTACLE          # to expire at the second scan
     grid.last_hit[0, 0] = 0.0
@@ -241,6 +265,11 @@ class LabelGrid:
     last_hit : (rows, cols) ndarray of float64, or None
         Stamp of the last scan with f1 = 1 on each cell [s], ``-inf`` before any; None unless
         ``rule.mobile_expiry`` > 0.
+    tracks : MotionTracks
+        The moving objects followed (none unless ``rule.track_confirm_time`` > 0).
+    cell_track : (rows, cols) ndarray of int64, or None
+        The track (``MotionTracks.ids``) whose hits last labelled each cell mobile, -1 for
+        none; None unless ``rule.trail_distance`` > 0.
     last_window : (slice, slice, (n_rows, n_cols) ndarray of uint8)
         The latest update's window and its FSM input (``ScanInput``); empty slices when the
         scan missed the grid. Cells outside the window had input ``NONE``.
@@ -274,6 +303,11 @@ class LabelGrid:
         self._last_stamp = -math.inf
         self._trackers = []
         self.last_window = _EMPTY_WINDOW
+        self.tracks = MotionTracks(TrackConfig(confirm_within=rule.track_confirm_time))
+        self.cell_track = (np.full(self.geometry.shape, -1, dtype=np.int64)
+                           if rule.trail_distance > 0.0 else None)
+        self._marked = np.zeros(0, dtype=np.int64)   # flat cells that may hold a track
+        self._followed_hits = None                  # (hits_x, hits_y) of the latest scan
 
     def change_tracker(self):
         """
@@ -340,17 +374,99 @@ class LabelGrid:
         expiring = self.rule.mobile_expiry > 0.0
         if expiring:
             self._restart_clocks_if_time_went_back(stamp)
+        followed = None
+        if self.rule.track_confirm_time > 0.0:
+            followed = self._follow(pose, ranges, angle_min, angle_increment, range_min,
+                                    range_max, stamp)
         replan, self.last_window, new_mobile = scan_update(
             self.labels, _NO_BOOL if self.seen_free is None else self.seen_free,
             _NO_TIME if self.last_hit is None else self.last_hit,
             _NO_BOOL if self._listed is None else self._listed, self.geometry, pose, ranges,
             angle_min, angle_increment, range_min, range_max, safety_radius, self._kernel_rule,
-            stamp if expiring else 0.0, _NO_PATH if path is None else path)
+            stamp if expiring else 0.0, _NO_PATH if path is None else path, followed)
         self._widen_trackers(self.last_window[0], self.last_window[1])
         if expiring:
             self._list_mobile(new_mobile, stamp)
             self._expire_mobile(stamp)
+        if self.cell_track is not None and self.last_window[2].size:
+            self._stamp_tracks(safety_radius)
+            self._expire_trails(stamp)
         return replan
+
+    def _follow(self, pose, ranges, angle_min, angle_increment, range_min, range_max, stamp):
+        """Follow the moving objects through the scan; return the hits of followed ones."""
+        vertices_x, vertices_y, hits_x, hits_y, hit_beams, moving = scan_hits(
+            _NO_BOOL if self.seen_free is None else self.seen_free, self.geometry, pose, ranges,
+            angle_min, angle_increment, range_min, range_max, self._kernel_rule)
+        self._followed_hits = (hits_x, hits_y)
+        beam_reach = np.hypot(vertices_x[1:-1] - vertices_x[0],
+                              vertices_y[1:-1] - vertices_y[0])
+        return self.tracks.update(
+            stamp, (vertices_x[0], vertices_y[0]), hits_x, hits_y, hit_beams, ranges.shape[0],
+            moving, self.rule.segment_gap, pose[2] + angle_min, angle_increment, beam_reach)
+
+    def _stamp_tracks(self, safety_radius):
+        """Note in ``cell_track`` which track's hits are within the safety radius of a cell."""
+        rows, cols, cell_input = self.last_window
+        window = self.cell_track[rows, cols]
+        window[cell_input == ScanInput.HIT] = -1     # marks are of the last hit
+        ids = self.tracks.hit_ids
+        tracked = ids >= 0
+        if not tracked.any():
+            return
+        hits_x, hits_y = self._followed_hits
+        starts, ends, hit_index = hit_runs(
+            self.geometry, rows, cols, self.geometry.window_centres(rows, cols),
+            hits_x[tracked], hits_y[tracked], safety_radius, return_hits=True)
+        run_ids = ids[tracked][hit_index]
+        for track in np.unique(run_ids):
+            own = run_ids == track
+            cover = run_cover(starts[own], ends[own], window.shape)
+            window[cover] = track
+            local_rr, local_cc = np.nonzero(cover)
+            self._marked = np.concatenate((
+                self._marked,
+                (local_rr + rows.start) * self.geometry.cols + local_cc + cols.start))
+        if self._marked.shape[0] > 4096:
+            self._marked = np.unique(self._marked)
+
+    def _expire_trails(self, stamp):
+        """Set out-of-view mobile cells whose object the scan sees far from them to explored."""
+        tracks = self.tracks
+        seen = tracks.last_seen == stamp
+        if not seen.any() or not self._marked.size:
+            return
+        marked = np.unique(self._marked)
+        rr, cc = np.divmod(marked, self.geometry.cols)
+        marks = self.cell_track[rr, cc]
+        kept = (marks >= 0) & (self.labels[rr, cc] == CellLabel.MOBILE_OBSTACLE)
+        self.cell_track[rr[~kept], cc[~kept]] = -1
+        rr, cc, marks = rr[kept], cc[kept], marks[kept]
+        order = np.argsort(tracks.ids[seen])
+        seen_ids = tracks.ids[seen][order]
+        seen_xy = tracks.positions[seen][order]
+        which = np.minimum(np.searchsorted(seen_ids, marks), seen_ids.shape[0] - 1)
+        found = seen_ids[which] == marks
+        rr, cc, which = rr[found], cc[found], which[found]
+        rows, cols, cell_input = self.last_window
+        out_of_view = np.ones(rr.shape[0], dtype=bool)
+        inside = ((rr >= rows.start) & (rr < rows.stop) & (cc >= cols.start)
+                  & (cc < cols.stop))
+        out_of_view[inside] = (cell_input[rr[inside] - rows.start, cc[inside] - cols.start]
+                               == ScanInput.NONE)
+        centre_x, centre_y = self.geometry.cell_to_world(rr, cc)
+        far = (np.hypot(centre_x - seen_xy[which, 0], centre_y - seen_xy[which, 1])
+               >= self.rule.trail_distance)
+        trail = out_of_view & far
+        if trail.any():
+            self.labels[rr[trail], cc[trail]] = CellLabel.EXPLORED
+            self.cell_track[rr[trail], cc[trail]] = -1
+            # The ghost expiry's list drops cells no longer mobile when it next visits them.
+            self._widen_trackers(slice(int(rr[trail].min()), int(rr[trail].max()) + 1),
+                                 slice(int(cc[trail].min()), int(cc[trail].max()) + 1))
+        cleared = np.zeros(found.shape[0], dtype=bool)
+        cleared[np.flatnonzero(found)[trail]] = True
+        self._marked = marked[kept][~cleared]
 
     def _checked_scan(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
                       safety_radius, path, angle_max, stamp):
@@ -361,9 +477,10 @@ class LabelGrid:
         if not (math.isfinite(safety_radius) and safety_radius >= 0.0):
             raise ValueError(f'safety_radius must be finite and >= 0, got {safety_radius!r} m')
         path = check_path(path, self.geometry.shape)
-        if self.rule.mobile_expiry > 0.0:
+        if self.rule.mobile_expiry > 0.0 or self.rule.track_confirm_time > 0.0:
             if stamp is None or not math.isfinite(stamp):
-                raise ValueError(f'mobile_expiry needs a finite scan stamp, got {stamp!r}')
+                raise ValueError('the label rule (mobile_expiry, track_confirm_time) needs a '
+                                 f'finite scan stamp, got {stamp!r}')
             stamp = float(stamp)
         return pose, ranges, safety_radius, path, stamp
 
@@ -449,3 +566,7 @@ class LabelGrid:
         self._last_stamp = -math.inf
         self.last_window = _EMPTY_WINDOW
         self._widen_trackers_all()
+        self.tracks.reset()
+        if self.cell_track is not None:
+            self.cell_track.fill(-1)
+        self._marked = np.zeros(0, dtype=np.int64)

@@ -44,6 +44,8 @@ _MOBILE = int(CellLabel.MOBILE_OBSTACLE)
 _NONE = int(ScanInput.NONE)
 _INSIDE = int(ScanInput.INSIDE)
 _HIT = int(ScanInput.HIT)
+#: `scan_update` without extra moving hits.
+_NO_HITS = np.zeros(0, dtype=bool)
 
 
 @functools.lru_cache(maxsize=64)
@@ -378,7 +380,7 @@ def _update_window(labels, seen_free, last_hit, listed, row0, col0, cell_input, 
                    resolution, vertices_x, vertices_y, hits_x, hits_y, hit_beams,
                    safety_radius, safety_bound, free_on, free_radius, free_bound, objects_on,
                    evidence_radius, evidence_bound, segment_gap, object_size, expiry_on,
-                   stamp, path, new_mobile):
+                   stamp, path, new_mobile, extra_moving):
     """
     Fold one scan into the window ``labels[row0:row0 + n_rows, col0:col0 + n_cols]``.
 
@@ -445,6 +447,10 @@ def _update_window(labels, seen_free, last_hit, listed, row0, col0, cell_input, 
         evidence = _hit_evidence(seen_free, hits_x, hits_y, x0, y0, resolution,
                                  evidence_radius, evidence_bound)
         moving = _moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_size)
+        if extra_moving.shape[0] == moving.shape[0]:
+            for k in range(moving.shape[0]):
+                if extra_moving[k]:
+                    moving[k] = True
         near_moving = np.zeros((n_rows, n_cols), dtype=np.bool_)
         _mark_discs(near_moving, True, hits_x, hits_y, hits_x.shape[0], moving, row0, col0,
                     x0, y0, resolution, safety_radius, safety_bound, no_extent)
@@ -560,7 +566,7 @@ def _scan_update(labels, seen_free, last_hit, listed, ranges, x, y, yaw, angle_m
                  angle_increment, range_min, range_max, x0, y0, resolution, reach,
                  safety_radius, safety_bound, free_on, free_radius, free_bound, objects_on,
                  evidence_radius, evidence_bound, segment_gap, object_size, expiry_on, stamp,
-                 path):
+                 path, extra_moving):
     """
     Find the scan's points and window, then run `_update_window` over it.
 
@@ -586,13 +592,13 @@ def _scan_update(labels, seen_free, last_hit, listed, ranges, x, y, yaw, angle_m
         labels, seen_free, last_hit, listed, row0, col0, cell_input, x0, y0, resolution,
         vertices_x, vertices_y, hits_x, hits_y, hit_beams, safety_radius, safety_bound,
         free_on, free_radius, free_bound, objects_on, evidence_radius, evidence_bound,
-        segment_gap, object_size, expiry_on, stamp, path, new_mobile)
+        segment_gap, object_size, expiry_on, stamp, path, new_mobile, extra_moving)
     return replan, row0, row_end, col0, col_end, cell_input, new_mobile[:new_count].copy()
 
 
 def scan_update(labels, seen_free, last_hit, listed, geometry, pose, ranges, angle_min,
                 angle_increment, range_min, range_max, safety_radius, rule_arguments, stamp,
-                path):
+                path, extra_moving=None):
     """
     Fold one validated scan into the grid's state arrays in place.
 
@@ -621,6 +627,10 @@ def scan_update(labels, seen_free, last_hit, listed, geometry, pose, ranges, ang
         The scan's time [s] (any float when the expiry is off).
     path : (N, 2) ndarray of int64
         The planned path's cells, on the grid.
+    extra_moving : (K,) ndarray of bool, optional
+        Hits (in the order of `scan_hits`) to count as hits on moving objects besides those
+        the object rule finds, such as the followed objects of ``motion_tracks``; read only
+        with the object rule on.
 
     Returns
     -------
@@ -637,8 +647,50 @@ def scan_update(labels, seen_free, last_hit, listed, geometry, pose, ranges, ang
         labels, seen_free, last_hit, listed, np.ascontiguousarray(ranges), pose[0], pose[1],
         pose[2], float(angle_min), float(angle_increment), float(range_min), float(range_max),
         x0, y0, geometry.resolution, reach, safety_radius, squared_bound(safety_radius),
-        *rule_arguments, float(stamp), np.ascontiguousarray(path))
+        *rule_arguments, float(stamp), np.ascontiguousarray(path),
+        _NO_HITS if extra_moving is None else np.ascontiguousarray(extra_moving, dtype=bool))
     return bool(replan), (slice(row0, row_end), slice(col0, col_end), cell_input), new_mobile
+
+
+def scan_hits(seen_free, geometry, pose, ranges, angle_min, angle_increment, range_min,
+              range_max, rule_arguments):
+    """
+    The scan's polygon and hits, and the hits the object rule finds on moving objects.
+
+    The same points and the same evidence as `scan_update` finds in its kernel, from the
+    grid's state before the update.
+
+    Parameters
+    ----------
+    seen_free : (rows, cols) ndarray of bool
+        Cells once surely seen free (a stand-in without the object rule).
+    geometry, pose, ranges, angle_min, angle_increment, range_min, range_max, rule_arguments
+        As in `scan_update`.
+
+    Returns
+    -------
+    vertices_x, vertices_y : (L + 2,) ndarray of float64
+        The closed scan polygon [m].
+    hits_x, hits_y : (K,) ndarray of float64
+        Hit points [m].
+    hit_beams : (K,) ndarray of int64
+        Their beams.
+    moving : (K,) ndarray of bool
+        Hits on objects seen to move (all False without the object rule).
+
+    """
+    vertices_x, vertices_y, hits_x, hits_y, hit_beams = _scan_points(
+        np.ascontiguousarray(ranges), pose[0], pose[1], pose[2], float(angle_min),
+        float(angle_increment), float(range_min), float(range_max))
+    (_, _, _, objects_on, evidence_radius, evidence_bound, segment_gap, object_size,
+     _) = rule_arguments
+    moving = np.zeros(hits_x.shape[0], dtype=bool)
+    if objects_on:
+        x0, y0 = geometry.origin
+        evidence = _hit_evidence(seen_free, hits_x, hits_y, x0, y0, geometry.resolution,
+                                 evidence_radius, evidence_bound)
+        moving = _moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_size)
+    return vertices_x, vertices_y, hits_x, hits_y, hit_beams, moving
 
 
 def expire_listed(labels, last_hit, listed, cells, count, stamp, mobile_expiry, window):

@@ -99,6 +99,12 @@ class NavigatorConfig:
     mobile_expiry : float
         Ghost expiry [s]: mobile cells unconfirmed by any hit for this long and out of view go
         back to explored; see ``LabelRule``. 0: off.
+    track_confirm_time : float
+        Motion tracks [s]: a compact, free-standing scan segment near an object seen to move
+        is that object while motion was seen within this long; see ``LabelRule``. 0: off.
+    trail_distance : float
+        Trails [m]: out-of-view mobile cells whose object the scan sees at least this far away
+        go back to explored; see ``LabelRule``. 0: off.
     follower : FollowerConfig
         Speed limits and gains of the path follower.
 
@@ -120,6 +126,8 @@ class NavigatorConfig:
     evidence_margin: float = 0.15
     segment_gap: float = 0.3
     mobile_expiry: float = 5.0
+    track_confirm_time: float = 5.0
+    trail_distance: float = 1.2
     follower: FollowerConfig = field(default_factory=FollowerConfig)
 
     def __post_init__(self):
@@ -139,7 +147,9 @@ class NavigatorConfig:
         return LabelRule(free_evidence_radius=self.free_evidence_radius,
                          moving_object_size=self.moving_object_size,
                          evidence_margin=self.evidence_margin, segment_gap=self.segment_gap,
-                         mobile_expiry=self.mobile_expiry)
+                         mobile_expiry=self.mobile_expiry,
+                         track_confirm_time=self.track_confirm_time,
+                         trail_distance=self.trail_distance)
 
 
 @dataclass(frozen=True)

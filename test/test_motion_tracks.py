@@ -1,0 +1,216 @@
+"""Tests of motion tracks: a moving object stays mobile while it is followed, a pillar never is."""
+
+import math
+
+from dpn_navigator.core.cell_label import CellLabel
+from dpn_navigator.core.label_grid import LabelGrid, LabelRule
+from dpn_navigator.core.motion_tracks import (MotionTracks, seen_free_points, segment_summary,
+                                              TrackConfig)
+from dpn_navigator.core.moving_objects import scan_segments
+import numpy as np
+import pytest
+
+S, M = CellLabel.STEADY_OBSTACLE, CellLabel.MOBILE_OBSTACLE
+
+BEAMS = 181
+SCAN = {'angle_min': -math.pi / 2, 'angle_increment': math.pi / (BEAMS - 1), 'range_min': 0.1,
+        'range_max': 8.0}
+DPN = {'free_evidence_radius': 0.6, 'moving_object_size': 0.7}
+
+
+def disc_scan(laser, centre, radius=0.25):
+    """Ranges of a laser at ``laser`` (x, y, yaw) seeing one disc in open space (no returns)."""
+    angles = laser[2] + SCAN['angle_min'] + np.arange(BEAMS) * SCAN['angle_increment']
+    ux, uy = np.cos(angles), np.sin(angles)
+    ox, oy = centre[0] - laser[0], centre[1] - laser[1]
+    along = ox * ux + oy * uy
+    miss2 = ox * ox + oy * oy - along * along
+    inside = radius * radius - miss2
+    ranges = np.full(BEAMS, np.inf)
+    hit = (inside >= 0.0) & (along > 0.0)
+    ranges[hit] = along[hit] - np.sqrt(inside[hit])
+    return ranges
+
+
+def disc_labels(grid, centre, radius=0.25):
+    """Labels of the cells within 0.3 m of the disc's rim facing -x (where its hits land)."""
+    rr, cc = grid.geometry.world_to_cell(np.array([centre[0] - radius]), np.array([centre[1]]))
+    return grid.labels[rr[0], cc[0]]
+
+
+def run(rule, track, seconds, laser=(1.0, 6.0, 0.0), rate=10.0):
+    """Feed scans of a disc at ``track(t)`` to a grid; return the grid after each scan."""
+    grid = LabelGrid(width=12.0, height=12.0, rule=rule)
+    labels = []
+    for step in range(int(seconds * rate) + 1):
+        stamp = step / rate
+        centre = track(stamp)
+        grid.update(laser, disc_scan(laser, centre), safety_radius=0.6, stamp=stamp, **SCAN)
+        labels.append(disc_labels(grid, centre))
+    return grid, labels
+
+
+def walking_away(stamp):
+    return (4.0 + 0.5 * stamp, 6.0)
+
+
+def test_object_walking_away_is_steady_without_tracks_and_mobile_with_them():
+    # Its back lands where its own body stood: never space seen free, so the free-space
+    # evidence alone labels it steady; the place it left is now seen empty, so tracks see it
+    # move.
+    _, without = run(LabelRule(**DPN), walking_away, 2.0)
+    grid, with_tracks = run(LabelRule(**DPN, track_confirm_time=5.0), walking_away, 2.0)
+    assert without[-1] == S and set(without) == {S}
+    assert with_tracks[0] == S                     # first sight: no motion seen yet
+    assert all(label == M for label in with_tracks[-10:])
+    assert grid.tracks.positions.shape == (1, 2)
+
+
+def test_object_that_stops_loses_its_track_after_the_confirm_time():
+    def walk_then_stand(stamp):
+        return walking_away(min(stamp, 1.0))
+    grid, labels = run(LabelRule(**DPN, track_confirm_time=2.0), walk_then_stand, 6.0)
+    assert labels[20] == M                         # t = 2 s: followed, standing
+    # Last confirmed once the places it left aged out of the history (1.5 s after it
+    # stopped), dropped 2 s later: steady from t = 4.5 s on.
+    assert labels[-1] == S
+    assert grid.tracks.positions.shape == (0, 2)
+
+
+def test_pillar_passed_by_a_moving_laser_is_never_mobile():
+    grid = LabelGrid(width=12.0, height=12.0, rule=LabelRule(**DPN, track_confirm_time=5.0))
+    for step in range(41):
+        laser = (1.0, 3.0 + 0.1 * step, 0.2 - 0.01 * step)
+        grid.update(laser, disc_scan(laser, (4.0, 5.0)), safety_radius=0.6, stamp=step / 10,
+                    **SCAN)
+    assert np.count_nonzero(grid.labels == S) >= 4
+    assert not np.any(grid.labels == M)
+
+
+@pytest.mark.parametrize('object_in_view', [False, True])
+def test_time_going_back_drops_every_track(object_in_view):
+    rule = LabelRule(**DPN, track_confirm_time=5.0, mobile_expiry=5.0, trail_distance=1.2)
+    grid, _ = run(rule, walking_away, 1.0)
+    assert grid.tracks.positions.shape[0] == 1
+    laser = (1.0, 6.0, 0.0)
+    ranges = (disc_scan(laser, walking_away(1.1)) if object_in_view
+              else np.full(BEAMS, np.inf))
+    grid.update(laser, ranges, safety_radius=0.6, stamp=0.0, **SCAN)
+    # A restarted clock: the tracks start over; the object is not seen to move yet.
+    assert grid.tracks.ids.tolist() == []
+    assert grid.tracks.hit_ids.shape[0] == np.count_nonzero(np.isfinite(ranges))
+
+
+def test_tracks_need_a_stamp():
+    grid = LabelGrid(width=12.0, height=12.0, rule=LabelRule(**DPN, track_confirm_time=1.0))
+    with pytest.raises(ValueError, match='needs a finite scan stamp'):
+        grid.update((1.0, 6.0, 0.0), disc_scan((1.0, 6.0, 0.0), (4.0, 6.0)), safety_radius=0.6,
+                    **SCAN)
+
+
+def test_segment_summary_centroids_extents_and_standing():
+    laser = (0.0, 0.0)
+    # Beam order: a near 3-hit segment, a far wall piece, then a no-return beam.
+    hits_x = np.array([2.0, 2.0, 2.0, 5.0, 5.0])
+    hits_y = np.array([-0.1, 0.0, 0.1, 1.0, 1.2])
+    hit_beams = np.array([3, 4, 5, 6, 7])
+    segment, arc = scan_segments(hits_x, hits_y, hit_beams, 0.3)
+    assert segment.tolist() == [0, 0, 0, 1, 1]
+    centroid_x, centroid_y, extent, open_sides = segment_summary(
+        laser, hits_x, hits_y, hit_beams, 10, segment, arc)
+    np.testing.assert_allclose(centroid_x, [2.0, 5.0])
+    np.testing.assert_allclose(centroid_y, [0.0, 1.1])
+    np.testing.assert_allclose(extent, [0.2, 0.2])
+    # Segment 0: beam 2 returned nothing, beam 6 is farther: free-standing. Segment 1: beam 5
+    # is nearer (it stands behind segment 0), beam 8 returned nothing.
+    assert open_sides.tolist() == [2, 1]
+    # At the edge of the field of view nothing is known beyond: not free-standing.
+    _, _, _, edge = segment_summary(laser, hits_x[:3], hits_y[:3], np.array([0, 1, 2]), 10,
+                                    segment[:3], arc[:3])
+    assert edge.tolist() == [1]
+
+
+def test_seen_free_points_needs_every_nearby_beam_to_pass_the_point():
+    increment = math.pi / 180
+    reach = np.full(181, 8.0)
+    reach[100] = 3.0                       # one beam at bearing 10 deg stops at 3 m
+    reach[170] = 0.0                       # an invalid beam
+    first_angle = -math.pi / 2
+    points = np.array([
+        [4.0, 0.0],                                          # bearing 0: free
+        [4.0 * math.cos(0.1745), 4.0 * math.sin(0.1745)],    # behind the 3 m return
+        [2.0 * math.cos(0.1745), 2.0 * math.sin(0.1745)],    # before it: free
+        [7.95, 0.0],                                         # within the margin of the end
+        [-1.0, 0.0],                                         # behind the laser
+        [4.0 * math.cos(1.396), 4.0 * math.sin(1.396)],      # next to the invalid beam
+    ])
+    free = seen_free_points(points, (0.0, 0.0), first_angle, increment, reach, 0.15)
+    assert free.tolist() == [True, False, True, False, False, False]
+
+
+def test_following_is_off_at_zero_confirm_time():
+    tracks = MotionTracks(TrackConfig(confirm_within=0.0))
+    moving = np.array([True, True])
+    out = tracks.update(0.0, (0.0, 0.0), np.array([2.0, 2.0]), np.array([0.0, 0.1]),
+                        np.array([3, 4]), 10, moving, 0.3)
+    assert not out.any() and tracks.positions.shape == (0, 2)
+
+
+@pytest.mark.parametrize('name', ['compact_size', 'gate', 'confirm_within', 'reach',
+                                  'half_open_gate'])
+def test_bad_track_config_raises(name):
+    with pytest.raises(ValueError, match=f'{name} must be finite'):
+        TrackConfig(**{name: -1.0})
+    with pytest.raises(ValueError, match='track_confirm_time must be finite'):
+        LabelRule(track_confirm_time=math.inf)
+
+
+def test_trail_out_of_view_goes_back_to_explored_once_its_object_is_seen_far_away():
+    rule = LabelRule(**DPN, track_confirm_time=5.0, mobile_expiry=5.0, trail_distance=1.2)
+    grid, labels = run(rule, walking_away, 1.0)
+    assert labels[-1] == M
+    (track,) = grid.tracks.ids
+    behind_laser = (1, 1)                         # out of view, far from the object
+    in_its_shadow = grid.geometry.world_to_cell(5.25, 6.0)   # out of view, 1 m behind it
+    for cell in (behind_laser, in_its_shadow):
+        grid.labels[cell] = M
+        grid.cell_track[cell] = track
+        grid.last_hit[cell] = 1.0                 # recent: the 5 s expiry keeps it
+        # As if the object's hits had marked it (the grid lists the cells it marked).
+        grid._marked = np.append(grid._marked, cell[0] * grid.geometry.cols + cell[1])
+    laser = (1.0, 6.0, 0.0)
+    grid.update(laser, disc_scan(laser, walking_away(1.1)), safety_radius=0.6, stamp=1.1,
+                **SCAN)
+    rows, cols, cell_input = grid.last_window
+    assert cell_input[in_its_shadow[0] - rows.start, in_its_shadow[1] - cols.start] == 0
+    assert grid.labels[behind_laser] == CellLabel.EXPLORED
+    assert grid.cell_track[behind_laser] == -1
+    assert grid.labels[in_its_shadow] == M        # within 1.2 m of it: may be it
+    # The object's own hit cells carry its track.
+    assert np.all(grid.cell_track[rows, cols][cell_input == 2] == track)
+
+
+def test_trails_are_off_at_zero_distance_and_need_tracks():
+    grid, _ = run(LabelRule(**DPN, track_confirm_time=5.0), walking_away, 0.5)
+    assert grid.cell_track is None
+    with pytest.raises(ValueError, match='trail_distance needs track_confirm_time'):
+        LabelRule(**DPN, trail_distance=1.0)
+    with pytest.raises(ValueError, match='track_confirm_time needs moving_object_size'):
+        LabelRule(free_evidence_radius=0.6, track_confirm_time=1.0)
+
+
+@pytest.mark.parametrize(('half_open_gate', 'label'), [(0.35, M), (0.0, S)])
+def test_followed_object_partly_hidden_on_one_side_stays_mobile_within_the_tight_gate(
+        half_open_gate, label):
+    grid, labels = run(LabelRule(**DPN, track_confirm_time=5.0), walking_away, 1.0)
+    assert labels[-1] == M
+    grid.tracks.config = TrackConfig(confirm_within=5.0, half_open_gate=half_open_gate)
+    laser = (1.0, 6.0, 0.0)
+    for step in range(11, 21):
+        stamp = step / 10
+        centre = walking_away(stamp)
+        # A thin post 1.5 m ahead hides the object's left edge: one end of its segment is
+        # closed by a nearer return.
+        ranges = np.minimum(disc_scan(laser, centre), disc_scan(laser, (2.5, 6.15), 0.08))
+        grid.update(laser, ranges, safety_radius=0.6, stamp=stamp, **SCAN)
+        assert disc_labels(grid, centre) == label
