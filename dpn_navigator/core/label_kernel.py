@@ -421,6 +421,8 @@ def _update_window(labels, seen_free, last_hit, listed, row0, col0, cell_input, 
         The planned path's cells (may be empty).
     new_mobile : (n_rows * n_cols,) ndarray of int64
         Receives the flat grid indices of the cells newly listed.
+    extra_moving : (K,) ndarray of bool
+        Hits to count as moving besides those the object rule finds (empty: none).
 
     Returns
     -------
@@ -655,7 +657,7 @@ def scan_update(labels, seen_free, last_hit, listed, geometry, pose, ranges, ang
 def scan_hits(seen_free, geometry, pose, ranges, angle_min, angle_increment, range_min,
               range_max, rule_arguments):
     """
-    The scan's polygon and hits, and the hits the object rule finds on moving objects.
+    Return the scan's polygon and hits, and the hits the object rule finds moving.
 
     The same points and the same evidence as `scan_update` finds in its kernel, from the
     grid's state before the update.
