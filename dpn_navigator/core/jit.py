@@ -115,6 +115,8 @@ def warm_up():
 
     """
     from .astar_search import warm_up_astar
+    from .label_grid import warm_up_label_update
     started = time.perf_counter()
     warm_up_astar()
+    warm_up_label_update()
     return time.perf_counter() - started
