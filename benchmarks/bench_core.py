@@ -1,15 +1,24 @@
 """
-Benchmark of the navigation core: one ``LabelGrid.update`` and one ``astar`` call.
+Benchmark of the navigation core, each figure against the implementation it replaced.
 
-Prints Markdown tables with the median time of many runs, next to the literal reference of
-the tests (``test/literal_reference.py``) run on the same inputs: sampled over cells and
-extrapolated where it is too slow to run whole. The sampled cells are also checked against
-the core's result. A* is also timed against the heapq A* it replaced
-(``test/astar_reference.py``), on synthetic grids and on the calls recorded from real
-benchmark episodes (the navigator's replans and the wanderers' walks), with every path
-compared. Not a test: it reports numbers.
+Prints Markdown tables of medians, old and new timed interleaved in one run, with their ratio:
 
-Run with ``make bench`` or ``python benchmarks/bench_core.py [--quick]``.
+- ``LabelGrid.update`` (the compiled kernel) against ``NumpyLabelGrid`` (the numpy update and
+  whole-grid ghost expiry it replaced, ``test/numpy_label_grid.py``), under the paper's rule
+  and the navigator's default rule, with the labels compared after every update; the paper's
+  rule also against the literal reference of the tests (``test/literal_reference.py``),
+  sampled over cells and extrapolated;
+- a replan's setup: the navigator's ``PlanningMasks`` (refreshed in the changed box) against
+  the whole-grid masks it replaced, same paths;
+- the map a node publishes: ``OccupancyGridBuffer`` (the changed box) against
+  ``labels_to_occupancy_grid`` (the whole grid), same bytes;
+- ``astar`` against the heapq A* it replaced (``test/astar_reference.py``), on synthetic grids
+  and on the calls recorded from real benchmark episodes, with every path compared.
+
+Not a test: it reports numbers. CPU time (``time.process_time``) is reported besides wall
+time where a shared machine makes wall time noise.
+
+Run with ``make bench`` or ``python benchmarks/bench_core.py [--quick] [--only PART]``.
 
 """
 
@@ -28,9 +37,17 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, '..', 'test'))
 
 from astar_reference import reference_astar  # noqa: E402, I100
+from builtin_interfaces.msg import Time  # noqa: E402
+from dpn_navigator.conversions import labels_to_occupancy_grid  # noqa: E402
+from dpn_navigator.conversions import OccupancyGridBuffer  # noqa: E402
 from dpn_navigator.core import astar, jit, LabelGrid, path_cost  # noqa: E402
+from dpn_navigator.core.cell_label import blocked_mask  # noqa: E402
+from dpn_navigator.core.label_grid import PAPER_RULE  # noqa: E402
+from dpn_navigator.core.navigator import Navigator, NavigatorConfig  # noqa: E402
+from dpn_navigator.core.planning_masks import touches_blocked  # noqa: E402
 from grid_worlds import maze_grid, random_grid  # noqa: E402
 from literal_reference import literal_update, tuple_astar  # noqa: E402
+from numpy_label_grid import NumpyLabelGrid  # noqa: E402
 from scan_scenes import (ANGLE_INCREMENT, ANGLE_MIN, free_pose, hall,  # noqa: E402
                          random_ranges, RANGE_MAX, RANGE_MIN, ray_cast)
 
@@ -38,50 +55,178 @@ SAFETY_RADIUS = 0.6
 
 
 def median_ms(func, repeats):
-    """Median wall time of ``func()`` over ``repeats`` calls [ms]."""
+    """Median CPU time of ``func()`` over ``repeats`` calls [ms]."""
     times = []
     for _ in range(repeats):
-        start = time.perf_counter()
+        start = time.process_time()
         func()
-        times.append(time.perf_counter() - start)
+        times.append(time.process_time() - start)
     return 1e3 * statistics.median(times)
 
 
-def bench_update(cells, resolution, scan_kind, repeats, reference_cells, rng):
-    """Time ``LabelGrid.update`` on a square grid; sample the literal reference."""
+def interleaved_ms(funcs, repeats):
+    """
+    Median CPU time of each of ``funcs`` [ms], called in turn ``repeats`` times.
+
+    Each call gets the round number. CPU time (user + system of this process) is what the
+    work costs; on a shared machine wall time mostly measures the other processes.
+    """
+    times = [[] for _ in funcs]
+    for k in range(repeats):
+        for func, spent in zip(funcs, times):
+            start = time.process_time()
+            func(k)
+            spent.append(time.process_time() - start)
+    return [1e3 * statistics.median(spent) for spent in times]
+
+
+def hall_scans(cells, resolution, scan_kind, rng, count=20):
+    """Poses and ranges of ``count`` scans in a square hall of ``cells`` x ``cells``."""
     size = cells * resolution
     truth = hall(size, int(size * size / 60), rng)
-    poses = [free_pose(truth, rng) for _ in range(20)]
+    poses = [free_pose(truth, rng) for _ in range(count)]
     if scan_kind == 'hall':
-        scans = [ray_cast(truth, pose) for pose in poses]
-    else:
-        scans = [random_ranges(rng) for _ in poses]
-    grid = LabelGrid(size, size, resolution)
-    # Warm the grid up with all the scans, so that the timed updates see a realistic map.
-    for pose, ranges in zip(poses, scans):
-        grid.update(pose, ranges, ANGLE_MIN, ANGLE_INCREMENT, RANGE_MIN, RANGE_MAX,
-                    SAFETY_RADIUS)
-    counter = iter(range(10 ** 9))
+        return poses, [ray_cast(truth, pose) for pose in poses]
+    return poses, [random_ranges(rng) for _ in poses]
 
-    def one_update():
-        k = next(counter) % len(poses)
-        grid.update(poses[k], scans[k], ANGLE_MIN, ANGLE_INCREMENT, RANGE_MIN, RANGE_MAX,
-                    SAFETY_RADIUS)
 
-    core_ms = median_ms(one_update, repeats)
+def bench_update(cells, resolution, scan_kind, rule, repeats, reference_cells, rng):
+    """
+    Time ``LabelGrid.update`` against ``NumpyLabelGrid.update``, interleaved; check labels.
+
+    Returns
+    -------
+    new_ms, old_ms : float
+        Median CPU time per update [ms].
+    literal_ms : float or None
+        The literal reference extrapolated to the whole grid [ms] (paper's rule only).
+    equal : bool
+        Labels (and the rule's state) equal after every update.
+    mismatches : int
+        Sampled cells where the literal reference disagrees (0 when not run).
+
+    """
+    size = cells * resolution
+    poses, scans = hall_scans(cells, resolution, scan_kind, rng)
+    grids = (LabelGrid(size, size, resolution, rule=rule),
+             NumpyLabelGrid(size, size, resolution, rule=rule))
+    equal = True
+
+    def updater(grid):
+        def one_update(k):
+            grid.update(poses[k % len(poses)], scans[k % len(poses)], ANGLE_MIN,
+                        ANGLE_INCREMENT, RANGE_MIN, RANGE_MAX, SAFETY_RADIUS, stamp=0.1 * k)
+        return one_update
+
+    # Warm the grids up with all the scans, so that the timed updates see a realistic map.
+    for k in range(len(poses)):
+        for grid in grids:
+            updater(grid)(k)
+    new_ms, old_ms = interleaved_ms([updater(grid) for grid in grids], repeats)
+    for name in ('labels', 'seen_free', 'last_hit'):
+        if getattr(grids[0], name) is not None:
+            equal &= bool(np.array_equal(getattr(grids[0], name), getattr(grids[1], name)))
+    if rule != PAPER_RULE:
+        return new_ms, old_ms, None, equal, 0
     # The reference on a sample of cells, from the same labels, checked against the core.
+    grid = grids[0]
     before = grid.labels.copy()
     pose, ranges = poses[0], scans[0]
     grid.update(pose, ranges, ANGLE_MIN, ANGLE_INCREMENT, RANGE_MIN, RANGE_MAX, SAFETY_RADIUS)
     flat = rng.choice(cells * cells, size=reference_cells, replace=False)
     sample = [(int(i), int(j)) for i, j in zip(*np.unravel_index(flat, (cells, cells)))]
-    start = time.perf_counter()
+    start = time.process_time()
     literal_update(before, (0.0, 0.0), resolution, pose, ranges, ANGLE_MIN, ANGLE_INCREMENT,
                    RANGE_MIN, RANGE_MAX, SAFETY_RADIUS, cells=sample)
-    per_cell = (time.perf_counter() - start) / reference_cells
+    per_cell = (time.process_time() - start) / reference_cells
     rr, cc = np.array(sample).T
     mismatches = int(np.count_nonzero(before[rr, cc] != grid.labels[rr, cc]))
-    return core_ms, 1e3 * per_cell * cells * cells, mismatches
+    return new_ms, old_ms, 1e3 * per_cell * cells * cells, equal, mismatches
+
+
+def whole_grid_plan(labels, pose, start, goal, footprint, proximity_cost):
+    """Plan as the navigator did before ``PlanningMasks``: every mask from the whole grid."""
+    blocked = blocked_mask(labels)
+    if blocked[goal]:
+        return None
+    rows, cols, near = footprint
+    blocked[rows, cols] &= ~near
+    blocked[start] = False
+    cell_cost = proximity_cost * touches_blocked(blocked)
+    return astar(blocked, start, goal, cell_cost=cell_cost, cut_corners=False)
+
+
+def bench_replan_setup(cells, resolution, rng, repeats):
+    """
+    Time one scan's refresh of the planning masks plus a short plan, against the whole grid.
+
+    Returns the medians [ms] of the new and the old way and whether every path was equal.
+    """
+    size = cells * resolution
+    poses, scans = hall_scans(cells, resolution, 'hall', rng)
+    navigator = Navigator(NavigatorConfig(width=size, height=size, resolution=resolution))
+    masks = navigator._masks
+    geometry = navigator.grid.geometry
+    for k in range(len(poses)):
+        navigator.observe(poses[k], scans[k], ANGLE_MIN, ANGLE_INCREMENT, RANGE_MIN, RANGE_MAX,
+                          stamp=0.1 * k)
+    masks.refresh()
+    same = True
+    plans = {}
+
+    def case(k):
+        pose = poses[k % len(poses)]
+        start = tuple(int(v) for v in geometry.world_to_cell(pose[0], pose[1]))
+        goal = (min(start[0] + 3, cells - 1), min(start[1] + 3, cells - 1))
+        return pose, start, goal, navigator._footprint(pose)
+
+    def scan(k):
+        navigator.observe(poses[k % len(poses)], scans[k % len(poses)], ANGLE_MIN,
+                          ANGLE_INCREMENT, RANGE_MIN, RANGE_MAX, stamp=10.0 + 0.1 * k)
+
+    def new(k):
+        # The refresh and search a replan does after the scan of this round.
+        pose, start, goal, footprint = case(k)
+        masks.refresh()
+        plans[k] = None if masks.blocked[goal] else masks.plan(start, goal, footprint, False)
+
+    def old(k):
+        pose, start, goal, footprint = case(k)
+        path = whole_grid_plan(navigator.grid.labels, pose, start, goal, footprint,
+                               navigator.config.obstacle_proximity_cost)
+        nonlocal same
+        same &= path == plans[k]
+
+    _, new_ms, old_ms = interleaved_ms([scan, new, old], repeats)
+    return new_ms, old_ms, same
+
+
+def bench_map_refresh(cells, resolution, rng, repeats):
+    """Time a published map's conversion: the changed box against the whole grid."""
+    size = cells * resolution
+    poses, scans = hall_scans(cells, resolution, 'hall', rng)
+    grid = LabelGrid(size, size, resolution)
+    changes = grid.change_tracker()
+    buffer = OccupancyGridBuffer(grid.geometry.shape)
+    same = True
+    stamp = Time(sec=1)
+
+    def scan(k):
+        grid.update(poses[k % len(poses)], scans[k % len(poses)], ANGLE_MIN, ANGLE_INCREMENT,
+                    RANGE_MIN, RANGE_MAX, SAFETY_RADIUS)
+
+    def new(k):
+        rows, cols, _ = changes.take()
+        buffer.refresh(grid.labels, rows, cols)
+        buffer.message(resolution, (0.0, 0.0), stamp)
+
+    def old(k):
+        nonlocal same
+        msg = labels_to_occupancy_grid(grid.labels, resolution, (0.0, 0.0), stamp)
+        same &= msg.data == buffer.message(resolution, (0.0, 0.0), stamp).data
+
+    _, new_ms, old_ms = interleaved_ms([scan, new, old], repeats)
+    return new_ms, old_ms, same
 
 
 def kernel_start_seconds():
@@ -158,27 +303,32 @@ def record_astar_calls(maps, wanderers):
 
     """
     from dpn_navigator.benchmark.episode import run_episode
-    from dpn_navigator.core import navigator as navigator_module
+    from dpn_navigator.core import planning_masks
     from sim_bridge import clear_paths
     from sim_bridge.scenario import load_scenario
     calls = {'navigator': [], 'wanderers': []}
 
-    def recording(kind):
-        def call(*args, **kwargs):
-            args = tuple(np.array(a) if isinstance(a, np.ndarray) else a for a in args)
-            kwargs = {k: np.array(v) if isinstance(v, np.ndarray) else v
-                      for k, v in kwargs.items()}
-            calls[kind].append((args, kwargs))
-            return astar(*args, **kwargs)
-        return call
+    def recording(*args, **kwargs):
+        args = tuple(np.array(a) if isinstance(a, np.ndarray) else a for a in args)
+        kwargs = {k: np.array(v) if isinstance(v, np.ndarray) else v
+                  for k, v in kwargs.items()}
+        calls['wanderers'].append((args, kwargs))
+        return astar(*args, **kwargs)
 
-    saved = navigator_module.astar, clear_paths.astar
-    navigator_module.astar, clear_paths.astar = recording('navigator'), recording('wanderers')
+    def recording_checked(blocked, start, goal, cell_cost, max_cell_cost, cut_corners):
+        # Recorded as the equivalent astar call (its checks find the same largest cost).
+        calls['navigator'].append(((blocked.copy(), start, goal), {
+            'cell_cost': None if cell_cost is None else cell_cost.copy(),
+            'cut_corners': cut_corners}))
+        return saved[0](blocked, start, goal, cell_cost, max_cell_cost, cut_corners)
+
+    saved = planning_masks.astar_checked, clear_paths.astar
+    planning_masks.astar_checked, clear_paths.astar = recording_checked, recording
     try:
         for name in maps:
             run_episode(load_scenario(name), 0, wanderers, 0)
     finally:
-        navigator_module.astar, clear_paths.astar = saved
+        planning_masks.astar_checked, clear_paths.astar = saved
     return calls
 
 
@@ -224,19 +374,40 @@ def bench_start():
 
 
 def bench_updates(rng, repeats):
-    """Print the table of ``LabelGrid.update`` times."""
-    print('| LabelGrid.update, 640 beams, 180 deg, 30 m, r = 0.6 m | scan | core median [ms] '
-          '| literal reference [ms] (extrapolated) | ratio | sampled cells equal |')
-    print('|---|---|---|---|---|---|')
+    """Print the table of ``LabelGrid.update`` times, new against old."""
+    print('| LabelGrid.update, 640 beams, 180 deg, 30 m, r = 0.6 m | scan | rule '
+          '| kernel [ms] | numpy update before [ms] | ratio | labels equal '
+          '| literal reference [ms] (extrapolated) | sampled cells equal |')
+    print('|---|---|---|---|---|---|---|---|---|')
+    rules = (('paper', PAPER_RULE), ('dpn', NavigatorConfig(width=1.0, height=1.0).label_rule()))
     for cells, resolution, runs, sample in ((200, 0.5, repeats, 400),
                                             (2000, 0.05, max(10, repeats // 10), 60)):
         for scan_kind in ('hall', 'random'):
-            core_ms, ref_ms, mismatches = bench_update(cells, resolution, scan_kind, runs,
-                                                       sample, rng)
-            print(f'| {cells}x{cells} cells at {resolution} m | {scan_kind} | {core_ms:.3f} '
-                  f'| {ref_ms:,.0f} | {ref_ms / core_ms:,.0f}x '
-                  f'| {sample - mismatches}/{sample} |')
+            for rule_name, rule in rules:
+                new_ms, old_ms, ref_ms, equal, mismatches = bench_update(
+                    cells, resolution, scan_kind, rule, runs, sample, rng)
+                literal = ('-', '-') if ref_ms is None else (
+                    f'{ref_ms:,.0f}', f'{sample - mismatches}/{sample}')
+                print(f'| {cells}x{cells} cells at {resolution} m | {scan_kind} | {rule_name} '
+                      f'| {new_ms:.3f} | {old_ms:.3f} | {old_ms / new_ms:.1f}x '
+                      f'| {"yes" if equal else "NO"} | {literal[0]} | {literal[1]} |')
     print()
+
+
+def bench_node_parts(rng, repeats):
+    """Print the tables of a replan's setup and of a published map, new against old."""
+    for title, same_what, bench in (
+            ('per replan: masks + a short A* (after one hall scan)', 'same paths',
+             bench_replan_setup),
+            ('per published map: OccupancyGrid data (after one hall scan)', 'same bytes',
+             bench_map_refresh)):
+        print(f'| {title} | changed box [ms] | whole grid before [ms] | ratio | {same_what} |')
+        print('|---|---|---|---|---|')
+        for cells, resolution in ((200, 0.5), (2000, 0.5)):
+            new_ms, old_ms, same = bench(cells, resolution, rng, repeats)
+            print(f'| {cells}x{cells} cells | {new_ms:.3f} | {old_ms:.3f} '
+                  f'| {old_ms / new_ms:.1f}x | {"yes" if same else "NO"} |')
+        print()
 
 
 def bench_astars(rng, repeats, quick):
@@ -281,14 +452,17 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[1])
     parser.add_argument('--quick', action='store_true', help='fewer repetitions')
     parser.add_argument('--seed', type=int, default=1)
-    parser.add_argument('--only', choices=('start', 'update', 'astar'),
-                        help='run one part: kernel start times, LabelGrid.update or astar')
+    parser.add_argument('--only', choices=('start', 'update', 'node', 'astar'),
+                        help='run one part: kernel start times, LabelGrid.update, the masks '
+                             'and map of the node, or astar')
     args = parser.parse_args(argv)
     rng = np.random.default_rng(args.seed)
     if args.only in (None, 'start'):
         bench_start()
     if args.only in (None, 'update'):
         bench_updates(rng, 20 if args.quick else 200)
+    if args.only in (None, 'node'):
+        bench_node_parts(rng, 20 if args.quick else 100)
     if args.only in (None, 'astar'):
         bench_astars(rng, 20 if args.quick else 200, args.quick)
 

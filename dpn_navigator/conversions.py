@@ -160,6 +160,49 @@ def make_laser_scan(ranges, angle_min, angle_increment, range_min, range_max, st
     return msg
 
 
+def occupancy_values(mobile_value=OCCUPANCY_MOBILE_OBSTACLE):
+    """
+    Return the OccupancyGrid value of each label, ``OCCUPANCY_VALUE`` with ``mobile_value``.
+
+    Parameters
+    ----------
+    mobile_value : int
+        Value of mobile-obstacle cells, 1 to 100.
+
+    Returns
+    -------
+    values : (4,) ndarray of int8
+
+    Raises
+    ------
+    ValueError
+        When ``mobile_value`` is not in 1..100.
+
+    """
+    if mobile_value == OCCUPANCY_MOBILE_OBSTACLE:
+        return OCCUPANCY_VALUE
+    if not 1 <= mobile_value <= 100:
+        raise ValueError(f'mobile_value must be in 1..100, got {mobile_value!r}')
+    values = OCCUPANCY_VALUE.copy()
+    values[CellLabel.MOBILE_OBSTACLE] = mobile_value
+    return values
+
+
+def _occupancy_grid(shape, resolution, origin, stamp, frame_id, load_time, data):
+    """Build an ``OccupancyGrid`` around ``data`` (an ``array('b')``, not copied)."""
+    msg = OccupancyGrid()
+    msg.header.stamp = stamp
+    msg.header.frame_id = frame_id
+    msg.info.map_load_time = stamp if load_time is None else load_time
+    msg.info.resolution = float(resolution)
+    msg.info.height, msg.info.width = (int(n) for n in shape)
+    msg.info.origin.position.x = float(origin[0])
+    msg.info.origin.position.y = float(origin[1])
+    msg.info.origin.orientation.w = 1.0
+    msg.data = data
+    return msg
+
+
 def labels_to_occupancy_grid(labels, resolution, origin, stamp, frame_id='map',
                              load_time=None, mobile_value=OCCUPANCY_MOBILE_OBSTACLE):
     """
@@ -194,23 +237,66 @@ def labels_to_occupancy_grid(labels, resolution, origin, stamp, frame_id='map',
         When ``mobile_value`` is not in 1..100.
 
     """
-    values = OCCUPANCY_VALUE
-    if mobile_value != OCCUPANCY_MOBILE_OBSTACLE:
-        if not 1 <= mobile_value <= 100:
-            raise ValueError(f'mobile_value must be in 1..100, got {mobile_value!r}')
-        values = OCCUPANCY_VALUE.copy()
-        values[CellLabel.MOBILE_OBSTACLE] = mobile_value
-    msg = OccupancyGrid()
-    msg.header.stamp = stamp
-    msg.header.frame_id = frame_id
-    msg.info.map_load_time = stamp if load_time is None else load_time
-    msg.info.resolution = float(resolution)
-    msg.info.height, msg.info.width = (int(n) for n in labels.shape)
-    msg.info.origin.position.x = float(origin[0])
-    msg.info.origin.position.y = float(origin[1])
-    msg.info.origin.orientation.w = 1.0
-    msg.data = array('b', np.take(values, labels).tobytes())
-    return msg
+    values = occupancy_values(mobile_value)
+    return _occupancy_grid(labels.shape, resolution, origin, stamp, frame_id, load_time,
+                           array('b', np.take(values, labels).tobytes()))
+
+
+class OccupancyGridBuffer:
+    """
+    The data of a published ``OccupancyGrid``, rewritten only where the labels changed.
+
+    Converting the whole grid for every map costs about 1 ns per cell (5 ms at 2000 x 2000);
+    this keeps one ``array('b')`` of the values and rewrites the box a ``ChangeTracker`` of
+    the grid says changed. Every message it builds shares that array, so a message is good
+    until the next `refresh` (publish it at once, as a node does).
+
+    Parameters
+    ----------
+    shape : (int, int)
+        The grid's ``(rows, cols)``.
+    mobile_value : int
+        Value of mobile-obstacle cells, 1 to 100.
+
+    Raises
+    ------
+    ValueError
+        When ``mobile_value`` is not in 1..100.
+
+    """
+
+    def __init__(self, shape, mobile_value=OCCUPANCY_MOBILE_OBSTACLE):
+        self._values = occupancy_values(mobile_value)
+        self._shape = tuple(int(n) for n in shape)
+        self._data = array('b', bytes(self._shape[0] * self._shape[1]))
+        self._grid_values = np.frombuffer(self._data, dtype=np.int8).reshape(self._shape)
+        self._grid_values[...] = self._values[CellLabel.NON_EXPLORED]
+
+    def refresh(self, labels, rows, cols):
+        """
+        Rewrite the values of ``labels[rows, cols]``.
+
+        Parameters
+        ----------
+        labels : (H, W) ndarray of uint8
+            The grid's labels, of the buffer's shape.
+        rows, cols : slice
+            The box that changed since the last refresh (may be empty).
+
+        """
+        if labels.shape != self._shape:
+            raise ValueError(f'labels of shape {labels.shape} for a buffer of {self._shape}')
+        self._grid_values[rows, cols] = np.take(self._values, labels[rows, cols])
+
+    def message(self, resolution, origin, stamp, frame_id='map', load_time=None):
+        """
+        Return an ``OccupancyGrid`` of the buffer's values (shared, not copied).
+
+        Parameters are those of `labels_to_occupancy_grid`.
+
+        """
+        return _occupancy_grid(self._shape, resolution, origin, stamp, frame_id, load_time,
+                               self._data)
 
 
 def occupancy_grid_values(msg):

@@ -34,7 +34,7 @@ from visualization_msgs.msg import MarkerArray
 
 from .cmd_vel_monitor import CommandTopicMonitor
 from .command_publisher import CommandPublisher
-from .conversions import (labels_to_occupancy_grid, laser_scan_fields, odometry_to_pose,
+from .conversions import (laser_scan_fields, OccupancyGridBuffer, odometry_to_pose,
                           pose_to_odometry, stamp_to_seconds)
 from .core import jit, Navigator, NavigatorStatus
 from .core.pose_history import PoseHistory
@@ -67,6 +67,9 @@ class DpnNode(Node):
         # Compile (or load) the kernels now, so that the first scan does not wait for them.
         compile_seconds = jit.warm_up()
         self.navigator = Navigator(self.params.navigator)
+        self.map_buffer = OccupancyGridBuffer(self.navigator.grid.geometry.shape,
+                                              self.params.map_mobile_value)
+        self.map_changes = self.navigator.grid.change_tracker()
         self.rejected = {'scan': 0, 'odometry': 0, 'goal': 0, 'clock': 0}
         self.scan_frame_mismatches = 0
         self.map_load_time = None
@@ -227,10 +230,12 @@ class DpnNode(Node):
         geometry = self.navigator.grid.geometry
         if self.map_load_time is None:
             self.map_load_time = stamp
-        self.map_pub.publish(labels_to_occupancy_grid(
-            self.navigator.grid.labels, geometry.resolution, geometry.origin, stamp,
-            frame_id=self.params.map_frame, load_time=self.map_load_time,
-            mobile_value=self.params.map_mobile_value))
+        # Only the cells changed since the last map are converted again.
+        rows, cols, _ = self.map_changes.take()
+        self.map_buffer.refresh(self.navigator.grid.labels, rows, cols)
+        self.map_pub.publish(self.map_buffer.message(
+            geometry.resolution, geometry.origin, stamp, frame_id=self.params.map_frame,
+            load_time=self.map_load_time))
 
     def publish_markers(self, stamp):
         """Publish the planned path (as markers and as a ``Path``), the executed path, the goal."""

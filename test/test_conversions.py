@@ -6,7 +6,8 @@ import math
 from builtin_interfaces.msg import Time
 from dpn_navigator.conversions import (labels_to_occupancy_grid, laser_scan_fields,
                                        line_strip_marker, make_laser_scan, marker_points,
-                                       occupancy_grid_values, odometry_to_pose,
+                                       occupancy_grid_values, OccupancyGridBuffer,
+                                       odometry_to_pose,
                                        pose_to_odometry, quaternion_to_yaw, sphere_marker,
                                        twist_to_velocity, velocity_to_twist, yaw_to_quaternion)
 from dpn_navigator.core import CellLabel
@@ -64,6 +65,44 @@ def test_occupancy_grid_carries_the_four_values_row_major():
     assert isinstance(msg.data, array)
     assert_array_equal(occupancy_grid_values(msg), [[-1, 0, 100], [70, 0, -1]])
     assert labels[1, 0] == CellLabel.MOBILE_OBSTACLE
+
+
+@pytest.mark.parametrize('mobile_value', [70, 99])
+def test_buffer_refreshed_in_windows_equals_the_full_conversion(mobile_value):
+    rng = np.random.default_rng(4)
+    labels = np.zeros((37, 53), dtype=np.uint8)
+    buffer = OccupancyGridBuffer(labels.shape, mobile_value)
+    full = (slice(0, 37), slice(0, 53))
+    for step in range(40):
+        r0, c0 = rng.integers(0, 37), rng.integers(0, 53)
+        rows = slice(r0, min(37, r0 + rng.integers(0, 12)))
+        cols = slice(c0, min(53, c0 + rng.integers(0, 12)))
+        labels[rows, cols] = rng.integers(0, 4, labels[rows, cols].shape)
+        buffer.refresh(labels, *(full if step == 0 else (rows, cols)))
+        msg = buffer.message(0.5, (-1.0, 2.0), STAMP, frame_id='odom')
+        want = labels_to_occupancy_grid(labels, 0.5, (-1.0, 2.0), STAMP, frame_id='odom',
+                                        mobile_value=mobile_value)
+        assert msg.data == want.data and isinstance(msg.data, array)
+        assert msg.info == want.info and msg.header == want.header
+    # Cells changed outside the box given are not refreshed: the box is the contract.
+    labels[0, 0] = CellLabel.STEADY_OBSTACLE
+    buffer.refresh(labels, slice(5, 6), slice(5, 6))
+    assert occupancy_grid_values(buffer.message(0.5, (0.0, 0.0), STAMP))[0, 0] != 100
+
+
+@pytest.mark.parametrize('shape, mobile_value, message', [
+    ((3, 3), 0, 'mobile_value must be in 1..100'),
+    ((3, 3), 101, 'mobile_value must be in 1..100'),
+])
+def test_buffer_bad_input_raises(shape, mobile_value, message):
+    with pytest.raises(ValueError, match=message):
+        OccupancyGridBuffer(shape, mobile_value)
+
+
+def test_buffer_rejects_labels_of_another_shape():
+    buffer = OccupancyGridBuffer((3, 4))
+    with pytest.raises(ValueError, match='for a buffer of'):
+        buffer.refresh(np.zeros((4, 3), dtype=np.uint8), slice(0, 1), slice(0, 1))
 
 
 def test_twist_round_trip_and_rejection():

@@ -81,6 +81,17 @@ def wait_for_discovery(executor, probe):
 
 def test_scans_become_map_commands_markers_and_status(nodes):
     dpn, probe, executor = nodes
+    # Every map the node publishes (refreshed in windows) equals a full conversion.
+    same_as_full = []
+    publish_map = dpn.map_pub.publish
+
+    def checked_publish(msg):
+        full = labels_to_occupancy_grid(dpn.navigator.grid.labels, 0.5, (0.0, 0.0),
+                                        msg.header.stamp)
+        same_as_full.append(msg.data == full.data)
+        publish_map(msg)
+
+    dpn.map_pub.publish = checked_publish
     wait_for_discovery(executor, probe)
     # Odometry first so that the scan can be placed, then a few scans.
     for _ in range(5):
@@ -88,6 +99,7 @@ def test_scans_become_map_commands_markers_and_status(nodes):
         spin_until(executor, lambda: False, timeout=0.05)
     assert spin_until(executor, lambda: probe.received['map'] and probe.received['cmd']
                       and probe.received['marker'])
+    assert same_as_full and all(same_as_full)
     values = occupancy_grid_values(probe.received['map'][-1])
     assert values.shape == (24, 24)
     assert set(np.unique(values).tolist()) <= {-1, 0, 70, 100}

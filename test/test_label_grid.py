@@ -289,6 +289,7 @@ def test_rule_update_equals_the_literal_twin(case, rule_name, stamps):
         grid.seen_free[...] = seen_free
     if grid.last_hit is not None:
         grid.last_hit[...] = last_hit
+    grid.labels_changed()
     path = np.argwhere(rng.random(grid.labels.shape) < 0.3)
     scan = {k: case[k] for k in ('angle_min', 'angle_increment', 'range_min', 'range_max',
                                  'safety_radius')}
@@ -381,6 +382,7 @@ def test_unconfirmed_mobile_cells_out_of_view_expire():
     ranges, scan = wall_scan(3.0)
     grid.labels[1, 1] = M                                 # behind the laser: never seen
     grid.last_hit[1, 1] = 0.0
+    grid.labels_changed()
     grid.update((5.0, 5.0, 0.0), ranges, safety_radius=0.3, stamp=1.9, **scan)
     assert grid.labels[1, 1] == M
     grid.update((5.0, 5.0, 0.0), ranges, safety_radius=0.3, stamp=2.0, **scan)

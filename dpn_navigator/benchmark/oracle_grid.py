@@ -15,7 +15,7 @@ import numpy as np
 from .ground_truth import near_any
 from ..core.cell_label import blocked_mask, CellLabel, LABEL_DTYPE
 from ..core.grid_geometry import GridGeometry
-from ..core.label_grid import check_path
+from ..core.label_grid import ChangeTracker, check_path
 
 _EMPTY_WINDOW = (slice(0, 0), slice(0, 0), np.zeros((0, 0), dtype=LABEL_DTYPE))
 
@@ -60,6 +60,27 @@ class OracleGrid:
         self.labels = self._walls.copy()
         self._pending = self.labels
         self.last_window = _EMPTY_WINDOW
+        self._trackers = []
+
+    def change_tracker(self):
+        """
+        Return a new ``label_grid.ChangeTracker`` of this map, for the navigator's masks.
+
+        Every update may change any cell here, so every tracker then holds the whole map.
+
+        Returns
+        -------
+        ChangeTracker
+
+        """
+        tracker = ChangeTracker(self.geometry.shape)
+        self._trackers.append(tracker)
+        return tracker
+
+    def labels_changed(self):
+        """Note that ``labels`` changed, anywhere: every tracker holds the whole map."""
+        for tracker in self._trackers:
+            tracker.widen_all()
 
     def set_wanderers(self, wanderer_xy):
         """
@@ -101,6 +122,7 @@ class OracleGrid:
         path = check_path(path, self.geometry.shape)
         before = self.labels
         self.labels = self._pending
+        self.labels_changed()
         if path is None or not path.shape[0]:
             return False
         rr, cc = path[:, 0], path[:, 1]

@@ -115,16 +115,50 @@ def astar(blocked, start, goal, cell_cost=None, cut_corners=True):
     grid = _as_blocked_grid(blocked)
     start = _as_cell(start, grid.shape, 'start')
     goal = _as_cell(goal, grid.shape, 'goal')
+    max_extra = 0.0
     if cell_cost is not None:
-        extra_flat, max_extra = _as_cell_cost(cell_cost, grid.shape)
+        cell_cost, max_extra = _as_cell_cost(cell_cost, grid.shape)
+    return astar_checked(grid, start, goal, cell_cost, max_extra, cut_corners)
+
+
+def astar_checked(blocked, start, goal, cell_cost, max_cell_cost, cut_corners):
+    """
+    Run `astar` on inputs its caller has already checked, without looking at the whole grid.
+
+    For callers that keep valid inputs as state (the navigator's planning masks): nothing is
+    checked here, so that a call costs about as much as the search.
+
+    Parameters
+    ----------
+    blocked : (rows, cols) ndarray of bool
+        C-contiguous.
+    start, goal : (int, int)
+        Cells inside the grid.
+    cell_cost : (rows, cols) or (rows * cols,) ndarray of float64, or None
+        C-contiguous, finite and non-negative.
+    max_cell_cost : float
+        The largest value of ``cell_cost`` (0 without one); it sets the fixed point of the
+        costs (see `astar`), so it must be the one `astar` would find for the same paths.
+    cut_corners : bool
+        As for `astar`.
+
+    Returns
+    -------
+    path : list of (int, int) or None
+        As from `astar`.
+
+    """
+    grid = blocked
     if start == goal:
         return [start]
     if grid[goal]:
         return None
     rows, cols = grid.shape
     if cell_cost is None:
-        extra_flat, max_extra = np.zeros(1, dtype=np.float64), 0.0  # never read
-    diag_cost, bits = _fixed_point_diagonal_cost(rows, cols, max_extra)
+        extra_flat = np.zeros(1, dtype=np.float64)  # never read
+    else:
+        extra_flat = cell_cost.reshape(-1)
+    diag_cost, bits = _fixed_point_diagonal_cost(rows, cols, max_cell_cost)
     flat_path = _search(np.ascontiguousarray(grid).reshape(-1), rows, cols,
                         start[0] * cols + start[1], goal[0] * cols + goal[1],
                         extra_flat, cell_cost is not None, bool(cut_corners), diag_cost,

@@ -40,7 +40,7 @@ import numpy as np
 from .cell_label import blocked_mask, CellLabel, LABEL_DTYPE, ScanInput
 from .grid_geometry import GridGeometry
 from .jit import kernel
-from .label_grid import check_path
+from .label_grid import ChangeTracker, check_path
 from .scan_polygon import check_pose, check_scan
 
 #: Nav2 Jazzy's ``obstacle_max_range`` and ``raytrace_max_range`` in ``nav2_params.yaml`` [m].
@@ -340,6 +340,27 @@ class CostmapGrid:
         self.known_free = np.zeros(self.layer_geometry.shape, dtype=bool)
         self.labels = np.full(self.geometry.shape, CellLabel.NON_EXPLORED, dtype=LABEL_DTYPE)
         self.last_window = _EMPTY_WINDOW
+        self._trackers = []
+
+    def change_tracker(self):
+        """
+        Return a new ``label_grid.ChangeTracker`` of this map, for the navigator's masks.
+
+        Every update may change any cell here, so every tracker then holds the whole map.
+
+        Returns
+        -------
+        ChangeTracker
+
+        """
+        tracker = ChangeTracker(self.geometry.shape)
+        self._trackers.append(tracker)
+        return tracker
+
+    def labels_changed(self):
+        """Note that ``labels`` changed, anywhere: every tracker holds the whole map."""
+        for tracker in self._trackers:
+            tracker.widen_all()
 
     def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
                safety_radius, path=None, angle_max=None, stamp=None):
@@ -370,6 +391,7 @@ class CostmapGrid:
             For a malformed pose, scan, radius or path; the costmap is then unchanged.
 
         """
+        self.labels_changed()
         pose = check_pose(pose)
         ranges = check_scan(ranges, angle_min, angle_increment, range_min, range_max, angle_max)
         safety_radius = float(safety_radius)
@@ -487,6 +509,7 @@ class CostmapGrid:
         self.known_free.fill(False)
         self.labels.fill(CellLabel.NON_EXPLORED)
         self.last_window = _EMPTY_WINDOW
+        self.labels_changed()
 
 
 def clip_to_map(origin_x, origin_y, points_x, points_y, geometry):

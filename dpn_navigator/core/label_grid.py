@@ -18,35 +18,23 @@ import math
 
 import numpy as np
 
-from .cell_label import blocked_mask, CellLabel, LABEL_DTYPE, ScanInput, TRANSITION
-from .free_evidence import surely_free
+from .cell_label import blocked_mask, CellLabel, LABEL_DTYPE, ScanInput
 from .grid_geometry import GridGeometry
+from .label_kernel import expire_listed, scan_hits, scan_update, squared_bound
 from .motion_tracks import MotionTracks, TrackConfig
-from .moving_objects import moving_object_hits
-from .scan_features import hit_runs, run_cover, scan_input
-from .scan_polygon import check_pose, check_scan, scan_points
-
-# TRANSITION flattened for one-step lookup with index (label << 2) | scan_input.
-_TRANSITION_BY_CODE = np.zeros(4 * len(CellLabel), dtype=LABEL_DTYPE)
-for _label in CellLabel:
-    for _scan_input in ScanInput:
-        _TRANSITION_BY_CODE[(_label << 2) | _scan_input] = TRANSITION[_label, _scan_input]
-_TRANSITION_BY_CODE.setflags(write=False)
+from .scan_features import hit_runs, run_cover
+from .scan_polygon import check_pose, check_scan
 
 _EMPTY_WINDOW = (slice(0, 0), slice(0, 0), np.zeros((0, 0), dtype=LABEL_DTYPE))
 
+# Stand-ins for the state arrays of the parts of a rule that are off: the kernel takes the
+# same types whatever the rule, so it is compiled once.
+_NO_BOOL = np.zeros((1, 1), dtype=bool)
+_NO_TIME = np.zeros((1, 1), dtype=np.float64)
+_NO_PATH = np.zeros((0, 2), dtype=np.int64)
 
-def _runs_touching(runs, cells, hit_count):
-    """
-    Tell for each hit whether one of its runs holds a True cell.
-
-    ``runs`` is ``hit_runs(..., return_hits=True)`` over the window of ``cells`` (bool).
-    """
-    starts, ends, hit_index = runs
-    before = np.concatenate(([0], np.cumsum(cells.ravel())))
-    touching = np.zeros(hit_count, dtype=bool)
-    touching[hit_index[before[ends] > before[starts]]] = True
-    return touching
+#: Entries of the list of mobile cells at first; it doubles when full.
+_INITIAL_MOBILE_LIST = 256
 
 
 def check_path(path, shape):
@@ -134,6 +122,7 @@ class LabelRule:
         the cell: the object has moved on, what it left is a trail. 0 turns it off. Needs
         ``track_confirm_time`` > 0.
 
+
     """
 
     free_evidence_radius: float = 0.0
@@ -162,9 +151,91 @@ class LabelRule:
             raise ValueError('moving_object_size needs free_evidence_radius > 0: motion is '
                              'shown by hits in space surely seen free')
 
+    def kernel_arguments(self):
+        """
+        Return the rule as the label kernel takes it (``label_kernel.scan_update``).
+
+        Returns
+        -------
+        tuple
+            ``(free_on, free_radius, free_bound, objects_on, evidence_radius,
+            evidence_bound, segment_gap, object_size, expiry_on)``, the bounds being
+            ``squared_radius_bound`` of the radius before them.
+
+        """
+        evidence_radius = max(self.free_evidence_radius - self.evidence_margin, 0.0)
+        return (self.free_evidence_radius > 0.0, self.free_evidence_radius,
+                squared_bound(self.free_evidence_radius), self.moving_object_size > 0.0,
+                evidence_radius, squared_bound(evidence_radius), self.segment_gap,
+                self.moving_object_size, self.mobile_expiry > 0.0)
+
 
 #: The paper's rule: f1, f2 and the FSM table, nothing else.
 PAPER_RULE = LabelRule()
+
+
+def warm_up_label_update():
+    """Compile (or load from the cache) the label kernels with one tiny scan, every rule part."""
+    rule = LabelRule(free_evidence_radius=0.5, moving_object_size=0.5, mobile_expiry=1.0,
+                     track_confirm_time=1.0, trail_distance=1.0)
+    grid = LabelGrid(2.0, 2.0, 0.5, rule=rule)
+    grid.labels[0, 0] = CellLabel.MOBILE_OBSTACLE          # to expire at the second scan
+    grid.last_hit[0, 0] = 0.0
+    grid.labels_changed()
+    ranges = np.array([0.75, np.inf, 0.75])
+    for stamp in (0.0, 2.0):
+        grid.update((1.0, 1.5, 0.0), ranges, -0.5, 0.5, 0.1, 1.5, 0.25, path=[[0, 0]],
+                    stamp=stamp)
+
+
+class ChangeTracker:
+    """
+    A box around the cells of a ``LabelGrid`` that changed since its owner last looked.
+
+    Made by ``LabelGrid.change_tracker``; every update widens it by the scan's window and the
+    cells the ghost expiry touched, `LabelGrid.labels_changed` and ``reset`` make it the whole
+    grid. The owner (a planner's masks, a published map) refreshes what it derives from the
+    labels inside `take` and nothing else.
+
+    """
+
+    def __init__(self, shape):
+        self._shape = shape
+        self._box = [0, shape[0], 0, shape[1]]            # all changed: nothing derived yet
+
+    def widen(self, rows, cols):
+        """Add the cells of ``labels[rows, cols]`` (slices, possibly empty)."""
+        if rows.start >= rows.stop or cols.start >= cols.stop:
+            return
+        box = self._box
+        if box[0] >= box[1]:
+            self._box = [rows.start, rows.stop, cols.start, cols.stop]
+            return
+        box[0] = min(box[0], rows.start)
+        box[1] = max(box[1], rows.stop)
+        box[2] = min(box[2], cols.start)
+        box[3] = max(box[3], cols.stop)
+
+    def widen_all(self):
+        """Mark every cell changed."""
+        self._box = [0, self._shape[0], 0, self._shape[1]]
+
+    def take(self):
+        """
+        Return the changed box and start a new one, empty.
+
+        Returns
+        -------
+        rows, cols : slice
+            A box holding every cell changed since the last call (empty slices when none).
+        whole : bool
+            True when the box is the whole grid.
+
+        """
+        row_lo, row_hi, col_lo, col_hi = self._box
+        self._box = [0, 0, 0, 0]
+        whole = (row_lo, row_hi, col_lo, col_hi) == (0, self._shape[0], 0, self._shape[1])
+        return slice(row_lo, max(row_lo, row_hi)), slice(col_lo, max(col_lo, col_hi)), whole
 
 
 class LabelGrid:
@@ -203,6 +274,14 @@ class LabelGrid:
         The latest update's window and its FSM input (``ScanInput``); empty slices when the
         scan missed the grid. Cells outside the window had input ``NONE``.
 
+    Notes
+    -----
+    An update is one compiled kernel over the window the scan reaches
+    (``label_kernel.scan_update``); nothing is done over the whole grid. The ghost expiry
+    keeps a list of the cells it has seen become mobile and visits only those, and only when
+    the earliest hit among them is ``mobile_expiry`` old. Code that writes ``labels`` or
+    ``last_hit`` itself (tests, a forgetting navigator) calls `labels_changed` afterwards.
+
     """
 
     def __init__(self, width, height, resolution=0.5, origin=(0.0, 0.0), rule=PAPER_RULE):
@@ -213,13 +292,43 @@ class LabelGrid:
                           if rule.free_evidence_radius > 0.0 else None)
         self.last_hit = (np.full(self.geometry.shape, -math.inf)
                          if rule.mobile_expiry > 0.0 else None)
+        self._kernel_rule = rule.kernel_arguments()
+        # The ghost expiry's list of mobile cells (flat indices, the first _mobile_count), the
+        # grid of which cells it holds, and a lower bound of their last_hit.
+        self._listed = (np.zeros(self.geometry.shape, dtype=bool)
+                        if rule.mobile_expiry > 0.0 else None)
+        self._mobile_cells = np.empty(_INITIAL_MOBILE_LIST, dtype=np.int64)
+        self._mobile_count = 0
+        self._earliest_hit = math.inf
         self._last_stamp = -math.inf
+        self._trackers = []
         self.last_window = _EMPTY_WINDOW
         self.tracks = MotionTracks(TrackConfig(confirm_within=rule.track_confirm_time))
         self.cell_track = (np.full(self.geometry.shape, -1, dtype=np.int64)
                            if rule.trail_distance > 0.0 else None)
         self._marked = np.zeros(0, dtype=np.int64)   # flat cells that may hold a track
-        self._scan_fan = (0.0, 1.0)         # map-frame bearing of beam 0, beam step [rad]
+        self._followed_hits = None                  # (hits_x, hits_y) of the latest scan
+
+    def change_tracker(self):
+        """
+        Return a new `ChangeTracker` of this grid, at first holding every cell.
+
+        Returns
+        -------
+        ChangeTracker
+
+        """
+        tracker = ChangeTracker(self.geometry.shape)
+        self._trackers.append(tracker)
+        return tracker
+
+    def _widen_trackers(self, rows, cols):
+        for tracker in self._trackers:
+            tracker.widen(rows, cols)
+
+    def _widen_trackers_all(self):
+        for tracker in self._trackers:
+            tracker.widen_all()
 
     def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
                safety_radius, path=None, angle_max=None, stamp=None):
@@ -259,126 +368,58 @@ class LabelGrid:
             radius, a malformed path or a missing stamp; the labels are then unchanged.
 
         """
-        pose = check_pose(pose)
-        ranges = check_scan(ranges, angle_min, angle_increment, range_min, range_max, angle_max)
-        safety_radius = float(safety_radius)
-        if not (math.isfinite(safety_radius) and safety_radius >= 0.0):
-            raise ValueError(f'safety_radius must be finite and >= 0, got {safety_radius!r} m')
-        path = check_path(path, self.geometry.shape)
+        pose, ranges, safety_radius, path, stamp = self._checked_scan(
+            pose, ranges, angle_min, angle_increment, range_min, range_max, safety_radius, path,
+            angle_max, stamp)
         expiring = self.rule.mobile_expiry > 0.0
-        if expiring or self.rule.track_confirm_time > 0.0:
-            if stamp is None or not math.isfinite(stamp):
-                raise ValueError('the label rule (mobile_expiry, track_confirm_time) needs a '
-                                 f'finite scan stamp, got {stamp!r}')
-            self._restart_clocks_if_time_went_back(float(stamp))
-        points = scan_points(pose, ranges, angle_min, angle_increment, range_min, range_max)
-        self._scan_fan = (pose[2] + angle_min, angle_increment)
-        # Every cell within r of a hit (f1), or within the evidence radius of one.
-        reach = max(safety_radius, self.rule.free_evidence_radius)
-        rows, cols = self.geometry.cell_window(
-            float(points.vertices_x.min()) - reach, float(points.vertices_x.max()) + reach,
-            float(points.vertices_y.min()) - reach, float(points.vertices_y.max()) + reach)
-        if rows.start == rows.stop or cols.start == cols.stop:
-            self.last_window = _EMPTY_WINDOW
-            if expiring:
-                self._expire_mobile(float(stamp))
-            return False
-        runs = None
-        if self.rule.moving_object_size > 0.0:
-            # f1's runs, with the hit of each, serve the objects' rule too.
-            runs = hit_runs(self.geometry, rows, cols, self.geometry.window_centres(rows, cols),
-                            points.hits_x, points.hits_y, safety_radius, return_hits=True)
-        cell_input = scan_input(self.geometry, rows, cols, points, safety_radius, runs)
-        self.last_window = (rows, cols, cell_input)
-        window = self.labels[rows, cols]
-        before = window.copy()
-        # np.take is about twice as fast as fancy indexing for this lookup.
-        window[...] = np.take(_TRANSITION_BY_CODE, (before << 2) | cell_input)
-        if self.rule.free_evidence_radius > 0.0:
-            self._apply_free_evidence(rows, cols, points, safety_radius, before, cell_input,
-                                      window, runs, stamp)
         if expiring:
-            self.last_hit[rows, cols][cell_input == ScanInput.HIT] = stamp
-            self._expire_mobile(float(stamp))
-        if self.cell_track is not None:
-            self._expire_trails(float(stamp))
-        if path is None or not path.shape[0]:
-            return False
-        on_window = ((path[:, 0] >= rows.start) & (path[:, 0] < rows.stop)
-                     & (path[:, 1] >= cols.start) & (path[:, 1] < cols.stop))
-        path_rr = path[on_window, 0] - rows.start
-        path_cc = path[on_window, 1] - cols.start
-        new_obstacle = (~blocked_mask(before[path_rr, path_cc])
-                        & blocked_mask(window[path_rr, path_cc]))
-        return bool(new_obstacle.any())
-
-    def _apply_free_evidence(self, rows, cols, points, safety_radius, before, cell_input,
-                             window, runs, stamp=None):
-        """
-        Conservative free space and object-level relabelling over the window, in place.
-
-        ``before`` holds the window's labels before this scan, ``window`` (a view into
-        ``labels``) those after the paper's FSM; ``runs`` are f1's runs with their hits
-        (``hit_runs(..., return_hits=True)``) when the objects' rule is on.
-        """
-        seen_free = self.seen_free[rows, cols]
-        hit = cell_input == ScanInput.HIT
-        window[(before == CellLabel.EXPLORED) & hit & ~seen_free] = CellLabel.STEADY_OBSTACLE
-        if self.rule.moving_object_size > 0.0:
-            near_moving = self._near_moving_objects(rows, cols, points, safety_radius,
-                                                    seen_free, runs, stamp)
-            window[hit] = np.where(near_moving[hit], CellLabel.MOBILE_OBSTACLE,
-                                   CellLabel.STEADY_OBSTACLE)
-        seen_free |= surely_free(self.geometry, rows, cols, points,
-                                 self.rule.free_evidence_radius, cell_input, safety_radius)
-
-    def _near_moving_objects(self, rows, cols, points, safety_radius, seen_free, runs,
-                             stamp):
-        """
-        Find the window cells within the safety radius of a hit on an object seen to move.
-
-        A hit shows motion when a cell within ``free_evidence_radius - evidence_margin`` of it
-        was once surely seen free (``seen_free``, before this scan): never so for a hit on a
-        steady wall, which would then have been inside that scan's polygon.
-        """
-        centres = self.geometry.window_centres(rows, cols)
-        evidence_radius = max(self.rule.free_evidence_radius - self.rule.evidence_margin, 0.0)
-        hit_count = points.hits_x.shape[0]
-        evidence = _runs_touching(runs, seen_free, hit_count)
-        if evidence_radius > safety_radius:
-            evidence = _runs_touching(
-                hit_runs(self.geometry, rows, cols, centres, points.hits_x, points.hits_y,
-                         evidence_radius, return_hits=True), seen_free, hit_count)
-        elif evidence_radius < safety_radius and evidence.any():
-            # Only hits with a surely-free cell within r can have one within the smaller
-            # evidence radius; most hits (walls) have none.
-            candidates = np.flatnonzero(evidence)
-            evidence = np.zeros(hit_count, dtype=bool)
-            evidence[candidates] = _runs_touching(
-                hit_runs(self.geometry, rows, cols, centres, points.hits_x[candidates],
-                         points.hits_y[candidates], evidence_radius, return_hits=True),
-                seen_free, candidates.shape[0])
-        moving = moving_object_hits(points.hits_x, points.hits_y, points.hit_beams, evidence,
-                                    self.rule.segment_gap, self.rule.moving_object_size)
+            self._restart_clocks_if_time_went_back(stamp)
+        followed = None
         if self.rule.track_confirm_time > 0.0:
-            moving |= self.tracks.update(
-                float(stamp), (points.vertices_x[0], points.vertices_y[0]), points.hits_x,
-                points.hits_y, points.hit_beams, points.vertices_x.shape[0] - 2, moving,
-                self.rule.segment_gap, *self._scan_fan,
-                np.hypot(points.vertices_x[1:-1] - points.vertices_x[0],
-                         points.vertices_y[1:-1] - points.vertices_y[0]))
-        starts, ends, hit_index = runs
-        if self.cell_track is not None:
-            self._stamp_tracks(rows, cols, runs)
-        return run_cover(starts[moving[hit_index]], ends[moving[hit_index]], seen_free.shape)
+            followed = self._follow(pose, ranges, angle_min, angle_increment, range_min,
+                                    range_max, stamp)
+        replan, self.last_window, new_mobile = scan_update(
+            self.labels, _NO_BOOL if self.seen_free is None else self.seen_free,
+            _NO_TIME if self.last_hit is None else self.last_hit,
+            _NO_BOOL if self._listed is None else self._listed, self.geometry, pose, ranges,
+            angle_min, angle_increment, range_min, range_max, safety_radius, self._kernel_rule,
+            stamp if expiring else 0.0, _NO_PATH if path is None else path, followed)
+        self._widen_trackers(self.last_window[0], self.last_window[1])
+        if expiring:
+            self._list_mobile(new_mobile, stamp)
+            self._expire_mobile(stamp)
+        if self.cell_track is not None and self.last_window[2].size:
+            self._stamp_tracks(safety_radius)
+            self._expire_trails(stamp)
+        return replan
 
-    def _stamp_tracks(self, rows, cols, runs):
+    def _follow(self, pose, ranges, angle_min, angle_increment, range_min, range_max, stamp):
+        """Follow the moving objects through the scan; return the hits of followed ones."""
+        vertices_x, vertices_y, hits_x, hits_y, hit_beams, moving = scan_hits(
+            _NO_BOOL if self.seen_free is None else self.seen_free, self.geometry, pose, ranges,
+            angle_min, angle_increment, range_min, range_max, self._kernel_rule)
+        self._followed_hits = (hits_x, hits_y)
+        beam_reach = np.hypot(vertices_x[1:-1] - vertices_x[0],
+                              vertices_y[1:-1] - vertices_y[0])
+        return self.tracks.update(
+            stamp, (vertices_x[0], vertices_y[0]), hits_x, hits_y, hit_beams, ranges.shape[0],
+            moving, self.rule.segment_gap, pose[2] + angle_min, angle_increment, beam_reach)
+
+    def _stamp_tracks(self, safety_radius):
         """Note in ``cell_track`` which track's hits are within the safety radius of a cell."""
-        starts, ends, hit_index = runs
-        run_ids = self.tracks.hit_ids[hit_index]
+        rows, cols, cell_input = self.last_window
         window = self.cell_track[rows, cols]
-        window[self.last_window[2] == ScanInput.HIT] = -1    # marks are of the last hit
-        for track in np.unique(run_ids[run_ids >= 0]):
+        window[cell_input == ScanInput.HIT] = -1     # marks are of the last hit
+        ids = self.tracks.hit_ids
+        tracked = ids >= 0
+        if not tracked.any():
+            return
+        hits_x, hits_y = self._followed_hits
+        starts, ends, hit_index = hit_runs(
+            self.geometry, rows, cols, self.geometry.window_centres(rows, cols),
+            hits_x[tracked], hits_y[tracked], safety_radius, return_hits=True)
+        run_ids = ids[tracked][hit_index]
+        for track in np.unique(run_ids):
             own = run_ids == track
             cover = run_cover(starts[own], ends[own], window.shape)
             window[cover] = track
@@ -409,34 +450,97 @@ class LabelGrid:
         rr, cc, which = rr[found], cc[found], which[found]
         rows, cols, cell_input = self.last_window
         out_of_view = np.ones(rr.shape[0], dtype=bool)
-        if cell_input.size:
-            inside = ((rr >= rows.start) & (rr < rows.stop) & (cc >= cols.start)
-                      & (cc < cols.stop))
-            out_of_view[inside] = (cell_input[rr[inside] - rows.start, cc[inside] - cols.start]
-                                   == ScanInput.NONE)
+        inside = ((rr >= rows.start) & (rr < rows.stop) & (cc >= cols.start)
+                  & (cc < cols.stop))
+        out_of_view[inside] = (cell_input[rr[inside] - rows.start, cc[inside] - cols.start]
+                               == ScanInput.NONE)
         centre_x, centre_y = self.geometry.cell_to_world(rr, cc)
         far = (np.hypot(centre_x - seen_xy[which, 0], centre_y - seen_xy[which, 1])
                >= self.rule.trail_distance)
         trail = out_of_view & far
-        self.labels[rr[trail], cc[trail]] = CellLabel.EXPLORED
-        self.cell_track[rr[trail], cc[trail]] = -1
+        if trail.any():
+            self.labels[rr[trail], cc[trail]] = CellLabel.EXPLORED
+            self.cell_track[rr[trail], cc[trail]] = -1
+            # The ghost expiry's list drops cells no longer mobile when it next visits them.
+            self._widen_trackers(slice(int(rr[trail].min()), int(rr[trail].max()) + 1),
+                                 slice(int(cc[trail].min()), int(cc[trail].max()) + 1))
         cleared = np.zeros(found.shape[0], dtype=bool)
         cleared[np.flatnonzero(found)[trail]] = True
         self._marked = marked[kept][~cleared]
 
+    def _checked_scan(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
+                      safety_radius, path, angle_max, stamp):
+        """Validate `update`'s arguments; return pose, ranges, radius, path and stamp."""
+        pose = check_pose(pose)
+        ranges = check_scan(ranges, angle_min, angle_increment, range_min, range_max, angle_max)
+        safety_radius = float(safety_radius)
+        if not (math.isfinite(safety_radius) and safety_radius >= 0.0):
+            raise ValueError(f'safety_radius must be finite and >= 0, got {safety_radius!r} m')
+        path = check_path(path, self.geometry.shape)
+        if self.rule.mobile_expiry > 0.0 or self.rule.track_confirm_time > 0.0:
+            if stamp is None or not math.isfinite(stamp):
+                raise ValueError('the label rule (mobile_expiry, track_confirm_time) needs a '
+                                 f'finite scan stamp, got {stamp!r}')
+            stamp = float(stamp)
+        return pose, ranges, safety_radius, path, stamp
+
+    def _list_mobile(self, cells, stamp):
+        """Append cells just made mobile (their last hit is ``stamp``) to the list."""
+        count = cells.shape[0]
+        if not count:
+            return
+        needed = self._mobile_count + count
+        if needed > self._mobile_cells.shape[0]:
+            grown = np.empty(max(needed, 2 * self._mobile_cells.shape[0]), dtype=np.int64)
+            grown[:self._mobile_count] = self._mobile_cells[:self._mobile_count]
+            self._mobile_cells = grown
+        self._mobile_cells[self._mobile_count:needed] = cells
+        self._mobile_count = needed
+        self._earliest_hit = min(self._earliest_hit, stamp)
+
     def _restart_clocks_if_time_went_back(self, stamp):
         """After a jump back in time (a restarted simulation), no hit is newer than now."""
-        if stamp < self._last_stamp and self.last_hit is not None:
+        if stamp < self._last_stamp:
             np.minimum(self.last_hit, stamp, out=self.last_hit)
+            self._earliest_hit = min(self._earliest_hit, stamp)
         self._last_stamp = stamp
 
     def _expire_mobile(self, stamp):
-        """Set mobile cells out of view and unconfirmed for ``mobile_expiry`` to explored."""
-        rows, cols, cell_input = self.last_window
-        stale = ((self.labels == CellLabel.MOBILE_OBSTACLE)
-                 & (stamp - self.last_hit >= self.rule.mobile_expiry))
-        stale[rows, cols] &= cell_input == ScanInput.NONE
-        self.labels[stale] = CellLabel.EXPLORED
+        """
+        Set mobile cells out of view and unconfirmed for ``mobile_expiry`` to explored.
+
+        Only the listed cells are visited, and only when the earliest last hit among them is
+        old enough: ``stamp - last_hit`` is monotone in ``last_hit``, so no cell is stale
+        while ``stamp - earliest < mobile_expiry``.
+        """
+        if not self._mobile_count or stamp - self._earliest_hit < self.rule.mobile_expiry:
+            return
+        self._mobile_count, self._earliest_hit, (rows, cols) = expire_listed(
+            self.labels, self.last_hit, self._listed, self._mobile_cells, self._mobile_count,
+            stamp, self.rule.mobile_expiry, self.last_window)
+        self._widen_trackers(rows, cols)
+
+    def labels_changed(self):
+        """
+        Relist the mobile cells after ``labels`` or ``last_hit`` were written from outside.
+
+        Updates keep the ghost expiry's list of mobile cells themselves; a caller that sets
+        cells mobile by hand, or changes ``last_hit``, calls this (a whole-grid pass) so that
+        the expiry sees them, and so that every `ChangeTracker` holds the whole grid.
+
+        """
+        self._widen_trackers_all()
+        if self._listed is None:
+            return
+        mobile = self.labels == CellLabel.MOBILE_OBSTACLE
+        self._listed[...] = mobile
+        cells = np.flatnonzero(mobile)
+        self._mobile_cells = np.empty(max(_INITIAL_MOBILE_LIST, 2 * cells.shape[0]),
+                                      dtype=np.int64)
+        self._mobile_count = cells.shape[0]
+        self._mobile_cells[:self._mobile_count] = cells
+        self._earliest_hit = (float(self.last_hit.ravel()[cells].min()) if cells.shape[0]
+                              else math.inf)
 
     def blocked(self):
         """
@@ -456,8 +560,12 @@ class LabelGrid:
             self.seen_free.fill(False)
         if self.last_hit is not None:
             self.last_hit.fill(-math.inf)
+            self._listed.fill(False)
+        self._mobile_count = 0
+        self._earliest_hit = math.inf
         self._last_stamp = -math.inf
         self.last_window = _EMPTY_WINDOW
+        self._widen_trackers_all()
         self.tracks.reset()
         if self.cell_track is not None:
             self.cell_track.fill(-1)

@@ -14,37 +14,12 @@ import math
 
 import numpy as np
 
-from .astar_search import astar
 from .cell_label import blocked_mask, CellLabel
 from .label_grid import LabelGrid, LabelRule
 from .path_follower import follow_path, FollowerConfig, STOP, VelocityCommand
+from .planning_masks import PlanningMasks, touches_blocked  # noqa: F401 (re-exported)
 from .pose2d import compose
 from .scan_polygon import check_pose
-
-
-def touches_blocked(blocked):
-    """
-    Mark the free cells that have a blocked cell among their 8 neighbours.
-
-    Parameters
-    ----------
-    blocked : (H, W) ndarray of bool
-        Cells A* may not enter.
-
-    Returns
-    -------
-    touching : (H, W) ndarray of bool
-        False on blocked cells themselves.
-
-    """
-    padded = np.pad(blocked, 1)
-    rows, cols = blocked.shape
-    near = np.zeros_like(blocked)
-    for dr in (0, 1, 2):
-        for dc in (0, 1, 2):
-            if dr != 1 or dc != 1:
-                near |= padded[dr:dr + rows, dc:dc + cols]
-    return near & ~blocked
 
 
 #: Forgetting unseen obstacles keeps those within this many safety radii of the robot.
@@ -236,6 +211,7 @@ class Navigator:
         self.config = config
         self.grid = grid if grid is not None else LabelGrid(
             config.width, config.height, config.resolution, config.origin, config.label_rule())
+        self._masks = PlanningMasks(self.grid, config.obstacle_proximity_cost)
         self.path = None
         self.goal = None
         self.status = NavigatorStatus.IDLE
@@ -428,16 +404,12 @@ class Navigator:
         self.replans += 1
         if not geometry.contains_cell(*start):
             return self._no_path('the robot is outside the map')
-        blocked = self.grid.blocked()
-        if blocked[goal]:
+        self._masks.refresh()
+        if self._masks.blocked[goal]:
             return self._no_path('the goal cell is an obstacle')
-        self._clear_footprint(blocked, pose)
-        cell_cost = None
-        if self.config.obstacle_proximity_cost > 0.0:
-            cell_cost = self.config.obstacle_proximity_cost * touches_blocked(blocked)
         # No diagonal past a blocked cell: r equals the Husky's circumscribed radius, so the
         # half-cell a cut corner saves would bring the robot's corners to the wall.
-        cells = astar(blocked, start, goal, cell_cost=cell_cost, cut_corners=False)
+        cells = self._masks.plan(start, goal, self._footprint(pose), cut_corners=False)
         if cells is None:
             return self._no_path('no path to the goal on the current map')
         self.path = np.array(cells, dtype=np.int64)
@@ -476,6 +448,7 @@ class Navigator:
         else:
             labels[blocked_mask(labels)] = CellLabel.NON_EXPLORED
         labels[rows, cols] = np.where(near, kept, labels[rows, cols])
+        self.grid.labels_changed()
         laser_pose, ranges, angle_min, angle_increment, range_min, range_max, angle_max, \
             stamp = self._last_scan
         self.grid.update(laser_pose, ranges, angle_min, angle_increment, range_min, range_max,
@@ -490,16 +463,15 @@ class Navigator:
         self.reason = reason
         return True
 
-    def _clear_footprint(self, blocked, pose):
+    def _footprint(self, pose):
+        """Return the window around the robot and its cells within ``footprint_radius``."""
         geometry = self.grid.geometry
         radius = self.config.footprint_radius
         rows, cols = geometry.cell_window(pose[0] - radius, pose[0] + radius,
                                           pose[1] - radius, pose[1] + radius)
         x_centres, y_centres = geometry.window_centres(rows, cols)
         near = np.hypot(x_centres[None, :] - pose[0], y_centres[:, None] - pose[1]) <= radius
-        start_rr, start_cc = geometry.world_to_cell(pose[0], pose[1])
-        blocked[rows, cols] &= ~near
-        blocked[start_rr, start_cc] = False            # the robot's own cell, always
+        return rows, cols, near
 
     @property
     def path_xy(self):

@@ -1,0 +1,716 @@
+"""
+The compiled label update: one scan folded into a window of the grid, in place.
+
+`scan_update` does, for the window the scan can reach, everything ``LabelGrid.update`` does
+per cell: f2 by even-odd crossings along each row, f1 as the cells within the safety radius of
+each hit, the FSM, and the dpn ``LabelRule`` (conservative free space, object-level
+relabelling, the hit clock of the ghost expiry). `expire_listed` is the ghost expiry itself,
+visiting only the cells listed as mobile, not the whole grid.
+
+Every test is the floating-point expression of the literal twin in the tests
+(``test/literal_reference.py``), evaluated in the same order, so the result equals it cell for
+cell:
+
+- f1 and every disc: ``dx * dx + dy * dy <= bound`` with ``bound`` from
+  ``scan_features.squared_radius_bound`` (the same answers as ``sqrt(...) <= r``);
+- f2: edge ``(a, b)`` crosses the ray from centre ``(x, y)`` along +x when
+  ``(y_a > y) != (y_b > y)`` and ``x < x_a + (x_b - x_a) * (y - y_a) / (y_b - y_a)``;
+- an edge band as in ``free_evidence``: ``0 <= dot <= length2`` and
+  ``abs(cross) / sqrt(length2) <= radius``.
+
+The work grows with the beams and the window's cells, never with the grid.
+
+"""
+
+import functools
+import math
+
+import numpy as np
+
+from .cell_label import CellLabel, ScanInput, TRANSITION
+from .jit import kernel
+from .scan_features import squared_radius_bound
+
+# TRANSITION flattened for one lookup with index (label << 2) | scan_input.
+_TRANSITION_BY_CODE = np.zeros(4 * len(CellLabel), dtype=np.uint8)
+for _label in CellLabel:
+    for _scan_input in ScanInput:
+        _TRANSITION_BY_CODE[(_label << 2) | _scan_input] = TRANSITION[_label, _scan_input]
+
+_NON_EXPLORED = int(CellLabel.NON_EXPLORED)
+_EXPLORED = int(CellLabel.EXPLORED)
+_STEADY = int(CellLabel.STEADY_OBSTACLE)
+_MOBILE = int(CellLabel.MOBILE_OBSTACLE)
+_NONE = int(ScanInput.NONE)
+_INSIDE = int(ScanInput.INSIDE)
+_HIT = int(ScanInput.HIT)
+#: `scan_update` without extra moving hits.
+_NO_HITS = np.zeros(0, dtype=bool)
+
+
+@functools.lru_cache(maxsize=64)
+def squared_bound(radius):
+    """Return ``squared_radius_bound(radius)``, remembered: a grid's radii never change."""
+    return squared_radius_bound(radius)
+
+
+#: Slack of the rows searched around a disc or an edge band [m]: far above the rounding of
+#: ``dy`` for coordinates up to ``MAX_POSE_COORDINATE`` plus a laser's range.
+_BOX_SLACK = 1e-6
+
+
+@kernel
+def _count_below(first, count, origin, resolution, value):
+    """
+    Count the centres ``origin + (first + k + 0.5) * resolution``, k < count, below ``value``.
+
+    numpy's ``searchsorted(centres, value, 'left')``: an estimate from the division, settled
+    with the exact comparisons.
+    """
+    estimate = np.floor((value - origin) / resolution - 0.5) + 1.0 - first
+    k = int(min(max(estimate, 0.0), float(count)))
+    while k > 0 and origin + (float(first + k - 1) + 0.5) * resolution >= value:
+        k -= 1
+    while k < count and origin + (float(first + k) + 0.5) * resolution < value:
+        k += 1
+    return k
+
+
+@kernel
+def _box_first(first, count, origin, resolution, value):
+    """
+    Return a first index in ``[0, count]`` whose centre may lie at or above ``value``.
+
+    The centres are ``origin + (first + k + 0.5) * resolution``; the index has a cell to
+    spare for rounding.
+    """
+    estimate = np.floor((value - origin) / resolution - 0.5) - first
+    return int(min(max(estimate, 0.0), float(count)))
+
+
+@kernel
+def _box_end(first, count, origin, resolution, value):
+    """One past the last index in ``[0, count]`` whose centre may lie at or below ``value``."""
+    estimate = np.floor((value - origin) / resolution - 0.5) + 2.0 - first
+    return int(min(max(estimate, 0.0), float(count)))
+
+
+@kernel
+def _disc_span(first_col, end_col, col0, x0, resolution, px, dy2, bound):
+    """
+    Shrink ``[first_col, end_col)`` to the columns whose centre passes ``dx*dx + dy2 <= bound``.
+
+    Those columns are contiguous (every step of the expression is monotone in ``|dx|``), and
+    the given range must hold them all; returns the half-open ``(first, end)``, maybe empty.
+    """
+    while first_col < end_col:
+        dx = (x0 + (float(col0 + first_col) + 0.5) * resolution) - px
+        if dx * dx + dy2 <= bound:
+            break
+        first_col += 1
+    while end_col > first_col:
+        dx = (x0 + (float(col0 + end_col - 1) + 0.5) * resolution) - px
+        if dx * dx + dy2 <= bound:
+            break
+        end_col -= 1
+    return first_col, end_col
+
+
+@kernel
+def _disc_rows(py, radius, row0, n_rows, y0, resolution):
+    """Window rows ``[first, end)`` whose centres may lie within ``radius`` of ``py``."""
+    reach = radius + _BOX_SLACK * (1.0 + 1e-6 * abs(py))
+    return (_count_below(row0, n_rows, y0, resolution, py - reach),
+            _count_below(row0, n_rows, y0, resolution, py + reach))
+
+
+@kernel
+def _mark_discs(mark, value, xs, ys, count, selected, row0, col0, x0, y0, resolution, radius,
+                bound, extent):
+    """
+    Set ``mark`` to ``value`` on the window cells within ``radius`` of the selected points.
+
+    ``mark`` is the window's ``(n_rows, n_cols)`` array, its cell ``(0, 0)`` the grid's
+    ``(row0, col0)``; the first ``count`` points count where ``selected`` is True (all when
+    it is empty). Each disc is marked as one run of cells per row. When ``extent`` has rows,
+    ``extent[i]`` is widened to hold the columns marked in row ``i``.
+    """
+    n_rows, n_cols = mark.shape
+    for k in range(count):
+        if selected.shape[0] and not selected[k]:
+            continue
+        px = xs[k]
+        py = ys[k]
+        first_row, end_row = _disc_rows(py, radius, row0, n_rows, y0, resolution)
+        for i in range(first_row, end_row):
+            dy = (y0 + (float(row0 + i) + 0.5) * resolution) - py
+            dy2 = dy * dy
+            if dy2 > bound:
+                continue
+            half = math.sqrt(bound - dy2)
+            first, end = _disc_span(_box_first(col0, n_cols, x0, resolution, px - half),
+                                    _box_end(col0, n_cols, x0, resolution, px + half),
+                                    col0, x0, resolution, px, dy2, bound)
+            if first >= end:
+                continue
+            mark[i, first:end] = value
+            if extent.shape[0]:
+                extent[i, 0] = min(extent[i, 0], first)
+                extent[i, 1] = max(extent[i, 1], end)
+
+
+@kernel
+def _fill_inside(cell_input, row0, col0, x0, y0, resolution, vertices_x, vertices_y, extent):
+    """
+    Set ``cell_input`` (all 0) to 1 (f2) on window centres inside the polygon.
+
+    Each edge toggles the parity of the centres left of where it crosses a row; sorted, a
+    row's crossings bound its runs of inside centres, which are filled whole. ``extent[i]``
+    becomes the columns ``[first, end)`` filled in row ``i``.
+    """
+    n_rows, n_cols = cell_input.shape
+    edges = vertices_x.shape[0] - 1
+    # Rows with min(ya, yb) <= y < max(ya, yb): exactly (ya > y) != (yb > y).
+    first_rows = np.empty(edges, dtype=np.int64)
+    end_rows = np.empty(edges, dtype=np.int64)
+    starts = np.zeros(n_rows + 1, dtype=np.int64)
+    for a in range(edges):
+        ya = vertices_y[a]
+        yb = vertices_y[a + 1]
+        first_rows[a] = _count_below(row0, n_rows, y0, resolution, min(ya, yb))
+        end_rows[a] = _count_below(row0, n_rows, y0, resolution, max(ya, yb))
+        for i in range(first_rows[a], end_rows[a]):
+            starts[i + 1] += 1
+    for i in range(n_rows):
+        starts[i + 1] += starts[i]
+    filled = starts[:n_rows].copy()
+    crossings = np.empty(starts[n_rows], dtype=np.int64)
+    for a in range(edges):
+        xa = vertices_x[a]
+        ya = vertices_y[a]
+        xb = vertices_x[a + 1]
+        yb = vertices_y[a + 1]
+        for i in range(first_rows[a], end_rows[a]):
+            y = y0 + (float(row0 + i) + 0.5) * resolution
+            x_cross = xa + (xb - xa) * (y - ya) / (yb - ya)
+            # The centres left of the crossing (x < x_cross) see it on their ray.
+            crossings[filled[i]] = _count_below(col0, n_cols, x0, resolution, x_cross)
+            filled[i] += 1
+    for i in range(n_rows):
+        row_crossings = crossings[starts[i]:starts[i + 1]]
+        for k in range(1, row_crossings.shape[0]):          # insertion sort: rows hold few
+            value = row_crossings[k]
+            m = k - 1
+            while m >= 0 and row_crossings[m] > value:
+                row_crossings[m + 1] = row_crossings[m]
+                m -= 1
+            row_crossings[m + 1] = value
+        # An even number per row: inside between the 1st and 2nd, the 3rd and 4th, ...
+        for k in range(0, row_crossings.shape[0] - 1, 2):
+            first = row_crossings[k]
+            end = row_crossings[k + 1]
+            if first < end:
+                cell_input[i, first:end] = _INSIDE
+                extent[i, 0] = min(extent[i, 0], first)
+                extent[i, 1] = max(extent[i, 1], end)
+
+
+@kernel
+def _mark_edge_bands(mark, row0, col0, x0, y0, resolution, vertices_x, vertices_y, radius):
+    """Set ``mark`` on the window's cells within ``radius`` of some polygon edge."""
+    n_rows, n_cols = mark.shape
+    for a in range(vertices_x.shape[0] - 1):
+        xa = vertices_x[a]
+        ya = vertices_y[a]
+        reach = radius + _BOX_SLACK * (1.0 + 1e-6 * abs(ya))
+        ex = vertices_x[a + 1] - xa
+        ey = vertices_y[a + 1] - ya
+        length2 = ex * ex + ey * ey
+        if not length2 > 0.0:
+            continue
+        length = math.sqrt(length2)
+        # Rows with centres in [y_low - reach, y_high + reach] (the + 1: one equal to it).
+        first_row = _count_below(row0, n_rows, y0, resolution, min(ya, ya + ey) - reach)
+        end_row = min(_count_below(row0, n_rows, y0, resolution, max(ya, ya + ey) + reach) + 1,
+                      n_rows)
+        # An edge shorter than a cell is searched over one box of columns; a longer one, row
+        # by row over the columns near the part of it within reach of the row.
+        short = length < resolution
+        edge_first_col = _box_first(col0, n_cols, x0, resolution, min(xa, xa + ex) - reach)
+        edge_end_col = _box_end(col0, n_cols, x0, resolution, max(xa, xa + ex) + reach)
+        for i in range(first_row, end_row):
+            cy = y0 + (float(row0 + i) + 0.5) * resolution
+            first_col = edge_first_col
+            end_col = edge_end_col
+            if not short and ey != 0.0:
+                # The part of the edge within reach of the row in y: a + t e, t_lo <= t <= t_hi.
+                t_1 = (cy - reach - ya) / ey
+                t_2 = (cy + reach - ya) / ey
+                t_lo = min(max(min(t_1, t_2), 0.0), 1.0)
+                t_hi = min(max(max(t_1, t_2), 0.0), 1.0)
+                x_1 = xa + t_lo * ex
+                x_2 = xa + t_hi * ex
+                first_col = _box_first(col0, n_cols, x0, resolution, min(x_1, x_2) - reach)
+                end_col = _box_end(col0, n_cols, x0, resolution, max(x_1, x_2) + reach)
+            # The band's cells in a row are contiguous (dot and cross are monotone along the
+            # row): shrink the candidates to them from both ends, then mark them all.
+            while first_col < end_col and not _in_band(
+                    x0 + (float(col0 + first_col) + 0.5) * resolution, cy, xa, ya, ex, ey,
+                    length2, length, radius):
+                first_col += 1
+            while end_col > first_col and not _in_band(
+                    x0 + (float(col0 + end_col - 1) + 0.5) * resolution, cy, xa, ya, ex, ey,
+                    length2, length, radius):
+                end_col -= 1
+            mark[i, first_col:end_col] = True
+
+
+@kernel
+def _in_band(cx, cy, xa, ya, ex, ey, length2, length, radius):
+    """Tell whether ``(cx, cy)`` projects onto edge ``a + t e`` within ``radius`` of it."""
+    dot = (cx - xa) * ex + (cy - ya) * ey
+    cross = (cx - xa) * ey - (cy - ya) * ex
+    return 0.0 <= dot <= length2 and abs(cross) / length <= radius
+
+
+@kernel
+def _moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_size):
+    """``moving_objects.moving_object_hits`` as a loop, with the same arithmetic."""
+    count = hits_x.shape[0]
+    moving = np.zeros(count, dtype=np.bool_)
+    segment = np.zeros(count, dtype=np.int64)
+    arc = np.zeros(count, dtype=np.float64)
+    for k in range(1, count):
+        dx = hits_x[k] - hits_x[k - 1]
+        dy = hits_y[k] - hits_y[k - 1]
+        step = math.sqrt(dx * dx + dy * dy)
+        cut = step > segment_gap or hit_beams[k] - hit_beams[k - 1] != 1
+        segment[k] = segment[k - 1] + (1 if cut else 0)
+        arc[k] = arc[k - 1] + step
+    # The nearest hit with evidence at or before each hit, then at or after it.
+    last = -1
+    for k in range(count):
+        if evidence[k]:
+            last = k
+        if last >= 0 and segment[last] == segment[k] and arc[k] - arc[last] <= object_size:
+            moving[k] = True
+    last = -1
+    for k in range(count - 1, -1, -1):
+        if evidence[k]:
+            last = k
+        if last >= 0 and segment[last] == segment[k] and arc[last] - arc[k] <= object_size:
+            moving[k] = True
+    return moving
+
+
+@kernel
+def _hit_evidence(seen_free, hits_x, hits_y, x0, y0, resolution, radius, bound):
+    """Tell for each hit whether a cell once surely seen free lies within ``radius``."""
+    rows, cols = seen_free.shape
+    count = hits_x.shape[0]
+    evidence = np.zeros(count, dtype=np.bool_)
+    for k in range(count):
+        px = hits_x[k]
+        py = hits_y[k]
+        first_row, end_row = _disc_rows(py, radius, 0, rows, y0, resolution)
+        for i in range(first_row, end_row):
+            dy = (y0 + (float(i) + 0.5) * resolution) - py
+            dy2 = dy * dy
+            if dy2 > bound:
+                continue
+            half = math.sqrt(bound - dy2)
+            first, end = _disc_span(_box_first(0, cols, x0, resolution, px - half),
+                                    _box_end(0, cols, x0, resolution, px + half),
+                                    0, x0, resolution, px, dy2, bound)
+            for j in range(first, end):
+                if seen_free[i, j]:
+                    evidence[k] = True
+                    break
+            if evidence[k]:
+                break
+    return evidence
+
+
+@kernel
+def _scan_points(ranges, x, y, yaw, angle_min, angle_increment, range_min, range_max):
+    """
+    ``scan_polygon.scan_points`` as a loop: the closed polygon and the hits of a scan.
+
+    Beam ``i`` points along ``yaw + (angle_min + i * angle_increment)``; ``math.cos`` and
+    ``math.sin`` are the C library's, as in the literal twin.
+    """
+    beams = ranges.shape[0]
+    vertices_x = np.empty(beams + 2)
+    vertices_y = np.empty(beams + 2)
+    vertices_x[0] = vertices_x[beams + 1] = x
+    vertices_y[0] = vertices_y[beams + 1] = y
+    hit_beams = np.empty(beams, dtype=np.int64)
+    hit_count = 0
+    for i in range(beams):
+        reading = ranges[i]
+        theta = yaw + (angle_min + float(i) * angle_increment)
+        if reading >= range_min and reading < range_max:     # False for NaN
+            reach = reading
+            hit_beams[hit_count] = i
+            hit_count += 1
+        elif reading >= range_max:                           # True for +inf
+            reach = range_max
+        else:
+            reach = 0.0
+        vertices_x[i + 1] = x + reach * math.cos(theta)
+        vertices_y[i + 1] = y + reach * math.sin(theta)
+    hit_beams = hit_beams[:hit_count].copy()
+    hits_x = np.empty(hit_count)
+    hits_y = np.empty(hit_count)
+    for k in range(hit_count):
+        hits_x[k] = vertices_x[hit_beams[k] + 1]
+        hits_y[k] = vertices_y[hit_beams[k] + 1]
+    return vertices_x, vertices_y, hits_x, hits_y, hit_beams
+
+
+@kernel
+def _window_bound(low, origin, resolution, margin, count):
+    """``GridGeometry.cell_window``'s bound of one axis (``margin`` negative for the low end)."""
+    index = np.floor((low - origin) / resolution) + margin
+    return int(min(max(index, 0.0), float(count)))
+
+
+@kernel
+def _update_window(labels, seen_free, last_hit, listed, row0, col0, cell_input, x0, y0,
+                   resolution, vertices_x, vertices_y, hits_x, hits_y, hit_beams,
+                   safety_radius, safety_bound, free_on, free_radius, free_bound, objects_on,
+                   evidence_radius, evidence_bound, segment_gap, object_size, expiry_on,
+                   stamp, path, new_mobile, extra_moving):
+    """
+    Fold one scan into the window ``labels[row0:row0 + n_rows, col0:col0 + n_cols]``.
+
+    Parameters
+    ----------
+    labels : (rows, cols) ndarray of uint8
+        The grid's labels, updated in place.
+    seen_free : (rows, cols) ndarray of bool
+        Cells once surely seen free, updated in place; read only with ``free_on``.
+    last_hit : (rows, cols) ndarray of float64
+        Stamp of each cell's last hit, updated in place; only with ``expiry_on``.
+    listed : (rows, cols) ndarray of bool
+        Cells in the grid's list of mobile cells; set here for the cells this scan makes
+        mobile (with ``expiry_on``), which are also written to ``new_mobile``.
+    row0, col0 : int
+        The window's first row and column.
+    cell_input : (n_rows, n_cols) ndarray of uint8
+        Filled with the window's FSM input (``ScanInput``).
+    x0, y0, resolution : float
+        The grid's origin and cell side [m].
+    vertices_x, vertices_y : (L + 2,) ndarray of float64
+        The closed scan polygon [m].
+    hits_x, hits_y : (K,) ndarray of float64
+        Hit points [m].
+    hit_beams : (K,) ndarray of int64
+        Their beams.
+    safety_radius, safety_bound : float
+        f1's ``r`` [m] and its ``squared_radius_bound``.
+    free_on, objects_on, expiry_on : bool
+        Which parts of the ``LabelRule`` are on.
+    free_radius, free_bound, evidence_radius, evidence_bound : float
+        The free-evidence and motion-evidence radii [m] and their squared bounds.
+    segment_gap, object_size : float
+        As in ``LabelRule`` [m].
+    stamp : float
+        The scan's time [s]; read with ``expiry_on``.
+    path : (N, 2) ndarray of int64
+        The planned path's cells (may be empty).
+    new_mobile : (n_rows * n_cols,) ndarray of int64
+        Receives the flat grid indices of the cells newly listed.
+    extra_moving : (K,) ndarray of bool
+        Hits to count as moving besides those the object rule finds (empty: none).
+
+    Returns
+    -------
+    replan : bool
+        A path cell went from free to an obstacle.
+    new_count : int
+        How many entries of ``new_mobile`` were written.
+
+    """
+    n_rows, n_cols = cell_input.shape
+    grid_cols = labels.shape[1]
+    # extent[i]: the columns [first, end) of row i that the scan touches (f1 or f2).
+    extent = np.empty((n_rows, 2), dtype=np.int64)
+    extent[:, 0] = n_cols
+    extent[:, 1] = 0
+    cell_input[...] = _NONE
+    _fill_inside(cell_input, row0, col0, x0, y0, resolution, vertices_x, vertices_y, extent)
+    no_selection = np.zeros(0, dtype=np.bool_)
+    no_extent = np.zeros((0, 2), dtype=np.int64)
+    _mark_discs(cell_input, _HIT, hits_x, hits_y, hits_x.shape[0], no_selection, row0, col0,
+                x0, y0, resolution, safety_radius, safety_bound, extent)
+    near_moving = np.zeros((0, 0), dtype=np.bool_)      # read only with objects_on
+    if objects_on:
+        evidence = _hit_evidence(seen_free, hits_x, hits_y, x0, y0, resolution,
+                                 evidence_radius, evidence_bound)
+        moving = _moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_size)
+        if extra_moving.shape[0] == moving.shape[0]:
+            for k in range(moving.shape[0]):
+                if extra_moving[k]:
+                    moving[k] = True
+        near_moving = np.zeros((n_rows, n_cols), dtype=np.bool_)
+        _mark_discs(near_moving, True, hits_x, hits_y, hits_x.shape[0], moving, row0, col0,
+                    x0, y0, resolution, safety_radius, safety_bound, no_extent)
+    not_free = np.zeros((0, 0), dtype=np.bool_)         # read only with free_on
+    if free_on:
+        not_free = np.zeros((n_rows, n_cols), dtype=np.bool_)
+        # Every vertex but the closing repeat of the first. Within the safety radius a hit's
+        # disc holds only HIT cells, so only the vertices that are not hits need theirs then.
+        not_hit = no_selection
+        if free_radius <= safety_radius:
+            not_hit = np.ones(vertices_x.shape[0], dtype=np.bool_)
+            for k in range(hit_beams.shape[0]):
+                not_hit[hit_beams[k] + 1] = False
+        _mark_discs(not_free, True, vertices_x, vertices_y, vertices_x.shape[0] - 1, not_hit,
+                    row0, col0, x0, y0, resolution, free_radius, free_bound, no_extent)
+        _mark_edge_bands(not_free, row0, col0, x0, y0, resolution, vertices_x, vertices_y,
+                         free_radius)
+    # The path's labels before the update, for the replan flag.
+    path_before = np.empty(path.shape[0], dtype=np.uint8)
+    for k in range(path.shape[0]):
+        path_before[k] = labels[path[k, 0], path[k, 1]]
+    new_count = 0
+    if not (free_on or expiry_on):
+        # The paper's rule: the FSM table alone, branch-free along each row's touched run.
+        for i in range(n_rows):
+            window = labels[row0 + i, col0 + extent[i, 0]:col0 + extent[i, 1]]
+            inputs = cell_input[i, extent[i, 0]:extent[i, 1]]
+            for j in range(window.shape[0]):
+                window[j] = _TRANSITION_BY_CODE[(window[j] << 2) | inputs[j]]
+    for i in range(n_rows if free_on or expiry_on else 0):
+        for j in range(extent[i, 0], extent[i, 1]):
+            scan = cell_input[i, j]
+            if scan == _NONE:
+                continue
+            row = row0 + i
+            col = col0 + j
+            old = labels[row, col]
+            if scan == _INSIDE:
+                new = _EXPLORED
+                if free_on and not not_free[i, j]:
+                    seen_free[row, col] = True
+            else:
+                if old == _NON_EXPLORED:
+                    new = _STEADY
+                elif old == _EXPLORED:
+                    new = _MOBILE
+                else:
+                    new = old
+                if objects_on:
+                    new = _MOBILE if near_moving[i, j] else _STEADY
+                elif free_on and old == _EXPLORED and not seen_free[row, col]:
+                    new = _STEADY
+                if expiry_on:
+                    last_hit[row, col] = stamp
+                    if new == _MOBILE and not listed[row, col]:
+                        listed[row, col] = True
+                        new_mobile[new_count] = row * grid_cols + col
+                        new_count += 1
+            labels[row, col] = new
+    replan = False
+    for k in range(path.shape[0]):
+        before = path_before[k]
+        if before == _NON_EXPLORED or before == _EXPLORED:
+            if labels[path[k, 0], path[k, 1]] >= _STEADY:
+                replan = True
+    return replan, new_count
+
+
+@kernel
+def _expire_listed(labels, last_hit, listed, cells, count, stamp, mobile_expiry, row0, col0,
+                   cell_input):
+    """
+    Expire the listed mobile cells that are stale and out of view; drop non-mobile ones.
+
+    Returns the count of cells kept (compacted to the front of ``cells``), the earliest
+    ``last_hit`` among them (``inf`` when none), and the half-open box ``(row_lo, row_hi,
+    col_lo, col_hi)`` of the cells expired (empty when none).
+    """
+    grid_rows, grid_cols = labels.shape
+    n_rows, n_cols = cell_input.shape
+    kept = 0
+    earliest = math.inf
+    row_lo = grid_rows
+    row_hi = 0
+    col_lo = grid_cols
+    col_hi = 0
+    for k in range(count):
+        flat = cells[k]
+        row = flat // grid_cols
+        col = flat - row * grid_cols
+        if labels[row, col] != _MOBILE:
+            listed[row, col] = False
+            continue
+        i = row - row0
+        j = col - col0
+        in_view = 0 <= i < n_rows and 0 <= j < n_cols and cell_input[i, j] != _NONE
+        if not in_view and stamp - last_hit[row, col] >= mobile_expiry:
+            labels[row, col] = _EXPLORED
+            listed[row, col] = False
+            row_lo = min(row_lo, row)
+            row_hi = max(row_hi, row + 1)
+            col_lo = min(col_lo, col)
+            col_hi = max(col_hi, col + 1)
+            continue
+        cells[kept] = flat
+        kept += 1
+        earliest = min(earliest, last_hit[row, col])
+    return kept, earliest, row_lo, row_hi, col_lo, col_hi
+
+
+@kernel
+def _scan_update(labels, seen_free, last_hit, listed, ranges, x, y, yaw, angle_min,
+                 angle_increment, range_min, range_max, x0, y0, resolution, reach,
+                 safety_radius, safety_bound, free_on, free_radius, free_bound, objects_on,
+                 evidence_radius, evidence_bound, segment_gap, object_size, expiry_on, stamp,
+                 path, extra_moving):
+    """
+    Find the scan's points and window, then run `_update_window` over it.
+
+    Returns ``(replan, row0, row_end, col0, col_end, cell_input, new_mobile)``; an empty
+    window (the scan misses the grid) changes nothing.
+    """
+    vertices_x, vertices_y, hits_x, hits_y, hit_beams = _scan_points(
+        ranges, x, y, yaw, angle_min, angle_increment, range_min, range_max)
+    rows, cols = labels.shape
+    # GridGeometry.cell_window of the polygon's box widened by reach, margin 1.
+    row0 = _window_bound(vertices_y.min() - reach, y0, resolution, -1.0, rows)
+    row_end = max(row0, _window_bound(vertices_y.max() + reach, y0, resolution, 2.0, rows))
+    col0 = _window_bound(vertices_x.min() - reach, x0, resolution, -1.0, cols)
+    col_end = max(col0, _window_bound(vertices_x.max() + reach, x0, resolution, 2.0, cols))
+    n_rows = row_end - row0
+    n_cols = col_end - col0
+    if n_rows == 0 or n_cols == 0:
+        return (False, 0, 0, 0, 0, np.zeros((0, 0), dtype=np.uint8),
+                np.zeros(0, dtype=np.int64))
+    cell_input = np.empty((n_rows, n_cols), dtype=np.uint8)
+    new_mobile = np.empty(n_rows * n_cols if expiry_on else 0, dtype=np.int64)
+    replan, new_count = _update_window(
+        labels, seen_free, last_hit, listed, row0, col0, cell_input, x0, y0, resolution,
+        vertices_x, vertices_y, hits_x, hits_y, hit_beams, safety_radius, safety_bound,
+        free_on, free_radius, free_bound, objects_on, evidence_radius, evidence_bound,
+        segment_gap, object_size, expiry_on, stamp, path, new_mobile, extra_moving)
+    return replan, row0, row_end, col0, col_end, cell_input, new_mobile[:new_count].copy()
+
+
+def scan_update(labels, seen_free, last_hit, listed, geometry, pose, ranges, angle_min,
+                angle_increment, range_min, range_max, safety_radius, rule_arguments, stamp,
+                path, extra_moving=None):
+    """
+    Fold one validated scan into the grid's state arrays in place.
+
+    Parameters
+    ----------
+    labels : (rows, cols) ndarray of uint8
+        The grid's labels.
+    seen_free, listed : (rows, cols) ndarray of bool
+        ``(1, 1)`` stand-ins when the rule keeps no such state.
+    last_hit : (rows, cols) ndarray of float64
+        Likewise.
+    geometry : GridGeometry
+        The grid's placement.
+    pose : (float, float, float)
+        The laser's ``(x, y, yaw)`` [m, m, rad], checked.
+    ranges : (L,) ndarray of float64
+        Checked ranges [m].
+    angle_min, angle_increment, range_min, range_max : float
+        The scan's fields, checked.
+    safety_radius : float
+        f1's ``r`` [m].
+    rule_arguments : tuple
+        ``LabelRule.kernel_arguments()``: ``(free_on, free_radius, free_bound, objects_on,
+        evidence_radius, evidence_bound, segment_gap, object_size, expiry_on)``.
+    stamp : float
+        The scan's time [s] (any float when the expiry is off).
+    path : (N, 2) ndarray of int64
+        The planned path's cells, on the grid.
+    extra_moving : (K,) ndarray of bool, optional
+        Hits (in the order of `scan_hits`) to count as hits on moving objects besides those
+        the object rule finds, such as the followed objects of ``motion_tracks``; read only
+        with the object rule on.
+
+    Returns
+    -------
+    replan : bool
+    window : (slice, slice, (n_rows, n_cols) ndarray of uint8)
+        The window the scan reached and its FSM input (``ScanInput``).
+    new_mobile : (M,) ndarray of int64
+        Flat indices of the cells this scan made mobile and listed (with the expiry on).
+
+    """
+    x0, y0 = geometry.origin
+    reach = max(safety_radius, rule_arguments[1])
+    replan, row0, row_end, col0, col_end, cell_input, new_mobile = _scan_update(
+        labels, seen_free, last_hit, listed, np.ascontiguousarray(ranges), pose[0], pose[1],
+        pose[2], float(angle_min), float(angle_increment), float(range_min), float(range_max),
+        x0, y0, geometry.resolution, reach, safety_radius, squared_bound(safety_radius),
+        *rule_arguments, float(stamp), np.ascontiguousarray(path),
+        _NO_HITS if extra_moving is None else np.ascontiguousarray(extra_moving, dtype=bool))
+    return bool(replan), (slice(row0, row_end), slice(col0, col_end), cell_input), new_mobile
+
+
+def scan_hits(seen_free, geometry, pose, ranges, angle_min, angle_increment, range_min,
+              range_max, rule_arguments):
+    """
+    Return the scan's polygon and hits, and the hits the object rule finds moving.
+
+    The same points and the same evidence as `scan_update` finds in its kernel, from the
+    grid's state before the update.
+
+    Parameters
+    ----------
+    seen_free : (rows, cols) ndarray of bool
+        Cells once surely seen free (a stand-in without the object rule).
+    geometry, pose, ranges, angle_min, angle_increment, range_min, range_max, rule_arguments
+        As in `scan_update`.
+
+    Returns
+    -------
+    vertices_x, vertices_y : (L + 2,) ndarray of float64
+        The closed scan polygon [m].
+    hits_x, hits_y : (K,) ndarray of float64
+        Hit points [m].
+    hit_beams : (K,) ndarray of int64
+        Their beams.
+    moving : (K,) ndarray of bool
+        Hits on objects seen to move (all False without the object rule).
+
+    """
+    vertices_x, vertices_y, hits_x, hits_y, hit_beams = _scan_points(
+        np.ascontiguousarray(ranges), pose[0], pose[1], pose[2], float(angle_min),
+        float(angle_increment), float(range_min), float(range_max))
+    (_, _, _, objects_on, evidence_radius, evidence_bound, segment_gap, object_size,
+     _) = rule_arguments
+    moving = np.zeros(hits_x.shape[0], dtype=bool)
+    if objects_on:
+        x0, y0 = geometry.origin
+        evidence = _hit_evidence(seen_free, hits_x, hits_y, x0, y0, geometry.resolution,
+                                 evidence_radius, evidence_bound)
+        moving = _moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_size)
+    return vertices_x, vertices_y, hits_x, hits_y, hit_beams, moving
+
+
+def expire_listed(labels, last_hit, listed, cells, count, stamp, mobile_expiry, window):
+    """
+    Run `_expire_listed` over ``cells[:count]`` after the scan of ``window``.
+
+    Returns
+    -------
+    kept : int
+    earliest : float
+        The earliest last hit of the cells kept [s], ``inf`` when none.
+    expired : (slice, slice)
+        Rows and columns of a box around the cells expired (empty when none).
+
+    """
+    rows, cols, cell_input = window
+    kept, earliest, row_lo, row_hi, col_lo, col_hi = _expire_listed(
+        labels, last_hit, listed, cells, count, float(stamp), float(mobile_expiry), rows.start,
+        cols.start, cell_input)
+    return (int(kept), float(earliest),
+            (slice(row_lo, max(row_lo, row_hi)), slice(col_lo, max(col_lo, col_hi))))

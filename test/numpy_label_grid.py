@@ -1,0 +1,189 @@
+"""
+The numpy label update that the compiled kernel replaced, kept as a reference.
+
+``NumpyLabelGrid`` is ``LabelGrid`` with the update of commit 83e3dc1: vectorised numpy over
+the scan's window (``scan_features``, ``free_evidence``, ``moving_objects``), and a ghost
+expiry that sweeps the whole grid every scan; with the motion tracks and trails as the numpy
+update of 57d0f72 ran them (the tracks told the object rule's moving hits, the trail marks
+stamped from f1's runs). Tests check the kernel against it on long scan
+sequences; the core benchmark times the two side by side.
+
+"""
+
+
+from dpn_navigator.core.cell_label import blocked_mask, CellLabel, LABEL_DTYPE, ScanInput
+from dpn_navigator.core.cell_label import TRANSITION
+from dpn_navigator.core.free_evidence import surely_free
+from dpn_navigator.core.label_grid import LabelGrid
+from dpn_navigator.core.moving_objects import moving_object_hits
+from dpn_navigator.core.scan_features import hit_runs, run_cover, scan_input
+from dpn_navigator.core.scan_polygon import scan_points
+import numpy as np
+
+# TRANSITION flattened for one-step lookup with index (label << 2) | scan_input.
+_TRANSITION_BY_CODE = np.zeros(4 * len(CellLabel), dtype=LABEL_DTYPE)
+for _label in CellLabel:
+    for _scan_input in ScanInput:
+        _TRANSITION_BY_CODE[(_label << 2) | _scan_input] = TRANSITION[_label, _scan_input]
+_TRANSITION_BY_CODE.setflags(write=False)
+
+_EMPTY_WINDOW = (slice(0, 0), slice(0, 0), np.zeros((0, 0), dtype=LABEL_DTYPE))
+
+
+def _runs_touching(runs, cells, hit_count):
+    """
+    Tell for each hit whether one of its runs holds a True cell.
+
+    ``runs`` is ``hit_runs(..., return_hits=True)`` over the window of ``cells`` (bool).
+    """
+    starts, ends, hit_index = runs
+    before = np.concatenate(([0], np.cumsum(cells.ravel())))
+    touching = np.zeros(hit_count, dtype=bool)
+    touching[hit_index[before[ends] > before[starts]]] = True
+    return touching
+
+
+class NumpyLabelGrid(LabelGrid):
+    """``LabelGrid`` with the numpy update of commit 83e3dc1 (see the module docstring)."""
+
+    def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
+               safety_radius, path=None, angle_max=None, stamp=None):
+        """Fold one scan into the labels as 83e3dc1 did; as ``LabelGrid.update``."""
+        pose, ranges, safety_radius, path, stamp = self._checked_scan(
+            pose, ranges, angle_min, angle_increment, range_min, range_max, safety_radius, path,
+            angle_max, stamp)
+        expiring = self.rule.mobile_expiry > 0.0
+        if expiring:
+            self._restart_clocks_if_time_went_back(stamp)
+        points = scan_points(pose, ranges, angle_min, angle_increment, range_min, range_max)
+        self._scan_fan = (pose[2] + angle_min, angle_increment)
+        self._stamp = stamp
+        # Every cell within r of a hit (f1), or within the evidence radius of one.
+        reach = max(safety_radius, self.rule.free_evidence_radius)
+        rows, cols = self.geometry.cell_window(
+            float(points.vertices_x.min()) - reach, float(points.vertices_x.max()) + reach,
+            float(points.vertices_y.min()) - reach, float(points.vertices_y.max()) + reach)
+        if rows.start == rows.stop or cols.start == cols.stop:
+            self.last_window = _EMPTY_WINDOW
+            if expiring:
+                self._expire_mobile(float(stamp))
+            return False
+        runs = None
+        if self.rule.moving_object_size > 0.0:
+            # f1's runs, with the hit of each, serve the objects' rule too.
+            runs = hit_runs(self.geometry, rows, cols, self.geometry.window_centres(rows, cols),
+                            points.hits_x, points.hits_y, safety_radius, return_hits=True)
+        cell_input = scan_input(self.geometry, rows, cols, points, safety_radius, runs)
+        self.last_window = (rows, cols, cell_input)
+        window = self.labels[rows, cols]
+        before = window.copy()
+        # np.take is about twice as fast as fancy indexing for this lookup.
+        window[...] = np.take(_TRANSITION_BY_CODE, (before << 2) | cell_input)
+        if self.rule.free_evidence_radius > 0.0:
+            self._apply_free_evidence(rows, cols, points, safety_radius, before, cell_input,
+                                      window, runs)
+        if expiring:
+            self.last_hit[rows, cols][cell_input == ScanInput.HIT] = stamp
+            self._expire_mobile(float(stamp))
+        if self.cell_track is not None:
+            self._expire_trails(float(stamp))
+        if path is None or not path.shape[0]:
+            return False
+        on_window = ((path[:, 0] >= rows.start) & (path[:, 0] < rows.stop)
+                     & (path[:, 1] >= cols.start) & (path[:, 1] < cols.stop))
+        path_rr = path[on_window, 0] - rows.start
+        path_cc = path[on_window, 1] - cols.start
+        new_obstacle = (~blocked_mask(before[path_rr, path_cc])
+                        & blocked_mask(window[path_rr, path_cc]))
+        return bool(new_obstacle.any())
+
+    def _apply_free_evidence(self, rows, cols, points, safety_radius, before, cell_input,
+                             window, runs):
+        """
+        Conservative free space and object-level relabelling over the window, in place.
+
+        ``before`` holds the window's labels before this scan, ``window`` (a view into
+        ``labels``) those after the paper's FSM; ``runs`` are f1's runs with their hits
+        (``hit_runs(..., return_hits=True)``) when the objects' rule is on.
+        """
+        seen_free = self.seen_free[rows, cols]
+        hit = cell_input == ScanInput.HIT
+        window[(before == CellLabel.EXPLORED) & hit & ~seen_free] = CellLabel.STEADY_OBSTACLE
+        if self.rule.moving_object_size > 0.0:
+            near_moving = self._near_moving_objects(rows, cols, points, safety_radius,
+                                                    seen_free, runs)
+            window[hit] = np.where(near_moving[hit], CellLabel.MOBILE_OBSTACLE,
+                                   CellLabel.STEADY_OBSTACLE)
+        seen_free |= surely_free(self.geometry, rows, cols, points,
+                                 self.rule.free_evidence_radius, cell_input, safety_radius)
+
+    def _near_moving_objects(self, rows, cols, points, safety_radius, seen_free, runs):
+        """
+        Find the window cells within the safety radius of a hit on an object seen to move.
+
+        A hit shows motion when a cell within ``free_evidence_radius - evidence_margin`` of it
+        was once surely seen free (``seen_free``, before this scan): never so for a hit on a
+        steady wall, which would then have been inside that scan's polygon.
+        """
+        centres = self.geometry.window_centres(rows, cols)
+        evidence_radius = max(self.rule.free_evidence_radius - self.rule.evidence_margin, 0.0)
+        hit_count = points.hits_x.shape[0]
+        evidence = _runs_touching(runs, seen_free, hit_count)
+        if evidence_radius > safety_radius:
+            evidence = _runs_touching(
+                hit_runs(self.geometry, rows, cols, centres, points.hits_x, points.hits_y,
+                         evidence_radius, return_hits=True), seen_free, hit_count)
+        elif evidence_radius < safety_radius and evidence.any():
+            # Only hits with a surely-free cell within r can have one within the smaller
+            # evidence radius; most hits (walls) have none.
+            candidates = np.flatnonzero(evidence)
+            evidence = np.zeros(hit_count, dtype=bool)
+            evidence[candidates] = _runs_touching(
+                hit_runs(self.geometry, rows, cols, centres, points.hits_x[candidates],
+                         points.hits_y[candidates], evidence_radius, return_hits=True),
+                seen_free, candidates.shape[0])
+        moving = moving_object_hits(points.hits_x, points.hits_y, points.hit_beams, evidence,
+                                    self.rule.segment_gap, self.rule.moving_object_size)
+        if self.rule.track_confirm_time > 0.0:
+            moving |= self.tracks.update(
+                float(self._stamp), (points.vertices_x[0], points.vertices_y[0]),
+                points.hits_x, points.hits_y, points.hit_beams, points.vertices_x.shape[0] - 2,
+                moving, self.rule.segment_gap, *self._scan_fan,
+                np.hypot(points.vertices_x[1:-1] - points.vertices_x[0],
+                         points.vertices_y[1:-1] - points.vertices_y[0]))
+        starts, ends, hit_index = runs
+        if self.cell_track is not None:
+            self._stamp_runs(rows, cols, runs)
+        return run_cover(starts[moving[hit_index]], ends[moving[hit_index]], seen_free.shape)
+
+    def _stamp_runs(self, rows, cols, runs):
+        """Note in ``cell_track`` which track's hits are within the safety radius of a cell."""
+        starts, ends, hit_index = runs
+        run_ids = self.tracks.hit_ids[hit_index]
+        window = self.cell_track[rows, cols]
+        window[self.last_window[2] == ScanInput.HIT] = -1
+        for track in np.unique(run_ids[run_ids >= 0]):
+            own = run_ids == track
+            cover = run_cover(starts[own], ends[own], window.shape)
+            window[cover] = track
+            local_rr, local_cc = np.nonzero(cover)
+            self._marked = np.concatenate((
+                self._marked,
+                (local_rr + rows.start) * self.geometry.cols + local_cc + cols.start))
+
+    def _restart_clocks_if_time_went_back(self, stamp):
+        """After a jump back in time (a restarted simulation), no hit is newer than now."""
+        if stamp < self._last_stamp and self.last_hit is not None:
+            np.minimum(self.last_hit, stamp, out=self.last_hit)
+        self._last_stamp = stamp
+
+    def _expire_mobile(self, stamp):
+        """Set mobile cells out of view and unconfirmed for ``mobile_expiry`` to explored."""
+        rows, cols, cell_input = self.last_window
+        stale = ((self.labels == CellLabel.MOBILE_OBSTACLE)
+                 & (stamp - self.last_hit >= self.rule.mobile_expiry))
+        stale[rows, cols] &= cell_input == ScanInput.NONE
+        self.labels[stale] = CellLabel.EXPLORED
+
+    def labels_changed(self):
+        """Nothing to do: the whole-grid expiry needs no list of mobile cells."""

@@ -1,0 +1,187 @@
+"""
+The compiled label update against the numpy update it replaced, on long realistic sequences.
+
+The hypothesis tests of ``test_label_grid.py`` hold the kernel to the literal twin on small
+grids; these run many 640-beam scans of a hall with boxes that move (wanderers), under the
+paper's rule and the navigator's default rule, and compare every array after every scan with
+``NumpyLabelGrid`` (the numpy update and whole-grid ghost expiry of commit 83e3dc1).
+
+"""
+
+import math
+
+from dpn_navigator.core.cell_label import CellLabel
+from dpn_navigator.core.label_grid import LabelGrid, LabelRule, PAPER_RULE
+from dpn_navigator.core.navigator import NavigatorConfig
+import numpy as np
+from numpy.testing import assert_array_equal
+from numpy_label_grid import NumpyLabelGrid
+import pytest
+from scan_scenes import ANGLE_INCREMENT, ANGLE_MIN, free_pose, hall, RANGE_MAX, RANGE_MIN
+from scan_scenes import ray_cast
+
+TRUTH_RESOLUTION = 0.05
+DPN_RULE = NavigatorConfig(width=1.0, height=1.0).label_rule()
+
+
+def moving_box_world(static, step, rng_seed):
+    """Return ``static`` with three 0.6 m boxes that move along fixed headings each step."""
+    occupied = static.copy()
+    rng = np.random.default_rng(rng_seed)
+    n = static.shape[0]
+    side = int(round(0.6 / TRUTH_RESOLUTION))
+    for _ in range(3):
+        r0, c0 = rng.integers(side, n - 2 * side, 2)
+        dr, dc = rng.integers(-6, 7, 2)
+        r = int(np.clip(r0 + dr * step, 0, n - side))
+        c = int(np.clip(c0 + dc * step, 0, n - side))
+        occupied[r:r + side, c:c + side] = True
+    return occupied
+
+
+def assert_same_state(fast, reference):
+    assert_array_equal(fast.labels, reference.labels)
+    for name in ('seen_free', 'last_hit'):
+        if getattr(reference, name) is not None:
+            assert_array_equal(getattr(fast, name), getattr(reference, name))
+    rows, cols, cell_input = fast.last_window
+    ref_rows, ref_cols, ref_input = reference.last_window
+    assert (rows, cols) == (ref_rows, ref_cols)
+    assert_array_equal(cell_input, ref_input)
+
+
+@pytest.mark.parametrize('rule, resolution', [
+    (PAPER_RULE, 0.5), (DPN_RULE, 0.5), (PAPER_RULE, 0.1), (DPN_RULE, 0.1),
+    (LabelRule(free_evidence_radius=0.9, moving_object_size=1.2, mobile_expiry=0.6), 0.5)],
+    ids=['paper', 'dpn', 'paper-fine', 'dpn-fine', 'wide'])
+def test_kernel_equals_the_numpy_update_on_hall_sequences(rule, resolution):
+    # Fine cells put many rows in each disc and band, and polygon edges shorter than a cell.
+    rng = np.random.default_rng(3)
+    size = 30.0 if resolution == 0.5 else 12.0
+    static = hall(size, 12 if resolution == 0.5 else 3, rng, TRUTH_RESOLUTION)
+    fast = LabelGrid(size, size, resolution, rule=rule)
+    reference = NumpyLabelGrid(size, size, resolution, rule=rule)
+    replans = 0
+    stamp = 0.0
+    for step in range(70):
+        world = moving_box_world(static, step, 11)
+        pose = free_pose(world, rng, TRUTH_RESOLUTION)
+        ranges = ray_cast(world, pose, TRUTH_RESOLUTION)
+        ranges[rng.random(ranges.shape[0]) < 0.02] = np.nan
+        # A cross through the middle of the hall, so that the flag fires.
+        middle = fast.labels.shape[0] // 2
+        path = np.array([[middle, c] for c in range(2 * middle)]
+                        + [[r, middle] for r in range(2 * middle)])
+        # Time mostly goes forward, by up to 0.4 s; once it jumps back (a restart).
+        stamp = 1.0 if step == 50 else stamp + rng.choice([0.1, 0.2, 0.4])
+        args = (pose, ranges, ANGLE_MIN, ANGLE_INCREMENT, RANGE_MIN, RANGE_MAX, 0.6)
+        want = reference.update(*args, path=path, stamp=stamp)
+        got = fast.update(*args, path=path, stamp=stamp)
+        assert got == want
+        replans += got
+        assert_same_state(fast, reference)
+    assert replans > 0
+    assert np.count_nonzero(fast.labels == CellLabel.STEADY_OBSTACLE) > 100
+    assert np.count_nonzero(fast.seen_free if fast.seen_free is not None else 1) > 0
+    if rule.moving_object_size > 0.0:
+        assert np.count_nonzero(fast.labels == CellLabel.MOBILE_OBSTACLE) > 0
+
+
+def test_mobile_list_follows_forgetting_and_reset():
+    rule = LabelRule(mobile_expiry=1.0)
+    fast = LabelGrid(10.0, 10.0, rule=rule)
+    reference = NumpyLabelGrid(10.0, 10.0, rule=rule)
+    ranges = np.full(640, 3.0)
+    for grid in (fast, reference):
+        grid.labels[2:5, 2:5] = CellLabel.EXPLORED
+        grid.labels_changed()
+        # Something stands in explored space: those cells become mobile.
+        grid.update((3.0, 1.0, math.pi / 2), ranges, ANGLE_MIN, ANGLE_INCREMENT, RANGE_MIN,
+                    RANGE_MAX, 0.6, stamp=0.0)
+        grid.labels[grid.labels == CellLabel.MOBILE_OBSTACLE] = CellLabel.STEADY_OBSTACLE
+        grid.labels[0, 0] = CellLabel.MOBILE_OBSTACLE          # set by hand, never hit
+        grid.labels_changed()
+    assert_same_state(fast, reference)
+    for stamp in (0.5, 1.5, 2.5):
+        for grid in (fast, reference):
+            grid.update((8.0, 8.0, 0.0), ranges, ANGLE_MIN, ANGLE_INCREMENT, RANGE_MIN,
+                        RANGE_MAX, 0.6, stamp=stamp)
+        assert_same_state(fast, reference)
+    assert fast.labels[0, 0] == CellLabel.EXPLORED
+    fast.reset()
+    assert not fast.labels.any() and fast._mobile_count == 0
+
+
+def test_planning_masks_equal_the_full_recompute_at_every_plan(monkeypatch):
+    from dpn_navigator.core import planning_masks
+    from dpn_navigator.core.cell_label import blocked_mask
+    from dpn_navigator.core.navigator import Navigator
+    from dpn_navigator.core.planning_masks import touches_blocked
+    config = NavigatorConfig(width=30.0, height=30.0, mobile_expiry=0.5,
+                             forget_obstacles_after=1.0)
+    navigator = Navigator(config)
+    searched = []
+    real_search = planning_masks.astar_checked
+
+    def checked_search(blocked, start, goal, cost, max_cost, cut_corners):
+        # The old navigator: masks from the whole label grid, footprint cleared, then cost.
+        full = blocked_mask(navigator.grid.labels)
+        rows, cols, near = navigator._footprint(pose)
+        full[rows, cols] &= ~near
+        full[start] = False
+        assert_array_equal(blocked, full)
+        full_cost = config.obstacle_proximity_cost * touches_blocked(full)
+        assert_array_equal(cost, full_cost)
+        assert max_cost == full_cost.max()
+        searched.append(start)
+        return real_search(blocked, start, goal, cost, max_cost, cut_corners)
+
+    monkeypatch.setattr(planning_masks, 'astar_checked', checked_search)
+    rng = np.random.default_rng(5)
+    static = hall(30.0, 12, rng, TRUTH_RESOLUTION)
+    navigator.set_goal(25.0, 25.0)
+    for step in range(60):
+        world = moving_box_world(static, step, 2)
+        pose = free_pose(world, rng, TRUTH_RESOLUTION)
+        ranges = ray_cast(world, pose, TRUTH_RESOLUTION)
+        navigator.step(0.3 * step, pose, ranges, ANGLE_MIN, ANGLE_INCREMENT, RANGE_MIN,
+                       RANGE_MAX)
+        if step % 7 == 0:
+            navigator._plan(pose)                  # also right after scans, not only on flags
+        if step == 30:
+            navigator._spell_forgets = step % 2
+            navigator._forget_unseen_obstacles(pose)
+    assert len(searched) > 20
+
+
+@pytest.mark.parametrize('resolution', [0.05, 0.5])
+def test_edge_bands_and_discs_equal_a_test_of_every_cell(resolution):
+    from dpn_navigator.core import label_kernel
+    rng = np.random.default_rng(8)
+    n_rows, n_cols, row0, col0 = 40, 50, 7, 3
+    x0, y0 = -1.3, 0.4
+    cx = x0 + (np.arange(col0, col0 + n_cols) + 0.5) * resolution
+    cy = y0 + (np.arange(row0, row0 + n_rows) + 0.5) * resolution
+    cx, cy = np.meshgrid(cx, cy)
+    low = np.array([x0 + col0 * resolution, y0 + row0 * resolution])
+    span = np.array([n_cols, n_rows]) * resolution
+    radius = 0.6
+    bound = label_kernel.squared_bound(radius)
+    for _ in range(150):
+        # Edges of every length, from a tenth of a cell to across the window.
+        a = low + rng.uniform(-0.2, 1.2, 2) * span
+        b = a + rng.normal(0.0, 1.0, 2) * resolution * rng.choice([0.1, 1.0, 10.0])
+        xs, ys = np.array([a[0], b[0]]), np.array([a[1], b[1]])
+        band = np.zeros((n_rows, n_cols), dtype=bool)
+        label_kernel._mark_edge_bands(band, row0, col0, x0, y0, resolution, xs, ys, radius)
+        ex, ey = b[0] - a[0], b[1] - a[1]
+        length2 = ex * ex + ey * ey
+        dot = (cx - a[0]) * ex + (cy - a[1]) * ey
+        cross = (cx - a[0]) * ey - (cy - a[1]) * ex
+        want = (dot >= 0.0) & (dot <= length2) & (np.abs(cross) / np.sqrt(length2) <= radius)
+        assert_array_equal(band, want)
+        disc = np.zeros((n_rows, n_cols), dtype=bool)
+        label_kernel._mark_discs(disc, True, xs, ys, 1, np.zeros(0, dtype=bool), row0, col0,
+                                 x0, y0, resolution, radius, bound, np.zeros((0, 2), np.int64))
+        dx, dy = a[0] - cx, a[1] - cy
+        assert_array_equal(disc, np.sqrt(dx * dx + dy * dy) <= radius)
