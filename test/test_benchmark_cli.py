@@ -171,6 +171,50 @@ def test_bad_selections_are_refused_before_running(tmp_path, args, message):
         read_log(tmp_path / 'out' / 'episodes.csv') == []
 
 
+@pytest.fixture(scope='module', params=['oracle', 'costmap'])
+def reference_run(request, tmp_path_factory):
+    """Run the smoke profile with a reference navigator; return its name and output folder."""
+    out = tmp_path_factory.mktemp(request.param)
+    done = benchmark(*SMOKE, '--navigator', request.param, '--workers', '2', '--out', str(out))
+    assert done.returncode == 0, done.stderr
+    assert 'ran 6 episodes (0 already logged)' in done.stdout
+    return request.param, out
+
+
+def test_reference_navigators_run_the_same_episodes_as_dpn(smoke_run, reference_run):
+    name, out = reference_run
+    rows = read_log(out / 'episodes.csv')
+    dpn_rows = read_log(smoke_run[0] / 'episodes.csv')
+    # The same episodes: maps, tasks, wanderer counts, seeds (and so the same wanderers).
+    assert sorted(row_key(row) for row in rows) == sorted(row_key(row) for row in dpn_rows)
+    assert (out / 'run.json').read_text().strip() == '{"navigator": "%s"}' % name
+    for row in rows:
+        assert row['failure'] in FAILURES and row['success'] == (row['failure'] == '')
+        assert 0.0 < row['time'] <= row['time_limit'] + 0.11
+        assert row['walls_labelled_mobile'] == 0 or name == 'oracle'
+    assert all(row['success'] for row in rows if row['wanderers'] == 0)
+    assert f'{name} navigator' in (out / 'summary.md').read_text()
+    assert (out / 'success_rate.png').read_bytes()[:4] == b'\x89PNG'
+    if name == 'oracle':
+        # It builds no map from the laser, so it has no detection measures.
+        assert all(row[column] is None for row in rows for column in DETECTION_COLUMNS)
+        assert not (out / 'detection.png').exists()
+    else:
+        # The costmap is measured by its lethal cells; it has no mobile label.
+        assert all(row['scans'] >= 10 * row['time'] for row in rows)
+        assert all(row['mobile_visible'] == 0 and row['mobile_precision'] is None
+                   for row in rows)
+        assert '| costmap | 10 | 2 | n/a | n/a | n/a | n/a |' in (out / 'summary.md').read_text()
+
+
+def test_a_reference_log_is_not_resumed_with_another_navigator(reference_run):
+    name, out = reference_run
+    other = 'costmap' if name == 'oracle' else 'oracle'
+    done = benchmark(*SMOKE, '--navigator', other, '--out', str(out), timeout=120)
+    assert done.returncode == 2
+    assert "holds a run with {'navigator': '%s'}" % name in done.stderr
+
+
 @pytest.mark.parametrize('where', ['under_a_file', 'existing_bag'])
 def test_a_bad_record_folder_is_refused_before_running(tmp_path, where):
     from dpn_navigator.benchmark.episode_bag import episode_bag_name

@@ -27,7 +27,7 @@ import time
 
 from .detection_report import detection_stats, save_detection_figure
 from .episode_log import read_log
-from .protocol import NAVIGATORS, plan_episodes, PROFILES, resolve_maps
+from .protocol import MAP_MODELS, NAVIGATORS, plan_episodes, PROFILES, resolve_maps
 from .report import save_success_figure, summary_markdown
 from .runner import default_workers, run_protocol
 
@@ -53,7 +53,10 @@ def build_parser():
     parser.add_argument('--navigator', choices=sorted(NAVIGATORS), default='dpn',
                         help="dpn: as shipped; paper: without this project's additions (A* "
                              'proximity cost, forgetting unseen obstacles when stuck, the '
-                             'label rules of docs/detection.md) (default: %(default)s)')
+                             'label rules of docs/detection.md); costmap: a Nav2-style '
+                             'obstacle + inflation costmap; oracle: the true walls and '
+                             "wanderers (the last two with dpn's planner and follower; "
+                             'docs/benchmark.md) (default: %(default)s)')
     parser.add_argument('--seed', type=int, default=0,
                         help='base seed of the episode seeds (default: %(default)s)')
     parser.add_argument('--out', default='benchmark_out', type=Path,
@@ -111,7 +114,8 @@ def main(argv=None):
                              ray_address=args.ray_address, index=args.index,
                              progress=not args.no_progress,
                              navigator_options=NAVIGATORS[args.navigator],
-                             detection=not args.no_detection, record_dir=args.record)
+                             detection=not args.no_detection, record_dir=args.record,
+                             map_model=MAP_MODELS[args.navigator])
     except ValueError as exc:
         parser.exit(2, f'dpn-benchmark: error: {exc}\n')
     except KeyboardInterrupt:
@@ -136,7 +140,8 @@ def main(argv=None):
                                     'navigator')
         print(f'wrote {args.out / "detection.png"}')
     if (args.strip or args.animate) and specs:
-        showcase = rerun_showcase(specs, args.index, navigator_options=NAVIGATORS[args.navigator])
+        showcase = rerun_showcase(specs, args.index, navigator_options=NAVIGATORS[args.navigator],
+                                  map_model=MAP_MODELS[args.navigator])
         if args.strip:
             write_strip(args.out / 'strip.png', showcase)
             print(f'wrote {args.out / "strip.png"}')
@@ -211,7 +216,7 @@ class Showcase:
                 f'{spec.seed}: {outcome} at t = {result.time:.0f} s')
 
 
-def rerun_showcase(specs, index=None, navigator_options=None, period=1.0):
+def rerun_showcase(specs, index=None, navigator_options=None, period=1.0, map_model='labels'):
     """
     Rerun one episode of a protocol with an `EpisodeRecorder`.
 
@@ -226,6 +231,8 @@ def rerun_showcase(specs, index=None, navigator_options=None, period=1.0):
         The scenario index.
     navigator_options : dict, optional
         ``NavigatorConfig`` overrides (see ``protocol.NAVIGATORS``).
+    map_model : str
+        The map the navigator plans on (``protocol.MAP_MODELS``).
     period : float
         Simulated time between snapshots [s].
 
@@ -244,7 +251,7 @@ def rerun_showcase(specs, index=None, navigator_options=None, period=1.0):
     recorder = EpisodeRecorder(period=period)
     started = time.perf_counter()
     result = run_episode(scenario, spec.task, spec.wanderers, spec.seed, recorder=recorder,
-                         navigator_options=navigator_options)
+                         navigator_options=navigator_options, map_model=map_model)
     recorder.finish()
     return Showcase(spec, scenario, result, recorder, time.perf_counter() - started)
 

@@ -21,6 +21,7 @@ import numpy as np
 
 from .detection import ratio, REPLAN_CLASSES
 from .episode_log import read_log
+from .protocol import MAP_MODELS
 
 
 @dataclass(frozen=True)
@@ -104,6 +105,22 @@ def detection_stats(rows):
         cost_share=ratio(sum(row['detection_wall_time'] or 0.0 for row in rows), wall_time))
 
 
+def has_mobile_label(navigator):
+    """
+    Tell whether a navigator's map has a mobile-obstacle label (``protocol.MAP_MODELS``).
+
+    The costmap has one obstacle class (lethal), so its precision, recall, walls-mobile share
+    and mobile ghosts are not defined (``n/a``); its ghosts are all obstacle (steady) ghosts.
+
+    Parameters
+    ----------
+    navigator : str
+        A ``--navigator`` name, optionally followed by `` (folder)``.
+
+    """
+    return MAP_MODELS.get(navigator.split(' (')[0], 'labels') == 'labels'
+
+
 def _number(value, digits=2, scale=1.0):
     """Format a value that may be undefined (None) as ``-``."""
     return '-' if value is None else f'{scale * value:.{digits}f}'
@@ -129,7 +146,9 @@ def detection_markdown(rows_by_navigator):
              'walls mobile: wall cells ever labelled mobile with no wanderer near, over wall '
              'cells seen; ghosts: obstacle cells no wall or wanderer explains, mean per scan '
              '(share of scans with any); replans: mean per episode by cause; cost: share of '
-             'episode wall time spent measuring. "-": undefined (nothing to count).', '',
+             'episode wall time spent measuring. "-": undefined (nothing to count); "n/a": '
+             'the map has no mobile label (costmap: its lethal cells are its obstacles, '
+             'counted as steady).', '',
              '| navigator | wanderers | episodes | precision | recall | walls mobile % | '
              'mobile ghosts / scan (scans %) | steady ghosts / scan (scans %) | ghosts at end '
              'mobile / steady | replans wall / wanderer / no-path retry / other | cost % |',
@@ -142,14 +161,19 @@ def detection_markdown(rows_by_navigator):
                 continue
             measured = True
             replans = ' / '.join(f'{stats.replans[cause]:.1f}' for cause in REPLAN_CLASSES)
+            if has_mobile_label(navigator):
+                mobile = (f'{_number(stats.precision)} | {_number(stats.recall)} | '
+                          f'{_number(stats.wall_mobile_share, 1, 100.0)} | '
+                          f'{_number(stats.mobile_ghosts, 1)} '
+                          f'({_number(stats.mobile_ghost_scans, 0, 100.0)})')
+                mobile_end = f'{stats.mobile_ghosts_end:.1f}'
+            else:
+                mobile, mobile_end = 'n/a | n/a | n/a | n/a', 'n/a'
             lines.append(
-                f'| {navigator} | {count} | {stats.episodes} | {_number(stats.precision)} | '
-                f'{_number(stats.recall)} | {_number(stats.wall_mobile_share, 1, 100.0)} | '
-                f'{_number(stats.mobile_ghosts, 1)} '
-                f'({_number(stats.mobile_ghost_scans, 0, 100.0)}) | '
+                f'| {navigator} | {count} | {stats.episodes} | {mobile} | '
                 f'{_number(stats.steady_ghosts, 1)} '
                 f'({_number(stats.steady_ghost_scans, 0, 100.0)}) | '
-                f'{stats.mobile_ghosts_end:.1f} / {stats.steady_ghosts_end:.1f} | {replans} | '
+                f'{mobile_end} / {stats.steady_ghosts_end:.1f} | {replans} | '
                 f'{_number(stats.cost_share, 1, 100.0)} |')
     if not measured:
         lines[2:] = ['No episode with detection measures.']
@@ -183,21 +207,27 @@ def save_detection_figure(path, rows_by_navigator, title='Detection against wand
     if not curves:
         raise ValueError('no episodes with detection measures to draw')
     figure, (ratios, ghosts) = pyplot.subplots(1, 2, figsize=(10.0, 3.8))
-    for (navigator, stats), colour in zip(curves.items(), ('#4c72b0', '#dd8452', '#55a868')):
+    colours = ('#4c72b0', '#dd8452', '#55a868', '#c44e52', '#8172b3')
+    for (navigator, stats), colour in zip(curves.items(), colours):
         counts = [count for count, _ in stats]
 
         def series(name, stats=stats):
             return np.array([np.nan if getattr(s, name) is None else getattr(s, name)
                              for _, s in stats], dtype=float)
-        ratios.plot(counts, series('precision'), 'o-', color=colour,
-                    label=f'{navigator}: precision')
-        ratios.plot(counts, series('recall'), 's--', color=colour, label=f'{navigator}: recall')
-        ratios.plot(counts, series('wall_mobile_share'), '^:', color=colour,
-                    label=f'{navigator}: walls mobile')
-        ghosts.plot(counts, series('mobile_ghosts'), 'o-', color=colour,
-                    label=f'{navigator}: mobile')
-        ghosts.plot(counts, series('steady_ghosts'), 's--', color=colour,
-                    label=f'{navigator}: steady')
+        if has_mobile_label(navigator):
+            ratios.plot(counts, series('precision'), 'o-', color=colour,
+                        label=f'{navigator}: precision')
+            ratios.plot(counts, series('recall'), 's--', color=colour,
+                        label=f'{navigator}: recall')
+            ratios.plot(counts, series('wall_mobile_share'), '^:', color=colour,
+                        label=f'{navigator}: walls mobile')
+            ghosts.plot(counts, series('mobile_ghosts'), 'o-', color=colour,
+                        label=f'{navigator}: mobile')
+            ghosts.plot(counts, series('steady_ghosts'), 's--', color=colour,
+                        label=f'{navigator}: steady')
+        else:
+            ghosts.plot(counts, series('steady_ghosts'), 's--', color=colour,
+                        label=f'{navigator}: lethal')
     every_count = sorted({count for stats in curves.values() for count, _ in stats})
     for axes in (ratios, ghosts):
         axes.set_xticks(every_count)
@@ -212,7 +242,8 @@ def save_detection_figure(path, rows_by_navigator, title='Detection against wand
     ghosts.set_title('obstacle cells no wall or wanderer explains', fontsize=9)
     for axes in (ratios, ghosts):
         axes.grid(alpha=0.3)
-        axes.legend(fontsize=7)
+        if axes.get_legend_handles_labels()[0]:      # none on the left for a costmap alone
+            axes.legend(fontsize=7)
     figure.suptitle(title)
     figure.savefig(path, dpi=110, bbox_inches='tight')
     pyplot.close(figure)

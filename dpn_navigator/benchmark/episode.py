@@ -26,13 +26,18 @@ import numpy as np
 
 from .detection import DETECTION_FIELDS, DetectionMeter
 from .ground_truth import wall_belt, wanderer_hit_points
+from .oracle_grid import OracleGrid
 from ..core import astar, CellLabel, Navigator, NavigatorConfig, NavigatorStatus, path_cost
+from ..core.costmap_grid import CostmapConfig, CostmapGrid
+from ..core.grid_geometry import GridGeometry
 from ..core.pose2d import compose
 
 #: The Husky's half width [m]: the clearance of the reference shortest path.
 HUSKY_HALF_WIDTH = 0.35
 #: Cell side of the grid the reference shortest path is planned on [m].
 REFERENCE_CELL = 0.25
+#: Cell side of the costmap navigator's obstacle layer [m] (Nav2's costmaps: 0.05 to 0.1 m).
+COSTMAP_LAYER_RESOLUTION = 0.1
 
 
 @dataclass(frozen=True)
@@ -226,9 +231,54 @@ def map_quality(labels, geometry, truth_occupied, truth_geometry, wanderer_xy, w
     return int(np.count_nonzero(mobile & near_wall)), ghosts
 
 
+def build_map(map_model, navigator_config, scenario, wanderer_radius, range_max):
+    """
+    Build the map a navigator variant plans on (``protocol.MAP_MODELS``).
+
+    Parameters
+    ----------
+    map_model : str
+        ``'labels'`` (the paper's ``LabelGrid``), ``'costmap'`` (``CostmapGrid`` with Nav2
+        Jazzy's default ranges scaled to the laser, its layer in ``COSTMAP_LAYER_RESOLUTION``
+        cells) or ``'oracle'`` (``OracleGrid``).
+    navigator_config : NavigatorConfig
+        Its grid size, resolution, origin and safety radius are the map's.
+    scenario : sim_bridge.scenario.Scenario
+        The true walls, for the oracle.
+    wanderer_radius : float
+        The wanderers' circumscribed radius [m], for the oracle.
+    range_max : float
+        The laser's ``range_max`` [m], for the costmap's ranges.
+
+    Returns
+    -------
+    grid : LabelGrid, CostmapGrid or OracleGrid, or None
+        None for ``'labels'``: the ``Navigator`` builds its own.
+
+    Raises
+    ------
+    ValueError
+        For an unknown map model.
+
+    """
+    if map_model == 'labels':
+        return None
+    config = navigator_config
+    if map_model == 'costmap':
+        return CostmapGrid(config.width, config.height, config.resolution, config.origin,
+                           CostmapConfig.scaled_to_laser(range_max),
+                           layer_resolution=COSTMAP_LAYER_RESOLUTION)
+    if map_model == 'oracle':
+        geometry = GridGeometry(config.width, config.height, config.resolution,
+                                tuple(config.origin))
+        belt = wall_belt(scenario.occupied, scenario.geometry, geometry, config.safety_radius)
+        return OracleGrid(geometry, belt, wanderer_radius + config.safety_radius)
+    raise ValueError(f'unknown map model {map_model!r}: labels, costmap or oracle')
+
+
 def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
                 time_limit=None, recorder=None, navigator_options=None, detection=True,
-                setup=None):
+                setup=None, map_model='labels'):
     """
     Run one episode in lockstep and measure it.
 
@@ -258,6 +308,9 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
     setup : TaskSetup, optional
         This scenario's and task's setup (`task_setup`), when the caller keeps it between
         episodes (a benchmark worker does); computed here by default.
+    map_model : str
+        The map the navigator plans on (`build_map`); the oracle's map reads the wanderers'
+        true positions before every step and has no detection measures.
 
     Returns
     -------
@@ -278,15 +331,18 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
     shortest = setup.shortest_path
     if time_limit is None:
         time_limit = 30.0 + 3.0 * shortest / navigator_config.follower.max_linear_speed
-    navigator = Navigator(navigator_config)
-    navigator.set_goal(*task.goal)
     travelled = 0.0
     with World(scenario, WorldConfig(n_wanderers=wanderers, seed=seed), start=task.start,
                wanderer_grid=setup.wanderer_grid) as world:
         scan = world.scan()
+        grid = build_map(map_model, navigator_config, scenario, world.wanderer_radius,
+                         scan.range_max)
+        navigator = Navigator(navigator_config, grid)
+        navigator.set_goal(*task.goal)
+        oracle = map_model == 'oracle'
         last_xy = world.husky_pose[:2]
         meter = None
-        if detection:
+        if detection and not oracle:
             started = time.perf_counter()
             meter = DetectionMeter(
                 navigator.grid.geometry,
@@ -295,6 +351,8 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
                 world.wanderer_radius, navigator_config.safety_radius)
             detection_time = time.perf_counter() - started
         while world.time < time_limit:
+            if oracle:
+                grid.set_wanderers(world.wanderer_positions)
             if meter is not None:
                 path = navigator.path
                 path_labels = None if path is None else navigator.grid.labels[path[:, 0],
@@ -361,10 +419,13 @@ def measure_step(meter, navigator, world, scan, out, path, path_labels):
     """
     wanderer_xy = world.wanderer_positions
     labels = navigator.grid.labels
+    # The costmap is measured by its lethal cells, not their inflation (docs/detection.md).
+    detected = (navigator.grid.lethal_labels() if isinstance(navigator.grid, CostmapGrid)
+                else labels)
     hits = (np.zeros(0), np.zeros(0))
     if wanderer_xy.shape[0]:
         hits = wanderer_hit_points(compose(world.husky_pose, navigator.config.laser_offset),
                                    scan.ranges, scan.angle_min, scan.angle_increment,
                                    scan.range_min, scan.range_max, world.scan_wanderer_beams())
-    meter.record_scan(labels, navigator.grid.last_window, wanderer_xy, hits)
+    meter.record_scan(detected, navigator.grid.last_window, wanderer_xy, hits)
     meter.record_replan(out.replan_cause, path, path_labels, labels, wanderer_xy)

@@ -13,6 +13,7 @@ the same experiment.
 from dataclasses import dataclass
 import itertools
 from pathlib import Path
+import re
 import zlib
 
 import numpy as np
@@ -20,13 +21,25 @@ import numpy as np
 #: ``--navigator`` choices: overrides of ``NavigatorConfig``'s defaults. ``dpn`` is the
 #: navigator as shipped; ``paper`` turns off what this project added to the paper's method (the
 #: obstacle proximity cost of A*, forgetting unseen obstacles when stuck, and the label rules:
-#: conservative free space, object-level relabelling and ghost expiry).
+#: conservative free space, object-level relabelling and ghost expiry). The two reference
+#: navigators (`MAP_MODELS`) plan on another map with dpn's planner and follower; they forget
+#: nothing (the costmap has no decay, the oracle nothing to forget).
 NAVIGATORS = {
     'dpn': {},
     'paper': {'obstacle_proximity_cost': 0.0, 'forget_obstacles_after': 0.0,
               'free_evidence_radius': 0.0, 'moving_object_size': 0.0, 'mobile_expiry': 0.0,
               'track_confirm_time': 0.0, 'trail_distance': 0.0},
+    'costmap': {'forget_obstacles_after': 0.0},
+    'oracle': {'forget_obstacles_after': 0.0},
 }
+
+#: The map each ``--navigator`` plans on: ``labels`` (the paper's labelled grid,
+#: ``LabelGrid``), ``costmap`` (Nav2's obstacle and inflation layers, ``CostmapGrid``) or
+#: ``oracle`` (the true walls and wanderers, ``OracleGrid``).
+MAP_MODELS = {'dpn': 'labels', 'paper': 'labels', 'costmap': 'costmap', 'oracle': 'oracle'}
+
+#: A ``--maps`` range of map numbers, e.g. ``1-34``.
+_NUMBER_RANGE = re.compile(r'\d+-\d+')
 
 #: Largest number of wandering robots an episode may have (the paper's protocol goes to 10).
 MAX_WANDERERS = 10
@@ -129,8 +142,9 @@ def resolve_maps(selectors, entries):
     Parameters
     ----------
     selectors : sequence of str, or None
-        Map numbers (``'15'``), names (``'maze'``) or paths of map_server yaml files (ending in
-        ``.yaml``/``.yml`` or holding a ``/``). None selects every map of the index.
+        Map numbers (``'15'``), ranges of numbers (``'1-34'``), names (``'maze'``) or paths of
+        map_server yaml files (ending in ``.yaml``/``.yml`` or holding a ``/``). None selects
+        every map of the index.
     entries : sequence of sim_bridge.scenario.IndexEntry
         The scenario index.
 
@@ -159,6 +173,17 @@ def resolve_maps(selectors, entries):
             key = str(path)
         elif text in by_number:
             key = by_number[text]
+        elif _NUMBER_RANGE.fullmatch(text):
+            low, high = (int(part) for part in text.split('-'))
+            missing = [str(n) for n in range(low, high + 1) if str(n) not in by_number]
+            if low > high or missing:
+                raise ValueError(f'map range {text!r} holds no map number '
+                                 f'{", ".join(missing) or text}; the index numbers its maps '
+                                 f'{min(e.number for e in entries)} to '
+                                 f'{max(e.number for e in entries)}')
+            keys.extend(by_number[str(n)] for n in range(low, high + 1)
+                        if by_number[str(n)] not in keys)
+            continue
         elif text in names:
             key = text
         else:

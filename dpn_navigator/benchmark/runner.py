@@ -90,7 +90,8 @@ def _task_setup(map_key, index, task):
     return task_setup(_scenario(map_key, index), task, _wanderer_grid(map_key, index))
 
 
-def run_spec(spec, index=None, navigator_options=None, detection=True, record_dir=None):
+def run_spec(spec, index=None, navigator_options=None, detection=True, record_dir=None,
+             map_model='labels'):
     """
     Run one episode and return its log row; record it into a bag if asked.
 
@@ -107,6 +108,8 @@ def run_spec(spec, index=None, navigator_options=None, detection=True, record_di
     record_dir : str or os.PathLike, optional
         Write the episode as a rosbag2 MCAP bag into this folder, named by
         ``episode_bag.episode_bag_name`` (``EpisodeBagRecorder``).
+    map_model : str
+        The map the navigator plans on (``protocol.MAP_MODELS``).
 
     Returns
     -------
@@ -125,7 +128,7 @@ def run_spec(spec, index=None, navigator_options=None, detection=True, record_di
         result = run_episode(scenario, spec.task, spec.wanderers, spec.seed,
                              navigator_options=navigator_options, detection=detection,
                              setup=_task_setup(spec.map_key, index, spec.task),
-                             recorder=recorder)
+                             recorder=recorder, map_model=map_model)
     finally:
         if recorder is not None:
             recorder.close()
@@ -176,7 +179,7 @@ def default_workers():
 
 
 def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, progress=True,
-                 navigator_options=None, detection=True, record_dir=None):
+                 navigator_options=None, detection=True, record_dir=None, map_model='labels'):
     """
     Run the episodes a log does not hold yet and append their rows to it.
 
@@ -202,6 +205,8 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
         Measure the map as a detector in every episode (the detection columns).
     record_dir : str or os.PathLike, optional
         Record every episode run now (not those already in the log) as a bag in this folder.
+    map_model : str
+        The map every episode's navigator plans on (``protocol.MAP_MODELS``).
 
     Returns
     -------
@@ -236,10 +241,11 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
                   dynamic_ncols=True, smoothing=0.05) as bar:
             if ray_address is not None:
                 results, workers = _ray_results(pending, ray_address, index,
-                                                navigator_options, detection, record_dir)
+                                                navigator_options, detection, record_dir,
+                                                map_model)
             else:
                 results = _local_results(pending, workers, index, navigator_options, detection,
-                                         record_dir)
+                                         record_dir, map_model)
             for row in results:
                 log.append(row)
                 ran += 1
@@ -253,21 +259,24 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
                     episode_wall_time=spent, workers=workers)
 
 
-def _local_results(pending, workers, index, navigator_options, detection, record_dir):
+def _local_results(pending, workers, index, navigator_options, detection, record_dir,
+                   map_model):
     """Yield the rows of pending episodes from local worker processes, as they finish."""
     if workers == 1 or len(pending) <= 1:
         for spec in pending:
-            yield run_spec(spec, index, navigator_options, detection, record_dir)
+            yield run_spec(spec, index, navigator_options, detection, record_dir, map_model)
         return
     # spawn: each worker starts clean (its own pybullet client, no forked state).
     context = multiprocessing.get_context('spawn')
     with context.Pool(min(workers, len(pending))) as pool:
         yield from pool.imap_unordered(
             _run_spec_star,
-            [(spec, index, navigator_options, detection, record_dir) for spec in pending])
+            [(spec, index, navigator_options, detection, record_dir, map_model)
+             for spec in pending])
 
 
-def _ray_results(pending, address, index, navigator_options, detection, record_dir):
+def _ray_results(pending, address, index, navigator_options, detection, record_dir,
+                 map_model):
     """Start the pending episodes on Ray; return a generator of rows and Ray's CPU count."""
     import ray
     if not ray.is_initialized():
@@ -277,7 +286,8 @@ def _ray_results(pending, address, index, navigator_options, detection, record_d
     remote = ray.remote(num_cpus=1)(run_spec)
 
     def rows():
-        waiting = [remote.remote(spec, index, navigator_options, detection, record_dir)
+        waiting = [remote.remote(spec, index, navigator_options, detection, record_dir,
+                                 map_model)
                    for spec in pending]
         while waiting:
             finished, waiting = ray.wait(waiting, num_returns=1)

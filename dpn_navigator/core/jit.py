@@ -115,8 +115,10 @@ def warm_up():
 
     """
     from .astar_search import warm_up_astar
+    from .costmap_grid import warm_up_costmap
     from .label_grid import warm_up_label_update
     started = time.perf_counter()
     warm_up_astar()
     warm_up_label_update()
+    warm_up_costmap()
     return time.perf_counter() - started

@@ -185,6 +185,10 @@ class Navigator:
     Parameters
     ----------
     config : NavigatorConfig
+    grid : LabelGrid-like, optional
+        The map to plan on, in place of the ``LabelGrid`` built from ``config``: any object
+        with ``LabelGrid``'s ``geometry``, ``labels``, ``last_window``, ``update`` and
+        ``blocked`` (the benchmark's reference navigators: ``CostmapGrid``, ``OracleGrid``).
 
     Attributes
     ----------
@@ -203,10 +207,10 @@ class Navigator:
 
     """
 
-    def __init__(self, config):
+    def __init__(self, config, grid=None):
         self.config = config
-        self.grid = LabelGrid(config.width, config.height, config.resolution, config.origin,
-                              config.label_rule())
+        self.grid = grid if grid is not None else LabelGrid(
+            config.width, config.height, config.resolution, config.origin, config.label_rule())
         self._masks = PlanningMasks(self.grid, config.obstacle_proximity_cost)
         self.path = None
         self.goal = None
