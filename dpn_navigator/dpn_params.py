@@ -49,7 +49,7 @@ FLOAT_PARAMETERS = {
                         'this of a cell surely seen free [m].', (0.0, 5.0), True),
     'segment_gap': (0.3, 'Consecutive laser hits farther apart than this are different '
                     'objects [m].', (0.01, 10.0), True),
-    'mobile_expiry': (5.0, 'Mobile cells no hit confirmed for this long and out of view go '
+    'mobile_expiry': (3.0, 'Mobile cells no hit confirmed for this long and out of view go '
                       'back to explored [s]; 0: never (the paper).', (0.0, 3600.0), True),
     'track_confirm_time': (5.0, 'Motion tracks: a compact free-standing segment near a moving '
                            'object stays mobile while motion was seen within this long [s]; '

@@ -125,7 +125,7 @@ class NavigatorConfig:
     moving_object_size: float = 0.7
     evidence_margin: float = 0.15
     segment_gap: float = 0.3
-    mobile_expiry: float = 5.0
+    mobile_expiry: float = 3.0
     track_confirm_time: float = 5.0
     trail_distance: float = 1.2
     follower: FollowerConfig = field(default_factory=FollowerConfig)
