@@ -15,12 +15,12 @@ import numpy as np
 from .ground_truth import near_any
 from ..core.cell_label import blocked_mask, CellLabel, LABEL_DTYPE
 from ..core.grid_geometry import GridGeometry
-from ..core.label_grid import ChangeTracker, check_path
+from ..core.label_grid import ChangeTrackers, check_path
 
 _EMPTY_WINDOW = (slice(0, 0), slice(0, 0), np.zeros((0, 0), dtype=LABEL_DTYPE))
 
 
-class OracleGrid:
+class OracleGrid(ChangeTrackers):
     """
     Ground-truth labels: walls steady, wanderers mobile, the rest explored.
 
@@ -62,25 +62,9 @@ class OracleGrid:
         self.last_window = _EMPTY_WINDOW
         self._trackers = []
 
-    def change_tracker(self):
-        """
-        Return a new ``label_grid.ChangeTracker`` of this map, for the navigator's masks.
-
-        Every update may change any cell here, so every tracker then holds the whole map.
-
-        Returns
-        -------
-        ChangeTracker
-
-        """
-        tracker = ChangeTracker(self.geometry.shape)
-        self._trackers.append(tracker)
-        return tracker
-
     def labels_changed(self):
-        """Note that ``labels`` changed, anywhere: every tracker holds the whole map."""
-        for tracker in self._trackers:
-            tracker.widen_all()
+        """Note that ``labels`` changed, anywhere: every change tracker holds the whole map."""
+        self._widen_trackers_all()
 
     def set_wanderers(self, wanderer_xy):
         """

@@ -40,7 +40,7 @@ import numpy as np
 from .cell_label import blocked_mask, CellLabel, LABEL_DTYPE, ScanInput
 from .grid_geometry import GridGeometry
 from .jit import kernel
-from .label_grid import ChangeTracker, check_path
+from .label_grid import ChangeTrackers, check_path
 from .scan_polygon import check_pose, check_scan
 
 #: Nav2 Jazzy's ``obstacle_max_range`` and ``raytrace_max_range`` in ``nav2_params.yaml`` [m].
@@ -286,7 +286,7 @@ def layer_geometry_for(geometry, layer_resolution):
                         geometry.resolution / factor, geometry.origin), factor
 
 
-class CostmapGrid:
+class CostmapGrid(ChangeTrackers):
     """
     The costmap as a drop-in for ``LabelGrid`` in the ``Navigator``.
 
@@ -342,25 +342,9 @@ class CostmapGrid:
         self.last_window = _EMPTY_WINDOW
         self._trackers = []
 
-    def change_tracker(self):
-        """
-        Return a new ``label_grid.ChangeTracker`` of this map, for the navigator's masks.
-
-        Every update may change any cell here, so every tracker then holds the whole map.
-
-        Returns
-        -------
-        ChangeTracker
-
-        """
-        tracker = ChangeTracker(self.geometry.shape)
-        self._trackers.append(tracker)
-        return tracker
-
     def labels_changed(self):
-        """Note that ``labels`` changed, anywhere: every tracker holds the whole map."""
-        for tracker in self._trackers:
-            tracker.widen_all()
+        """Note that ``labels`` changed, anywhere: every change tracker holds the whole map."""
+        self._widen_trackers_all()
 
     def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
                safety_radius, path=None, angle_max=None, stamp=None):

@@ -238,7 +238,36 @@ class ChangeTracker:
         return slice(row_lo, max(row_lo, row_hi)), slice(col_lo, max(col_lo, col_hi)), whole
 
 
-class LabelGrid:
+class ChangeTrackers:
+    """
+    The change trackers of a map with ``geometry`` and ``labels``: a base class.
+
+    A subclass sets ``self._trackers = []`` and widens them where its labels change.
+    """
+
+    def change_tracker(self):
+        """
+        Return a new `ChangeTracker` of this map, at first holding every cell.
+
+        Returns
+        -------
+        ChangeTracker
+
+        """
+        tracker = ChangeTracker(self.geometry.shape)
+        self._trackers.append(tracker)
+        return tracker
+
+    def _widen_trackers(self, rows, cols):
+        for tracker in self._trackers:
+            tracker.widen(rows, cols)
+
+    def _widen_trackers_all(self):
+        for tracker in self._trackers:
+            tracker.widen_all()
+
+
+class LabelGrid(ChangeTrackers):
     """
     Occupancy grid whose cells carry one of the four ``CellLabel`` values.
 
@@ -308,27 +337,6 @@ class LabelGrid:
                            if rule.trail_distance > 0.0 else None)
         self._marked = np.zeros(0, dtype=np.int64)   # flat cells that may hold a track
         self._followed_hits = None                  # (hits_x, hits_y) of the latest scan
-
-    def change_tracker(self):
-        """
-        Return a new `ChangeTracker` of this grid, at first holding every cell.
-
-        Returns
-        -------
-        ChangeTracker
-
-        """
-        tracker = ChangeTracker(self.geometry.shape)
-        self._trackers.append(tracker)
-        return tracker
-
-    def _widen_trackers(self, rows, cols):
-        for tracker in self._trackers:
-            tracker.widen(rows, cols)
-
-    def _widen_trackers_all(self):
-        for tracker in self._trackers:
-            tracker.widen_all()
 
     def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
                safety_radius, path=None, angle_max=None, stamp=None):
