@@ -159,17 +159,8 @@ class NumpyLabelGrid(LabelGrid):
     def _stamp_runs(self, rows, cols, runs):
         """Note in ``cell_track`` which track's hits are within the safety radius of a cell."""
         starts, ends, hit_index = runs
-        run_ids = self.tracks.hit_ids[hit_index]
-        window = self.cell_track[rows, cols]
-        window[self.last_window[2] == ScanInput.HIT] = -1
-        for track in np.unique(run_ids[run_ids >= 0]):
-            own = run_ids == track
-            cover = run_cover(starts[own], ends[own], window.shape)
-            window[cover] = track
-            local_rr, local_cc = np.nonzero(cover)
-            self._marked = np.concatenate((
-                self._marked,
-                (local_rr + rows.start) * self.geometry.cols + local_cc + cols.start))
+        self.cell_track[rows, cols][self.last_window[2] == ScanInput.HIT] = -1
+        self._mark_runs(rows, cols, starts, ends, self.tracks.hit_ids[hit_index])
 
     def _restart_clocks_if_time_went_back(self, stamp):
         """After a jump back in time (a restarted simulation), no hit is newer than now."""

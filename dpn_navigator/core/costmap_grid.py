@@ -40,8 +40,7 @@ import numpy as np
 from .cell_label import blocked_mask, CellLabel, LABEL_DTYPE, ScanInput
 from .grid_geometry import GridGeometry
 from .jit import kernel
-from .label_grid import ChangeTrackers, check_path
-from .scan_polygon import check_pose, check_scan
+from .label_grid import ChangeTrackers, check_update
 
 #: Nav2 Jazzy's ``obstacle_max_range`` and ``raytrace_max_range`` in ``nav2_params.yaml`` [m].
 NAV2_OBSTACLE_MAX_RANGE = 2.5
@@ -376,12 +375,9 @@ class CostmapGrid(ChangeTrackers):
 
         """
         self.labels_changed()
-        pose = check_pose(pose)
-        ranges = check_scan(ranges, angle_min, angle_increment, range_min, range_max, angle_max)
-        safety_radius = float(safety_radius)
-        if not (math.isfinite(safety_radius) and safety_radius >= 0.0):
-            raise ValueError(f'safety_radius must be finite and >= 0, got {safety_radius!r} m')
-        path = check_path(path, self.geometry.shape)
+        pose, ranges, safety_radius, path = check_update(
+            self.geometry.shape, pose, ranges, angle_min, angle_increment, range_min, range_max,
+            safety_radius, path, angle_max)
         points_x, points_y, distance = self._points(pose, ranges, angle_min, angle_increment,
                                                     range_min, range_max)
         cleared = self._raytrace(pose, points_x, points_y)

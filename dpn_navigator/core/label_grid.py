@@ -76,6 +76,45 @@ def check_path(path, shape):
     return cells
 
 
+def check_update(shape, pose, ranges, angle_min, angle_increment, range_min, range_max,
+                 safety_radius, path, angle_max=None):
+    """
+    Validate the arguments every map's ``update`` takes (``LabelGrid.update``).
+
+    Parameters
+    ----------
+    shape : (int, int)
+        The map's ``(rows, cols)``.
+    pose : (float, float, float)
+        The laser's ``(x, y, yaw)`` [m, m, rad].
+    ranges, angle_min, angle_increment, range_min, range_max, angle_max
+        The scan, as in ``LabelGrid.update``.
+    safety_radius : float
+        f1's ``r`` [m].
+    path : (N, 2) array_like of int, or None
+        Path cells ``(row, col)``.
+
+    Returns
+    -------
+    pose : (float, float, float)
+    ranges : (L,) ndarray of float64
+    safety_radius : float
+    path : (N, 2) ndarray of int64, or None
+
+    Raises
+    ------
+    ValueError
+        Naming what is wrong.
+
+    """
+    pose = check_pose(pose)
+    ranges = check_scan(ranges, angle_min, angle_increment, range_min, range_max, angle_max)
+    safety_radius = float(safety_radius)
+    if not (math.isfinite(safety_radius) and safety_radius >= 0.0):
+        raise ValueError(f'safety_radius must be finite and >= 0, got {safety_radius!r} m')
+    return pose, ranges, safety_radius, check_path(path, shape)
+
+
 @dataclass(frozen=True)
 class LabelRule:
     """
@@ -426,8 +465,17 @@ class LabelGrid(ChangeTrackers):
         starts, ends, hit_index = hit_runs(
             self.geometry, rows, cols, self.geometry.window_centres(rows, cols),
             hits_x[tracked], hits_y[tracked], safety_radius, return_hits=True)
-        run_ids = ids[tracked][hit_index]
-        for track in np.unique(run_ids):
+        self._mark_runs(rows, cols, starts, ends, ids[tracked][hit_index])
+
+    def _mark_runs(self, rows, cols, starts, ends, run_ids):
+        """
+        Mark the cells of each f1 run with its hit's track in ``cell_track``, and list them.
+
+        ``starts``, ``ends`` are window runs (``hit_runs``), ``run_ids`` the track of each run
+        (-1: none).
+        """
+        window = self.cell_track[rows, cols]
+        for track in np.unique(run_ids[run_ids >= 0]):
             own = run_ids == track
             cover = run_cover(starts[own], ends[own], window.shape)
             window[cover] = track
@@ -479,12 +527,9 @@ class LabelGrid(ChangeTrackers):
     def _checked_scan(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
                       safety_radius, path, angle_max, stamp):
         """Validate `update`'s arguments; return pose, ranges, radius, path and stamp."""
-        pose = check_pose(pose)
-        ranges = check_scan(ranges, angle_min, angle_increment, range_min, range_max, angle_max)
-        safety_radius = float(safety_radius)
-        if not (math.isfinite(safety_radius) and safety_radius >= 0.0):
-            raise ValueError(f'safety_radius must be finite and >= 0, got {safety_radius!r} m')
-        path = check_path(path, self.geometry.shape)
+        pose, ranges, safety_radius, path = check_update(
+            self.geometry.shape, pose, ranges, angle_min, angle_increment, range_min, range_max,
+            safety_radius, path, angle_max)
         if self.rule.mobile_expiry > 0.0 or self.rule.track_confirm_time > 0.0:
             if stamp is None or not math.isfinite(stamp):
                 raise ValueError('the label rule (mobile_expiry, track_confirm_time) needs a '
