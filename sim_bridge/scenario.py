@@ -227,7 +227,10 @@ def load_scenario(name_or_path, index=None, n_tasks=3, seed=0):
     text = str(name_or_path)
     if isinstance(name_or_path, Path) or text.endswith(('.yaml', '.yml')) or '/' in text:
         grid = load_map_yaml(name_or_path)
-        tasks = draw_tasks(grid.free, grid.geometry, n_tasks, seed)
+        try:
+            tasks = draw_tasks(grid.free, grid.geometry, n_tasks, seed)
+        except ValueError as exc:
+            raise ValueError(f'{text}: {exc}') from None
         return Scenario(Path(text).stem, grid.occupied, grid.free, grid.resolution,
                         grid.origin, tasks, map_yaml=grid.yaml_path)
     entries = {entry.name: entry for entry in load_index(index)}

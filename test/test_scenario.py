@@ -319,6 +319,16 @@ def test_bare_map_gets_drawn_tasks(tmp_path):
     assert scenario.tasks == load_scenario(str(path), n_tasks=2, seed=5).tasks
 
 
+def test_bare_map_without_tasks_names_the_map(tmp_path):
+    free, geometry = open_room(size=4.0)
+    image = np.where(free, 254, 0).astype(np.uint8)[::-1]
+    write_pgm(tmp_path / 'tiny.pgm', image)
+    path = tmp_path / 'small_room.yaml'
+    path.write_text(MAP_YAML.replace('resolution: 0.5', 'resolution: 0.1'))
+    with pytest.raises(ValueError, match=r'small_room\.yaml: could not draw 1 tasks'):
+        load_scenario(path, n_tasks=1, seed=0)
+
+
 # -- free space ---------------------------------------------------------------------------
 
 
