@@ -57,6 +57,9 @@ FLOAT_PARAMETERS = {
     'trail_distance': (1.2, 'Trails: out-of-view mobile cells whose followed object the scan '
                        'sees at least this far away go back to explored [m]; 0: off.',
                        (0.0, 100.0), True),
+    'object_memory': (5.0, 'Object memory: steady cells no scan segment longer than 1 m has '
+                      'hit are forgotten after this long without a hit, out of view and more '
+                      'than 2 safety radii away [s]; 0: off.', (0.0, 3600.0), True),
     'goal_x': (2.0, 'Goal x in the map frame [m]; NaN: wait for a goal on goal_pose.',
                None, True),
     'goal_y': (18.0, 'Goal y in the map frame [m]; NaN: wait for a goal on goal_pose.',
@@ -147,7 +150,7 @@ def declare_parameters(node):
         evidence_margin=values['evidence_margin'], segment_gap=values['segment_gap'],
         mobile_expiry=values['mobile_expiry'],
         track_confirm_time=values['track_confirm_time'],
-        trail_distance=values['trail_distance'],
+        trail_distance=values['trail_distance'], object_memory=values['object_memory'],
         laser_offset=(values['laser_x'], values['laser_y'], values['laser_yaw']),
         follower=follower)
     goal = None

@@ -67,6 +67,7 @@ class NumpyLabelGrid(LabelGrid):
             self.last_window = _EMPTY_WINDOW
             if expiring:
                 self._expire_mobile(float(stamp))
+            self._forget_objects_of(points, safety_radius, stamp)
             return False
         runs = None
         if self.rule.moving_object_size > 0.0:
@@ -87,6 +88,7 @@ class NumpyLabelGrid(LabelGrid):
             self._expire_mobile(float(stamp))
         if self.cell_track is not None:
             self._expire_trails(float(stamp))
+        self._forget_objects_of(points, safety_radius, stamp)
         if path is None or not path.shape[0]:
             return False
         on_window = ((path[:, 0] >= rows.start) & (path[:, 0] < rows.stop)
@@ -155,6 +157,13 @@ class NumpyLabelGrid(LabelGrid):
         if self.cell_track is not None:
             self._stamp_runs(rows, cols, runs)
         return run_cover(starts[moving[hit_index]], ends[moving[hit_index]], seen_free.shape)
+
+    def _forget_objects_of(self, points, safety_radius, stamp):
+        """Run the object memory after the update, as ``LabelGrid.update`` does."""
+        if self.object_memory is not None:
+            self._followed_hits = (points.hits_x, points.hits_y)
+            self._laser_xy = (points.vertices_x[0], points.vertices_y[0])
+            self._forget_objects(safety_radius, float(stamp))
 
     def _stamp_runs(self, rows, cols, runs):
         """Note in ``cell_track`` which track's hits are within the safety radius of a cell."""

@@ -114,8 +114,10 @@ def block_behind(navigator, x0, x1, label):
 def test_obstacles_out_of_view_are_forgotten_when_stuck(forget_after, label, unblocked_at,
                                                         forgotten_as):
     occupied = walled_room()
-    # Ghost expiry would clear the mobile band on its own: this test is about forgetting.
-    navigator = Navigator(config(forget_obstacles_after=forget_after, mobile_expiry=0.0))
+    # Ghost expiry and object memory would clear the bands on their own: this test is about
+    # forgetting.
+    navigator = Navigator(config(forget_obstacles_after=forget_after, mobile_expiry=0.0,
+                                 object_memory=0.0))
     navigator.set_goal(2.0, 6.0)                     # behind the robot, which looks east
     block_behind(navigator, 3.5, 4.5, label)
     geometry = navigator.grid.geometry
@@ -172,7 +174,7 @@ def test_unreachable_goal_stops_the_robot_and_recovers_when_the_way_opens():
 def test_obstacle_appearing_on_the_path_triggers_a_replan():
     occupied = walled_room()
     # No ghost expiry: the box's cells, behind the robot at the goal, stay as they were seen.
-    navigator = Navigator(config(mobile_expiry=0.0))
+    navigator = Navigator(config(mobile_expiry=0.0, object_memory=0.0))
     navigator.set_goal(10.0, 6.0)
     pose, outputs, _ = drive(navigator, occupied, (2.0, 6.0, 0.0), 5)
     assert outputs[0].replanned and navigator.replans == 1

@@ -22,6 +22,7 @@ from .cell_label import blocked_mask, CellLabel, LABEL_DTYPE, ScanInput
 from .grid_geometry import GridGeometry
 from .label_kernel import expire_listed, scan_hits, scan_update, squared_bound
 from .motion_tracks import MotionTracks, TrackConfig
+from .object_memory import ObjectMemory
 from .scan_features import hit_runs, run_cover
 from .scan_polygon import check_pose, check_scan
 
@@ -160,7 +161,14 @@ class LabelRule:
         while out of view (f1 = f2 = 0) once the scan sees that object at least this far from
         the cell: the object has moved on, what it left is a trail. 0 turns it off. Needs
         ``track_confirm_time`` > 0.
-
+    object_memory : float
+        Object memory [s] (``object_memory``): a steady cell that no hit of a segment longer
+        than 1 m has ever been within the safety radius of (a small object never seen to
+        move: a wanderer that stopped or left before, or a pillar) is forgotten, back
+        to explored if once surely seen free and to non-explored otherwise, once no hit has
+        been within the safety radius of it for this long, the latest scan does not see it
+        (f1 = f2 = 0) and it is more than twice the safety radius from the laser. 0 turns it
+        off. Needs ``track_confirm_time`` > 0 and ``mobile_expiry`` > 0.
 
     """
 
@@ -171,10 +179,11 @@ class LabelRule:
     mobile_expiry: float = 0.0
     track_confirm_time: float = 0.0
     trail_distance: float = 0.0
+    object_memory: float = 0.0
 
     def __post_init__(self):
         for name in ('free_evidence_radius', 'moving_object_size', 'evidence_margin',
-                     'mobile_expiry', 'track_confirm_time', 'trail_distance'):
+                     'mobile_expiry', 'track_confirm_time', 'trail_distance', 'object_memory'):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0.0):
                 raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
@@ -183,6 +192,10 @@ class LabelRule:
         if self.trail_distance > 0.0 and self.track_confirm_time == 0.0:
             raise ValueError('trail_distance needs track_confirm_time > 0: a trail is left by '
                              'a followed object')
+        if self.object_memory > 0.0 and (self.track_confirm_time == 0.0
+                                         or self.mobile_expiry == 0.0):
+            raise ValueError('object_memory needs track_confirm_time > 0 (the scan segments) '
+                             'and mobile_expiry > 0 (the hit clock)')
         if self.track_confirm_time > 0.0 and self.moving_object_size == 0.0:
             raise ValueError('track_confirm_time needs moving_object_size > 0: tracks follow '
                              'moving objects')
@@ -216,7 +229,7 @@ PAPER_RULE = LabelRule()
 def warm_up_label_update():
     """Compile (or load from the cache) the label kernels with one tiny scan, every rule part."""
     rule = LabelRule(free_evidence_radius=0.5, moving_object_size=0.5, mobile_expiry=1.0,
-                     track_confirm_time=1.0, trail_distance=1.0)
+                     track_confirm_time=1.0, trail_distance=1.0, object_memory=1.0)
     grid = LabelGrid(2.0, 2.0, 0.5, rule=rule)
     grid.labels[0, 0] = CellLabel.MOBILE_OBSTACLE          # to expire at the second scan
     grid.last_hit[0, 0] = 0.0
@@ -338,6 +351,9 @@ class LabelGrid(ChangeTrackers):
     cell_track : (rows, cols) ndarray of int64, or None
         The track (``MotionTracks.ids``) whose hits last labelled each cell mobile, -1 for
         none; None unless ``rule.trail_distance`` > 0.
+    object_memory : ObjectMemory or None
+        The steady cells only small free-standing objects explain (``object_memory``); None
+        unless ``rule.object_memory`` > 0.
     last_window : (slice, slice, (n_rows, n_cols) ndarray of uint8)
         The latest update's window and its FSM input (``ScanInput``); empty slices when the
         scan missed the grid. Cells outside the window had input ``NONE``.
@@ -376,6 +392,9 @@ class LabelGrid(ChangeTrackers):
                            if rule.trail_distance > 0.0 else None)
         self._marked = np.zeros(0, dtype=np.int64)   # flat cells that may hold a track
         self._followed_hits = None                  # (hits_x, hits_y) of the latest scan
+        self._laser_xy = (0.0, 0.0)
+        self.object_memory = (ObjectMemory(self.geometry, rule.object_memory)
+                              if rule.object_memory > 0.0 else None)
 
     def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
                safety_radius, path=None, angle_max=None, stamp=None):
@@ -438,6 +457,8 @@ class LabelGrid(ChangeTrackers):
         if self.cell_track is not None and self.last_window[2].size:
             self._stamp_tracks(safety_radius)
             self._expire_trails(stamp)
+        if self.object_memory is not None:
+            self._forget_objects(safety_radius, stamp)
         return replan
 
     def _follow(self, pose, ranges, angle_min, angle_increment, range_min, range_max, stamp):
@@ -446,11 +467,21 @@ class LabelGrid(ChangeTrackers):
             _NO_BOOL if self.seen_free is None else self.seen_free, self.geometry, pose, ranges,
             angle_min, angle_increment, range_min, range_max, self._kernel_rule)
         self._followed_hits = (hits_x, hits_y)
+        self._laser_xy = (vertices_x[0], vertices_y[0])
         beam_reach = np.hypot(vertices_x[1:-1] - vertices_x[0],
                               vertices_y[1:-1] - vertices_y[0])
         return self.tracks.update(
             stamp, (vertices_x[0], vertices_y[0]), hits_x, hits_y, hit_beams, ranges.shape[0],
             moving, self.rule.segment_gap, pose[2] + angle_min, angle_increment, beam_reach)
+
+    def _forget_objects(self, safety_radius, stamp):
+        """Forget the steady cells of small objects out of view and unconfirmed for long."""
+        hits_x, hits_y = self._followed_hits
+        changed = self.object_memory.update(
+            self.labels, self.seen_free, self.last_hit, self.last_window, hits_x, hits_y,
+            self.tracks.hit_long, self._laser_xy, safety_radius, stamp)
+        if changed is not None:
+            self._widen_trackers(*changed)
 
     def _stamp_tracks(self, safety_radius):
         """Note in ``cell_track`` which track's hits are within the safety radius of a cell."""
@@ -623,3 +654,5 @@ class LabelGrid(ChangeTrackers):
         if self.cell_track is not None:
             self.cell_track.fill(-1)
         self._marked = np.zeros(0, dtype=np.int64)
+        if self.object_memory is not None:
+            self.object_memory.reset()

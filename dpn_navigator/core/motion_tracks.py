@@ -205,6 +205,8 @@ class MotionTracks:
     hit_ids : (K,) ndarray of int64
         For each hit of the latest scan, the number of the track its segment continued, -1
         for none.
+    hit_long : (K,) ndarray of bool
+        For each hit of the latest scan, whether its segment is longer than ``compact_size``.
 
     """
 
@@ -219,6 +221,7 @@ class MotionTracks:
         self.positions = np.zeros((0, 2))
         self.ids = np.zeros(0, dtype=np.int64)
         self.hit_ids = np.zeros(0, dtype=np.int64)
+        self.hit_long = np.zeros(0, dtype=bool)
         self._next_id = 0
         self.last_seen = np.zeros(0)
         self.last_confirmed = np.zeros(0)
@@ -264,6 +267,7 @@ class MotionTracks:
             self.reset()                        # time went back: a restarted simulation
         self._last_stamp = stamp
         self.hit_ids = np.full(count, -1, dtype=np.int64)
+        self.hit_long = np.zeros(count, dtype=bool)
         if self.config.confirm_within == 0.0:
             return followed
         self._drop_dead(stamp)
@@ -289,6 +293,7 @@ class MotionTracks:
                 own = slice(first[s], stop[s])
                 self.hit_ids[own][moving[own]] = self.ids[track]
         compact = small & (open_sides == 2)
+        self.hit_long = ~small[segment]
         vacated = np.zeros(segments, dtype=bool)
         if self.config.vacated and beam_reach is not None:
             vacated = self._vacated(stamp, centroid_x, centroid_y, compact & ~evidence,

@@ -105,6 +105,9 @@ class NavigatorConfig:
     trail_distance : float
         Trails [m]: out-of-view mobile cells whose object the scan sees at least this far away
         go back to explored; see ``LabelRule``. 0: off.
+    object_memory : float
+        Object memory [s]: steady cells that no scan segment longer than 1 m has hit are
+        forgotten after this long without a hit, out of view; see ``LabelRule``. 0: off.
     follower : FollowerConfig
         Speed limits and gains of the path follower.
 
@@ -128,6 +131,7 @@ class NavigatorConfig:
     mobile_expiry: float = 3.0
     track_confirm_time: float = 5.0
     trail_distance: float = 1.2
+    object_memory: float = 5.0
     follower: FollowerConfig = field(default_factory=FollowerConfig)
 
     def __post_init__(self):
@@ -149,7 +153,8 @@ class NavigatorConfig:
                          evidence_margin=self.evidence_margin, segment_gap=self.segment_gap,
                          mobile_expiry=self.mobile_expiry,
                          track_confirm_time=self.track_confirm_time,
-                         trail_distance=self.trail_distance)
+                         trail_distance=self.trail_distance,
+                         object_memory=self.object_memory)
 
 
 @dataclass(frozen=True)
