@@ -57,9 +57,10 @@ FLOAT_PARAMETERS = {
     'trail_distance': (1.2, 'Trails: out-of-view mobile cells whose followed object the scan '
                        'sees at least this far away go back to explored [m]; 0: off.',
                        (0.0, 100.0), True),
-    'object_memory': (5.0, 'Object memory: steady cells no scan segment longer than 1 m has '
-                      'hit are forgotten after this long without a hit, out of view and more '
-                      'than 2 safety radii away [s]; 0: off.', (0.0, 3600.0), True),
+    'object_memory': (5.0, 'Object memory: steady cells of small objects (scan segments up '
+                      'to 1 m with 3 hits or more) that no longer segment has hit are '
+                      'forgotten after this long without a hit, out of view and more than 2 '
+                      'safety radii away [s]; 0: off.', (0.0, 3600.0), True),
     'goal_x': (2.0, 'Goal x in the map frame [m]; NaN: wait for a goal on goal_pose.',
                None, True),
     'goal_y': (18.0, 'Goal y in the map frame [m]; NaN: wait for a goal on goal_pose.',

@@ -74,6 +74,29 @@ def test_a_wall_is_anchored_and_kept():
     assert grid.labels[cell] == N                  # the disc in front of it is forgotten
 
 
+def test_a_wall_seen_at_grazing_incidence_is_kept():
+    # A wall along y = 7, 1 m beside a laser looking along it: beyond about 4 m its hits are
+    # more than segment_gap apart, one-hit segments, neither long nor small objects.
+    rule = LabelRule(**TRACKS, object_memory=1.0)
+    grid = LabelGrid(width=12.0, height=12.0, rule=rule)
+    laser = (1.0, 6.0, 0.0)
+    angles = SCAN['angle_min'] + np.arange(BEAMS) * SCAN['angle_increment']
+    with np.errstate(divide='ignore'):
+        ranges = np.where(np.sin(angles) > 0.0, 1.0 / np.sin(angles), np.inf)
+    ranges[ranges >= SCAN['range_max']] = np.inf
+    for step in range(11):
+        grid.update(laser, ranges, safety_radius=0.6, stamp=step / 10, **SCAN)
+    far_wall = grid.labels[grid.geometry.world_to_cell(np.array([6.25]), np.array([6.75]))]
+    assert far_wall == S
+    away = (1.0, 6.0, math.pi)
+    for step in range(30):
+        grid.update(away, np.full(BEAMS, np.inf), safety_radius=0.6, stamp=1.1 + step / 10,
+                    **SCAN)
+    assert grid.labels[grid.geometry.world_to_cell(np.array([6.25]),
+                                                   np.array([6.75]))] == far_wall
+    assert grid.object_memory.forgotten == 0
+
+
 def test_object_next_to_the_robot_is_kept():
     # Its rim cell 0.75 m from the laser: within twice the safety radius (the robot may turn
     # in place beside it).
@@ -139,8 +162,8 @@ class LiteralObjectMemory:
         self.anchored = np.zeros(geometry.shape, dtype=bool)
         self.listed = np.zeros(geometry.shape, dtype=bool)
 
-    def update(self, labels, seen_free, last_hit, window, hits_x, hits_y, long, laser_xy,
-               safety_radius, stamp):
+    def update(self, labels, seen_free, last_hit, window, hits_x, hits_y, long, small_object,
+               laser_xy, safety_radius, stamp):
         rows, cols, cell_input = window
         bound = squared_radius_bound(safety_radius)
         for r in range(self.geometry.shape[0]):
@@ -150,7 +173,7 @@ class LiteralObjectMemory:
                 near = [(x - hx) ** 2 + (y - hy) ** 2 <= bound for hx, hy in zip(hits_x, hits_y)]
                 if in_window and any(n and k for n, k in zip(near, long)):
                     self.anchored[r, c] = True
-                if (in_window and any(n and not k for n, k in zip(near, long))
+                if (in_window and any(n and k for n, k in zip(near, small_object))
                         and labels[r, c] == S and not self.anchored[r, c]):
                     self.listed[r, c] = True
                 if not self.listed[r, c]:
@@ -190,7 +213,7 @@ def test_object_memory_equals_its_literal_twin(seed):
         count = int(rng.integers(0, 12))
         hits_x = rng.uniform(0.0, 6.0, count)
         hits_y = rng.uniform(0.0, 5.0, count)
-        long = rng.random(count) < 0.3
+        kind = rng.integers(0, 3, count)             # long, small object, or neither
         hit = np.zeros(geometry.shape, dtype=bool)
         hit[window[0], window[1]] = cell_input == ScanInput.HIT
         last_hit[hit] = stamp
@@ -198,8 +221,8 @@ def test_object_memory_equals_its_literal_twin(seed):
         flip = rng.random(geometry.shape) < 0.05
         labels[flip] = twin_labels[flip] = rng.choice([E, S, M], size=int(flip.sum()))
         laser_xy = tuple(rng.uniform(0.0, 5.0, 2))
-        args = ((window[0], window[1], cell_input), hits_x, hits_y, long, laser_xy, 0.6,
-                stamp)
+        args = ((window[0], window[1], cell_input), hits_x, hits_y, kind == 0, kind == 1,
+                laser_xy, 0.6, stamp)
         fast.update(labels, seen_free, last_hit, *args)
         twin.update(twin_labels, seen_free, last_hit, *args)
         assert_array_equal(labels, twin_labels)

@@ -162,9 +162,10 @@ class LabelRule:
         the cell: the object has moved on, what it left is a trail. 0 turns it off. Needs
         ``track_confirm_time`` > 0.
     object_memory : float
-        Object memory [s] (``object_memory``): a steady cell that no hit of a segment longer
-        than 1 m has ever been within the safety radius of (a small object never seen to
-        move: a wanderer that stopped or left before, or a pillar) is forgotten, back
+        Object memory [s] (``object_memory``): a steady cell that a hit of a small object (a
+        scan segment at most 1 m long with at least 3 hits) has been within the safety radius
+        of, and no hit of a longer segment ever was (a wanderer never seen to move, or a
+        pillar), is forgotten, back
         to explored if once surely seen free and to non-explored otherwise, once no hit has
         been within the safety radius of it for this long, the latest scan does not see it
         (f1 = f2 = 0) and it is more than twice the safety radius from the laser. 0 turns it
@@ -479,7 +480,7 @@ class LabelGrid(ChangeTrackers):
         hits_x, hits_y = self._followed_hits
         changed = self.object_memory.update(
             self.labels, self.seen_free, self.last_hit, self.last_window, hits_x, hits_y,
-            self.tracks.hit_long, self._laser_xy, safety_radius, stamp)
+            self.tracks.hit_long, self.tracks.hit_object, self._laser_xy, safety_radius, stamp)
         if changed is not None:
             self._widen_trackers(*changed)
 

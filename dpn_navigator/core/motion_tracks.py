@@ -33,6 +33,10 @@ import numpy as np
 from .moving_objects import scan_segments
 
 
+#: Fewest hits of a scan segment that is a small object (``MotionTracks.hit_object``).
+OBJECT_MIN_HITS = 3
+
+
 @dataclass(frozen=True)
 class TrackConfig:
     """
@@ -207,6 +211,10 @@ class MotionTracks:
         for none.
     hit_long : (K,) ndarray of bool
         For each hit of the latest scan, whether its segment is longer than ``compact_size``.
+    hit_object : (K,) ndarray of bool
+        For each hit of the latest scan, whether its segment is a small object: at most
+        ``compact_size`` long and at least ``OBJECT_MIN_HITS`` hits (a wall seen at grazing
+        incidence breaks into segments of one or two hits).
 
     """
 
@@ -222,6 +230,7 @@ class MotionTracks:
         self.ids = np.zeros(0, dtype=np.int64)
         self.hit_ids = np.zeros(0, dtype=np.int64)
         self.hit_long = np.zeros(0, dtype=bool)
+        self.hit_object = np.zeros(0, dtype=bool)
         self._next_id = 0
         self.last_seen = np.zeros(0)
         self.last_confirmed = np.zeros(0)
@@ -268,6 +277,7 @@ class MotionTracks:
         self._last_stamp = stamp
         self.hit_ids = np.full(count, -1, dtype=np.int64)
         self.hit_long = np.zeros(count, dtype=bool)
+        self.hit_object = np.zeros(count, dtype=bool)
         if self.config.confirm_within == 0.0:
             return followed
         self._drop_dead(stamp)
@@ -294,6 +304,7 @@ class MotionTracks:
                 self.hit_ids[own][moving[own]] = self.ids[track]
         compact = small & (open_sides == 2)
         self.hit_long = ~small[segment]
+        self.hit_object = (small & (stop - first >= OBJECT_MIN_HITS))[segment]
         vacated = np.zeros(segments, dtype=bool)
         if self.config.vacated and beam_reach is not None:
             vacated = self._vacated(stamp, centroid_x, centroid_y, compact & ~evidence,

@@ -106,8 +106,9 @@ class NavigatorConfig:
         Trails [m]: out-of-view mobile cells whose object the scan sees at least this far away
         go back to explored; see ``LabelRule``. 0: off.
     object_memory : float
-        Object memory [s]: steady cells that no scan segment longer than 1 m has hit are
-        forgotten after this long without a hit, out of view; see ``LabelRule``. 0: off.
+        Object memory [s]: steady cells of small objects (scan segments up to 1 m, 3 hits or
+        more) that no longer segment has hit are forgotten after this long without a hit, out
+        of view; see ``LabelRule``. 0: off.
     follower : FollowerConfig
         Speed limits and gains of the path follower.
 

@@ -12,8 +12,12 @@ So the grid tells two kinds of steady cell apart, by the scan segments
 - **anchored**: a hit of a *long* segment (its extent along the hits more than
   ``compact_size``, 1 m: a wall, or an object standing by one) was once within the safety
   radius of it. It is kept, as the paper keeps every steady cell;
-- **provisional**: only hits of short segments have been (a wanderer, free-standing or partly
-  hidden, a pillar, a short piece of wall seen between nearer things). Such a cell is forgotten
+- **provisional**: a hit of a small-object segment (at most ``compact_size`` long, with at
+  least ``OBJECT_MIN_HITS`` hits: a wanderer, free-standing or partly hidden, a pillar, a short
+  piece of wall seen between nearer things) was within the safety radius of it, and no hit of
+  a long one ever was. Hits of segments of one or two hits neither anchor nor list a cell: a
+  wall seen at grazing incidence breaks into such segments, metres apart, and stays steady
+  until a closer look anchors it. A provisional cell is forgotten
   once no hit has been within the safety radius for ``memory`` seconds, the latest scan does
   not see it (f1 = f2 = 0) and it lies more than twice the safety radius from the laser (the
   robot may turn in place beside it before it sees it): it goes back to explored when it was
@@ -97,8 +101,8 @@ class ObjectMemory:
         """(N,) ndarray of int64: flat indices of the listed cells (some may be stale)."""
         return self._cells[:self._count].copy()
 
-    def update(self, labels, seen_free, last_hit, window, hits_x, hits_y, long, laser_xy,
-               safety_radius, stamp):
+    def update(self, labels, seen_free, last_hit, window, hits_x, hits_y, long, small_object,
+               laser_xy, safety_radius, stamp):
         """
         Take one scan's hits into account, then forget the provisional cells due.
 
@@ -115,8 +119,9 @@ class ObjectMemory:
         hits_x, hits_y : (K,) ndarray of float64
             The scan's hit points [m], map frame.
         long : (K,) ndarray of bool
-            Hits of segments longer than ``compact_size`` (``MotionTracks.hit_long``); the
-            others are hits of short segments.
+            Hits of segments longer than ``compact_size`` (``MotionTracks.hit_long``).
+        small_object : (K,) ndarray of bool
+            Hits of small-object segments (``MotionTracks.hit_object``).
         laser_xy : (float, float)
             Laser position [m].
         safety_radius : float
@@ -133,7 +138,8 @@ class ObjectMemory:
         rows, cols, cell_input = window
         if cell_input.size and hits_x.shape[0]:
             self._anchor(rows, cols, hits_x[long], hits_y[long], safety_radius)
-            self._list(labels, rows, cols, hits_x[~long], hits_y[~long], safety_radius)
+            self._list(labels, rows, cols, hits_x[small_object], hits_y[small_object],
+                       safety_radius)
         return self._forget(labels, seen_free, last_hit, window, laser_xy,
                             2.0 * safety_radius, stamp)
 
@@ -155,7 +161,7 @@ class ObjectMemory:
                                                  safety_radius)] = True
 
     def _list(self, labels, rows, cols, hits_x, hits_y, safety_radius):
-        """List the steady, unanchored cells near hits of short segments."""
+        """List the steady, unanchored cells near hits of small objects."""
         cells = np.unique(self._window_cells(rows, cols, hits_x, hits_y, safety_radius))
         cells = cells[(labels.ravel()[cells] == CellLabel.STEADY_OBSTACLE)
                       & ~self.anchored.ravel()[cells] & ~self._listed.ravel()[cells]]
