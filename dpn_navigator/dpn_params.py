@@ -61,6 +61,16 @@ FLOAT_PARAMETERS = {
                       'to 1 m with 3 hits or more) that no longer segment has hit are '
                       'forgotten after this long without a hit, out of view and more than 2 '
                       'safety radii away [s]; 0: off.', (0.0, 3600.0), True),
+    'robot_length': (0.99, 'Robot footprint along x, centred on the base [m].', (0.01, 10.0),
+                     True),
+    'robot_width': (0.67, 'Robot footprint along y, centred on the base [m].', (0.01, 10.0),
+                    True),
+    'turn_sweep_memory': (2.0, 'Turn sweep: a turn in place is tested against the laser hits '
+                          'of this long before, and replaced by a creep ahead or held when '
+                          'its corners would hit one [s]; 0: off.',
+                          (0.0, 60.0), True),
+    'turn_sweep_margin': (0.05, 'Clearance the turn sweep keeps from the laser hits [m].',
+                          (0.0, 1.0), True),
     'goal_x': (2.0, 'Goal x in the map frame [m]; NaN: wait for a goal on goal_pose.',
                None, True),
     'goal_y': (18.0, 'Goal y in the map frame [m]; NaN: wait for a goal on goal_pose.',
@@ -152,6 +162,9 @@ def declare_parameters(node):
         mobile_expiry=values['mobile_expiry'],
         track_confirm_time=values['track_confirm_time'],
         trail_distance=values['trail_distance'], object_memory=values['object_memory'],
+        robot_length=values['robot_length'], robot_width=values['robot_width'],
+        turn_sweep_memory=values['turn_sweep_memory'],
+        turn_sweep_margin=values['turn_sweep_margin'],
         laser_offset=(values['laser_x'], values['laser_y'], values['laser_yaw']),
         follower=follower)
     goal = None

@@ -20,15 +20,17 @@ import numpy as np
 
 #: ``--navigator`` choices: overrides of ``NavigatorConfig``'s defaults. ``dpn`` is the
 #: navigator as shipped; ``paper`` turns off what this project added to the paper's method (the
-#: obstacle proximity cost of A*, forgetting unseen obstacles when stuck, and the label rules:
-#: conservative free space, object-level relabelling and ghost expiry). The two reference
-#: navigators (`MAP_MODELS`) plan on another map with dpn's planner and follower; they forget
-#: nothing (the costmap has no decay, the oracle nothing to forget).
+#: obstacle proximity cost of A*, forgetting unseen obstacles when stuck, the label rules:
+#: conservative free space, object-level relabelling and ghost expiry, and the turn sweep).
+#: The two reference navigators (`MAP_MODELS`) plan on another map with dpn's planner and
+#: follower (turn sweep included); they forget nothing (the costmap has no decay, the oracle
+#: nothing to forget).
 NAVIGATORS = {
     'dpn': {},
     'paper': {'obstacle_proximity_cost': 0.0, 'forget_obstacles_after': 0.0,
               'free_evidence_radius': 0.0, 'moving_object_size': 0.0, 'mobile_expiry': 0.0,
-              'track_confirm_time': 0.0, 'trail_distance': 0.0, 'object_memory': 0.0},
+              'track_confirm_time': 0.0, 'trail_distance': 0.0, 'object_memory': 0.0,
+              'turn_sweep_memory': 0.0},
     'costmap': {'forget_obstacles_after': 0.0},
     'oracle': {'forget_obstacles_after': 0.0},
 }

@@ -19,7 +19,8 @@ from .label_grid import LabelGrid, LabelRule
 from .path_follower import follow_path, FollowerConfig, STOP, VelocityCommand
 from .planning_masks import PlanningMasks, touches_blocked  # noqa: F401 (re-exported)
 from .pose2d import compose
-from .scan_polygon import check_pose
+from .scan_polygon import check_pose, scan_points
+from .turn_sweep import TurnSweep
 
 
 #: Forgetting unseen obstacles keeps those within this many safety radii of the robot.
@@ -109,6 +110,15 @@ class NavigatorConfig:
         Object memory [s]: steady cells of small objects (scan segments up to 1 m, 3 hits or
         more) that no longer segment has hit are forgotten after this long without a hit, out
         of view; see ``LabelRule``. 0: off.
+    robot_length, robot_width : float
+        The robot's footprint, centred on the base frame's origin [m]; the Husky A200 with
+        bumpers.
+    turn_sweep_memory : float
+        Turn sweep [s]: a turn in place is tested against the laser hits of this long before,
+        and replaced by a creep ahead, or held, when the robot's corners would sweep into one;
+        see ``turn_sweep``. 0: off (the follower's turn is sent as it is).
+    turn_sweep_margin : float
+        Clearance the turn sweep keeps from the kept hits [m].
     follower : FollowerConfig
         Speed limits and gains of the path follower.
 
@@ -133,17 +143,26 @@ class NavigatorConfig:
     track_confirm_time: float = 5.0
     trail_distance: float = 1.2
     object_memory: float = 5.0
+    robot_length: float = 0.99
+    robot_width: float = 0.67
+    turn_sweep_memory: float = 2.0
+    turn_sweep_margin: float = 0.05
     follower: FollowerConfig = field(default_factory=FollowerConfig)
 
     def __post_init__(self):
         for name in ('safety_radius', 'footprint_radius', 'no_path_retry_period',
-                     'obstacle_proximity_cost', 'forget_obstacles_after'):
+                     'obstacle_proximity_cost', 'forget_obstacles_after', 'turn_sweep_memory',
+                     'turn_sweep_margin'):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0.0):
                 raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
         if not (math.isfinite(self.max_path_deviation) and self.max_path_deviation > 0.0):
             raise ValueError(
                 f'max_path_deviation must be positive, got {self.max_path_deviation!r}')
+        for name in ('robot_length', 'robot_width'):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0.0):
+                raise ValueError(f'{name} must be positive and finite, got {value!r}')
         check_pose(self.laser_offset, 'laser_offset')
         self.label_rule()                        # validates the label rule's fields
 
@@ -231,6 +250,9 @@ class Navigator:
         self._spell_forgets = 0
         self._last_scan = None
         self._last_stamp = None
+        self.turn_sweep = None if config.turn_sweep_memory == 0.0 else TurnSweep(
+            config.turn_sweep_memory, config.robot_length, config.robot_width,
+            config.turn_sweep_margin)
 
     def set_goal(self, x, y):
         """
@@ -323,6 +345,11 @@ class Navigator:
         self._replan_requested |= replan
         self._last_scan = (laser_pose, np.array(ranges, dtype=np.float64), angle_min,
                            angle_increment, range_min, range_max, angle_max, stamp)
+        if self.turn_sweep is not None:
+            points = scan_points(laser_pose, self._last_scan[1], angle_min, angle_increment,
+                                 range_min, range_max)
+            self.turn_sweep.add_scan(stamp, pose[:2],
+                                     np.column_stack((points.hits_x, points.hits_y)))
 
     def decide(self, stamp, pose):
         """
@@ -389,6 +416,8 @@ class Navigator:
             self.status = NavigatorStatus.GOAL_REACHED
             self.reason = 'inside the goal tolerance'
             return NavigatorOutput(STOP, self.status, self.reason, replanned, cause)
+        if self.turn_sweep is not None:
+            command = self.turn_sweep.check(command, pose)
         return NavigatorOutput(command, self.status, self.reason, replanned, cause)
 
     def _path_is_stale(self, pose):

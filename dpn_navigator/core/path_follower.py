@@ -84,12 +84,16 @@ class VelocityCommand:
         max_angular_speed]``.
     goal_reached : bool
         True when the robot is inside the goal tolerance (the command is then zero).
+    turn : float
+        For a turn in place, the heading change still to turn, counter-clockwise positive
+        [rad] (``turn_sweep`` checks it); 0 otherwise.
 
     """
 
     linear: float
     angular: float
     goal_reached: bool = False
+    turn: float = 0.0
 
 
 STOP = VelocityCommand(0.0, 0.0)
@@ -137,7 +141,7 @@ def follow_path(pose, path_xy, config):
     angular = float(np.clip(config.heading_gain * heading_error,
                             -config.max_angular_speed, config.max_angular_speed))
     if abs(heading_error) > config.turn_in_place_angle:
-        return VelocityCommand(0.0, angular)
+        return VelocityCommand(0.0, angular, turn=heading_error)
     # Slow down as the heading error grows, to nearly a stop close to the turn-in-place angle
     # (a sharp corner is turned tightly, not cut), and inside the slow-down distance.
     turn_share = abs(heading_error) / config.turn_in_place_angle
