@@ -63,8 +63,13 @@ def test_navigator_variants_are_valid_configs():
     assert NAVIGATORS['dpn'] == {}
     paper = NavigatorConfig(width=10.0, height=10.0, **NAVIGATORS['paper'])
     assert paper.obstacle_proximity_cost == 0.0 and paper.forget_obstacles_after == 0.0
-    # The paper's FSM exactly: no label rule on.
+    # The paper's FSM exactly: no label rule on, and no head-on yield.
     assert paper.label_rule() == PAPER_RULE
+    assert not paper.yield_config().enabled
+    assert not NavigatorConfig(width=10.0, height=10.0).yield_config().enabled   # off for now
+    dpn_yield = NavigatorConfig(width=10.0, height=10.0, **NAVIGATORS['dpn_yield'])
+    assert dpn_yield.yield_config().enabled
+    assert dpn_yield.label_rule() == NavigatorConfig(width=10.0, height=10.0).label_rule()
 
 
 def test_the_nodes_paper_params_file_is_the_benchmarks_paper_navigator():
@@ -73,7 +78,9 @@ def test_the_nodes_paper_params_file_is_the_benchmarks_paper_navigator():
     assert paper == NAVIGATORS['paper']
     shipped = yaml.safe_load((config / 'dpn.yaml').read_text())['/**/dpn']['ros__parameters']
     assert set(paper) <= set(shipped)
-    assert all(shipped[name] > 0.0 for name in paper)      # each one is on in the dpn file
+    # Each one is on in the dpn file, but the head-on yield state, off by default for now.
+    assert all(shipped[name] > 0.0 for name in paper if name != 'yield_corridor_width')
+    assert shipped['yield_corridor_width'] == paper['yield_corridor_width'] == 0.0
 
 
 def test_plan_is_the_cross_product_without_repeats():
