@@ -4,7 +4,7 @@ import csv
 from pathlib import Path
 
 from dpn_navigator.benchmark.episode_log import (COLUMNS, DETECTION_COLUMNS, EpisodeLog,
-                                                 read_log, row_key)
+                                                 PREVIOUS_COLUMNS, read_log, row_key)
 from dpn_navigator.benchmark.protocol import (episode_seed, MAX_WANDERERS, NAVIGATORS,
                                               plan_episodes, PROFILES, resolve_maps)
 from dpn_navigator.benchmark.report import (cell_stats, map_order, save_success_figure,
@@ -176,6 +176,20 @@ def test_log_rejects_foreign_or_broken_files(tmp_path, text, match):
     with pytest.raises(ValueError, match=match):
         read_log(path)
     with pytest.raises(ValueError, match=match):
+        EpisodeLog(path)
+
+
+def test_a_log_of_the_version_before_the_yield_columns_reads_but_is_not_appended_to(tmp_path):
+    shipped = (Path(__file__).resolve().parents[1] / 'docs' / 'benchmark' / 'compare' / 'dpn'
+               / 'episodes.csv')
+    rows = read_log(shipped)
+    assert len(rows) == 102
+    assert all(row['yields'] == 0 and row['replans_yield'] == 0 for row in rows)
+    assert all(isinstance(row['replans'], int) for row in rows)
+    path = tmp_path / 'episodes.csv'
+    path.write_text(','.join(PREVIOUS_COLUMNS) + '\n')
+    assert read_log(path) == []
+    with pytest.raises(ValueError, match='version before'):
         EpisodeLog(path)
 
 
