@@ -18,9 +18,10 @@ on the navigator's map and its motion tracks (``motion_tracks``), with no ROS:
   back where the trail is short) and the route to the object. A place beside the route must
   lie in the first half of the way to the object, so that the robot gets there first.
 - **Yield** (`HeadOnYield.step`): drive there, turn to face the corridor line, watch; leave
-  when, after ``WATCH_TIME``, no followed object is within ``side_clearance`` of the route,
-  or ``wait_max`` after the trigger, or when no passing place can be reached any more. The
-  navigator then plans to its goal again.
+  when, after ``WATCH_TIME``, no followed object stands within ``side_clearance`` of the
+  junction (the line's point nearest to the place) or comes towards it along the route
+  beyond it; or ``wait_max`` after the trigger; or when no passing place can be reached any
+  more. The navigator then plans to its goal again.
 
 """
 
@@ -685,11 +686,30 @@ class HeadOnYield:
         return bool(blocked.any())
 
     def _corridor_clear(self, stamp):
-        """Tell whether no live track is within ``side_clearance`` of the route ahead of it."""
-        points = np.array([samples[-1][1:] for samples in self._history.values()
-                           if samples[-1][0] >= stamp - SEEN_WITHIN],
-                          dtype=np.float64).reshape(-1, 2)
-        if not points.shape[0]:
-            return True
-        distance, _ = nearest_points(points[:, 0], points[:, 1], self._clear_xy)
-        return bool((distance >= self.config.side_clearance).all())
+        """
+        Tell whether no object holds the robot at its passing place any more.
+
+        A live track holds it while it is within ``side_clearance`` of the route from the
+        junction on and comes towards the junction at ``approach_speed`` or more (or has no
+        velocity yet), or stands within ``side_clearance`` of the junction itself. One that
+        stopped or turned away on the route is left to the planner, as without the state.
+        """
+        moving = self.velocities(stamp)
+        junction = self._watch_xy
+        for track_id, samples in self._history.items():
+            seen, x, y = samples[-1]
+            if seen < stamp - SEEN_WITHIN:
+                continue
+            to_junction = np.array([junction[0] - x, junction[1] - y])
+            gap = float(np.hypot(*to_junction))
+            if gap < self.config.side_clearance:
+                return False
+            distance, _ = nearest_points(np.array([x]), np.array([y]), self._clear_xy)
+            if distance[0] >= self.config.side_clearance:
+                continue
+            if track_id not in moving:
+                return False
+            vx, vy = moving[track_id][2:]
+            if (vx * to_junction[0] + vy * to_junction[1]) / gap >= self.config.approach_speed:
+                return False
+        return True
