@@ -12,8 +12,8 @@ from types import SimpleNamespace
 
 from dpn_navigator.core import (CellLabel, FollowerConfig, GridGeometry, Navigator,
                                 NavigatorConfig, NavigatorStatus, ReplanCause)
-from dpn_navigator.core.head_on_yield import (
-    corridor_widths, HeadOnYield, passing_place, WATCH_TIME, YieldConfig)
+from dpn_navigator.core.head_on_yield import HeadOnYield, WATCH_TIME, YieldConfig
+from dpn_navigator.core.passing_places import corridor_widths, passing_place
 import numpy as np
 from numpy.testing import assert_allclose, assert_array_equal
 import pytest
