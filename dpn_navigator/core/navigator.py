@@ -115,20 +115,22 @@ class NavigatorConfig:
         more) that no longer segment has hit are forgotten after this long without a hit, out
         of view; see ``LabelRule``. 0: off.
     yield_corridor_width : float
-        Head-on yield [m]: a moving object coming head-on along the path where it runs through
-        a corridor narrower than this sends the robot to a passing place until it has passed;
-        see ``head_on_yield``. 0: off (the default, and the paper).
+        Head-on yield [m]: a moving object coming head-on where the route between it and the
+        robot runs through a corridor narrower than this sends the robot to a passing place
+        until it has passed; see ``head_on_yield``. 0: off (the default for now, and the
+        paper).
     yield_trigger_distance : float
-        Yield to objects at most this far ahead along the path [m].
+        Yield to objects at most this far along the route to them [m].
     yield_side_clearance : float
         A passing place lies at least this far from the corridor line; an object this close to
-        the path is on it, and to the line ahead keeps the robot waiting [m].
+        the path ahead concerns the robot, and one this close to the passing place's junction,
+        or coming towards it this close to the route, keeps the robot waiting [m].
     yield_search_distance : float
         Longest route to a passing place over known free cells [m].
     yield_wait_max : float
         Leave the yield state at the latest this long after it started [s].
     yield_approach_speed : float
-        Least speed of an object towards the robot, along the path, to yield to it [m/s].
+        Least speed of an object towards the robot, along the route, to yield to it [m/s].
     follower : FollowerConfig
         Speed limits and gains of the path follower.
 
