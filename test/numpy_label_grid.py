@@ -6,7 +6,9 @@ the scan's window (``scan_features``, ``free_evidence``, ``moving_objects``), an
 expiry that sweeps the whole grid every scan; with the motion tracks and trails as the numpy
 update of 57d0f72 ran them (the tracks told the object rule's moving hits, the trail marks
 stamped from f1's runs). Tests check the kernel against it on long scan
-sequences; the core benchmark times the two side by side.
+sequences; the core benchmark times the two side by side. ``NumpyExtrasLabelGrid`` is the grid
+of commit 1d9ead7, the compiled label kernel with the tracks, trails and object memory in
+numpy around it: the oracle of their compiled versions.
 
 """
 
@@ -19,6 +21,8 @@ from dpn_navigator.core.moving_objects import moving_object_hits
 from dpn_navigator.core.scan_features import hit_runs, run_cover, scan_input
 from dpn_navigator.core.scan_polygon import scan_points
 import numpy as np
+from numpy_motion_tracks import NumpyMotionTracks
+from numpy_object_memory import NumpyObjectMemory
 
 # TRANSITION flattened for one-step lookup with index (label << 2) | scan_input.
 _TRANSITION_BY_CODE = np.zeros(4 * len(CellLabel), dtype=LABEL_DTYPE)
@@ -43,7 +47,22 @@ def _runs_touching(runs, cells, hit_count):
     return touching
 
 
-class NumpyLabelGrid(LabelGrid):
+class NumpyExtrasLabelGrid(LabelGrid):
+    """
+    ``LabelGrid`` of commit 1d9ead7: the compiled label kernel, the rest numpy.
+
+    The motion tracks (``NumpyMotionTracks``), the trail marks and the object memory
+    (``NumpyObjectMemory``) as they ran in numpy around the kernel before they were compiled.
+    """
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.tracks = NumpyMotionTracks(self.tracks.config)
+        if self.object_memory is not None:
+            self.object_memory = NumpyObjectMemory(self.geometry, self.rule.object_memory)
+
+
+class NumpyLabelGrid(NumpyExtrasLabelGrid):
     """``LabelGrid`` with the numpy update of commit 83e3dc1 (see the module docstring)."""
 
     def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max,

@@ -3,13 +3,11 @@ The numpy object memory that the compiled one replaced, kept as the oracle of th
 
 ``NumpyObjectMemory`` is ``object_memory.ObjectMemory`` of commit 1d9ead7: the cells near the
 hits as f1's runs (``scan_features.hit_runs``) expanded into flat indices, the list and the
-forgetting as array operations. ``NumpyMemoryLabelGrid`` is ``LabelGrid`` with it; the tests
-run the two grids side by side and compare every array after every scan.
+forgetting as array operations (``numpy_label_grid.NumpyExtrasLabelGrid`` runs it).
 
 """
 
 from dpn_navigator.core.cell_label import CellLabel, ScanInput
-from dpn_navigator.core.label_grid import LabelGrid
 from dpn_navigator.core.scan_features import hit_runs
 import numpy as np
 
@@ -188,12 +186,3 @@ class NumpyObjectMemory:
         self._cells[:kept.shape[0]] = kept
         self._count = kept.shape[0]
         return changed
-
-
-class NumpyMemoryLabelGrid(LabelGrid):
-    """``LabelGrid`` whose object memory is `NumpyObjectMemory`."""
-
-    def __init__(self, *args, **kwargs):
-        super().__init__(*args, **kwargs)
-        if self.object_memory is not None:
-            self.object_memory = NumpyObjectMemory(self.geometry, self.rule.object_memory)

@@ -11,7 +11,8 @@ from dpn_navigator.core.object_memory import ObjectMemory
 from dpn_navigator.core.scan_features import squared_radius_bound
 import numpy as np
 from numpy.testing import assert_array_equal
-from numpy_object_memory import NumpyMemoryLabelGrid, run_cells
+from numpy_label_grid import NumpyExtrasLabelGrid
+from numpy_object_memory import run_cells
 import pytest
 from scan_scenes import ANGLE_INCREMENT, ANGLE_MIN, free_pose, hall, RANGE_MAX
 from scan_scenes import moving_box_world, RANGE_MIN, ray_cast
@@ -248,7 +249,7 @@ def test_compiled_object_memory_equals_the_numpy_one_on_hall_sequences(
     size = 30.0 if resolution == 0.5 else 12.0
     static = hall(size, 10 if resolution == 0.5 else 3, rng)
     fast = LabelGrid(size, size, resolution, rule=rule)
-    reference = NumpyMemoryLabelGrid(size, size, resolution, rule=rule)
+    reference = NumpyExtrasLabelGrid(size, size, resolution, rule=rule)
     trackers = (fast.change_tracker(), reference.change_tracker())
     middle = fast.labels.shape[0] // 2
     path = np.array([[middle, c] for c in range(2 * middle)])
