@@ -61,6 +61,11 @@ class NumpyExtrasLabelGrid(LabelGrid):
         if self.object_memory is not None:
             self.object_memory = NumpyObjectMemory(self.geometry, self.rule.object_memory)
 
+    def _follow(self, *args):
+        """Follow the objects; the label kernel then finds the scan's points itself again."""
+        followed, _ = super()._follow(*args)
+        return followed, None
+
     def _trails(self, safety_radius, stamp):
         """Stamp the marks from f1's runs, then expire the trails, in numpy."""
         self._stamp_tracks(safety_radius)

@@ -441,16 +441,16 @@ class LabelGrid(ChangeTrackers):
         expiring = self.rule.mobile_expiry > 0.0
         if expiring:
             self._restart_clocks_if_time_went_back(stamp)
-        followed = None
+        followed = points = None
         if self.rule.track_confirm_time > 0.0:
-            followed = self._follow(pose, ranges, angle_min, angle_increment, range_min,
-                                    range_max, stamp)
+            followed, points = self._follow(pose, ranges, angle_min, angle_increment,
+                                            range_min, range_max, stamp)
         replan, self.last_window, new_mobile = scan_update(
             self.labels, _NO_BOOL if self.seen_free is None else self.seen_free,
             _NO_TIME if self.last_hit is None else self.last_hit,
             _NO_BOOL if self._listed is None else self._listed, self.geometry, pose, ranges,
             angle_min, angle_increment, range_min, range_max, safety_radius, self._kernel_rule,
-            stamp if expiring else 0.0, _NO_PATH if path is None else path, followed)
+            stamp if expiring else 0.0, _NO_PATH if path is None else path, followed, points)
         self._widen_trackers(self.last_window[0], self.last_window[1])
         if expiring:
             self._list_mobile(new_mobile, stamp)
@@ -462,17 +462,24 @@ class LabelGrid(ChangeTrackers):
         return replan
 
     def _follow(self, pose, ranges, angle_min, angle_increment, range_min, range_max, stamp):
-        """Follow the moving objects through the scan; return the hits of followed ones."""
-        vertices_x, vertices_y, hits_x, hits_y, hit_beams, moving = scan_hits(
+        """
+        Follow the moving objects through the scan.
+
+        Returns the hits of followed objects, and the scan's points and moving hits
+        (`scan_hits`) for the update.
+        """
+        points = scan_hits(
             _NO_BOOL if self.seen_free is None else self.seen_free, self.geometry, pose, ranges,
             angle_min, angle_increment, range_min, range_max, self._kernel_rule)
+        vertices_x, vertices_y, hits_x, hits_y, hit_beams, moving = points
         self._followed_hits = (hits_x, hits_y)
         self._laser_xy = (vertices_x[0], vertices_y[0])
         beam_reach = np.hypot(vertices_x[1:-1] - vertices_x[0],
                               vertices_y[1:-1] - vertices_y[0])
-        return self.tracks.update(
+        followed = self.tracks.update(
             stamp, (vertices_x[0], vertices_y[0]), hits_x, hits_y, hit_beams, ranges.shape[0],
             moving, self.rule.segment_gap, pose[2] + angle_min, angle_increment, beam_reach)
+        return followed, points
 
     def _trails(self, safety_radius, stamp):
         """Mark the cells of the followed objects' hits; clear the trails they left."""

@@ -165,13 +165,17 @@ def _memory_update(labels, seen_free, last_hit, anchored, listed, cells, count, 
         _mark_discs(anchored[row0:row0 + n_rows, col0:col0 + n_cols], True, hits_x, hits_y,
                     hit_count, long, row0, col0, x0, y0, resolution, safety_radius,
                     safety_bound, no_extent)
-        # List the steady, unanchored cells near hits of small objects, in grid order.
+        # List the steady, unanchored cells near hits of small objects, in grid order: the
+        # columns [extent[i, 0], extent[i, 1]) of row i hold those of the row.
         near = np.zeros((n_rows, n_cols), dtype=np.bool_)
+        extent = np.empty((n_rows, 2), dtype=np.int64)
+        extent[:, 0] = n_cols
+        extent[:, 1] = 0
         _mark_discs(near, True, hits_x, hits_y, hit_count, small_object, row0, col0, x0, y0,
-                    resolution, safety_radius, safety_bound, no_extent)
+                    resolution, safety_radius, safety_bound, extent)
         for i in range(n_rows):
             row = row0 + i
-            for j in range(n_cols):
+            for j in range(extent[i, 0], extent[i, 1]):
                 col = col0 + j
                 if (near[i, j] and labels[row, col] == _STEADY and not anchored[row, col]
                         and not listed[row, col]):
