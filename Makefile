@@ -33,7 +33,7 @@
 # Jazzy wheels on PyPI are built for CPython 3.11 only.
 #
 # Knobs: PYTHON (interpreter for the venv), ROS_DOMAIN_ID (default 42), COLCON_BUILD_ARGS (e.g.
-# --symlink-install), BENCH_ARGS.
+# --symlink-install), BENCH_ARGS, BENCH_ROS_ARGS.
 
 SHELL := /bin/bash
 # No -u: colcon's setup.bash reads unset variables.
@@ -141,7 +141,7 @@ bench: build
 	cd $(ROOT) && $(SOURCE_INSTALL) && python benchmarks/bench_core.py $(BENCH_ARGS)
 
 bench-ros: build
-	cd $(ROOT) && $(SOURCE_INSTALL) && python benchmarks/bench_ros.py
+	cd $(ROOT) && $(SOURCE_INSTALL) && python benchmarks/bench_ros.py $(BENCH_ROS_ARGS)
 
 benchmark: build
 	cd $(ROOT) && $(SOURCE_INSTALL) && \
