@@ -233,17 +233,23 @@ def bench_map_refresh(cells, resolution, rng, repeats):
     return new_ms, old_ms, same
 
 
-def kernel_start_seconds():
+def kernel_start_seconds(tree=None):
     """
     Time a fresh process's import of the core plus `jit.warm_up`, with an empty cache, then warm.
+
+    Parameters
+    ----------
+    tree : str, optional
+        A source tree to import the package from; by default the package on ``PYTHONPATH``
+        (``make bench``: the installed one, with the kernels ``compile_kernels`` shipped).
 
     Returns
     -------
     cold, warm : (float, float, float, float)
         ``(import wall, warm-up wall, import CPU, warm-up CPU)`` times [s] of the first process
-        (empty cache: compiles) and of a second one (loads the cache the first wrote). CPU
-        time (user + system) is what the work costs; wall time also holds the waits of a
-        loaded machine.
+        (empty cache: compiles, or copies the shipped kernels) and of a second one (loads the
+        cache the first wrote). CPU time (user + system) is what the work costs; wall time
+        also holds the waits of a loaded machine.
 
     """
     code = ('import resource, time\n'
@@ -258,7 +264,9 @@ def kernel_start_seconds():
             'print(wall1 - wall0, wall2 - wall1, cpu1 - cpu0, cpu2 - cpu1)\n')
     with tempfile.TemporaryDirectory() as cache:
         env = dict(os.environ, NUMBA_CACHE_DIR=cache)
-        runs = [subprocess.run([sys.executable, '-c', code], env=env, check=True,
+        if tree is not None:
+            env['PYTHONPATH'] = os.pathsep.join([tree, env.get('PYTHONPATH', '')])
+        runs = [subprocess.run([sys.executable, '-c', code], env=env, check=True, cwd=cache,
                                capture_output=True, text=True).stdout.split()
                 for _ in range(2)]
     return tuple(tuple(float(value) for value in run) for run in runs)
@@ -435,12 +443,16 @@ def bench_rule_parts(rng, rounds, scans):
 
 def bench_start():
     """Print the kernels' cold and warm start times."""
-    cold, warm = kernel_start_seconds()
+    source_cold, source_warm = kernel_start_seconds(os.path.join(HERE, '..'))
+    shipped_cold, _ = kernel_start_seconds()
     print('| kernels at process start (fresh process: import of the core, then jit.warm_up) '
           '| import wall [s] | warm-up wall [s] | import CPU [s] | warm-up CPU [s] |')
     print('|---|---|---|---|---|')
-    for what, times in (('cold: empty cache, compiles', cold),
-                        ('warm: cache written by the cold run', warm)):
+    for what, times in (('cold: empty cache, nothing shipped (source tree), compiles',
+                         source_cold),
+                        ('warm: cache written by the cold run', source_warm),
+                        ('cold: empty cache, the package on PYTHONPATH (make bench: '
+                         'installed, kernels shipped by compile_kernels)', shipped_cold)):
         print(f'| {what} | ' + ' | '.join(f'{value:.2f}' for value in times) + ' |')
     print(f'\nThis process: kernels ready in {jit.warm_up():.2f} s '
           f'(cache: {jit.cache_dir() or "numba default"})')

@@ -24,6 +24,7 @@ import argparse
 import math
 import os
 from pathlib import Path
+import shutil
 import statistics
 import subprocess
 import sys
@@ -224,6 +225,75 @@ def scan_to_map_latency(domain_id, log_dir, scenes, cells=200, node_args=(), tre
     return [1e3 * latency for latency in probe.latencies[5:]], in_node    # skip the warm-up
 
 
+def first_map_seconds(domain_id, log_dir, scenes, tree=None):
+    """
+    Time a ``dpn`` process's start, with an empty numba cache, to its first map [s].
+
+    The probe sends odometry and a scan every 0.1 s from the process's start on. ``tree``: a
+    source tree imported instead of the installed package (which may ship compiled kernels,
+    ``compile_kernels``). Returns ``(first map, node ready, kernels ready)`` [s]: the first
+    map received, the node's "dpn ready" log line (its ROS time against the start's system
+    time), and the warm-up time the node logs.
+    """
+    poses, ranges = scenes
+    context = Context()
+    rclpy.init(context=context, domain_id=domain_id)
+    probe = LatencyProbe(context)
+    executor = SingleThreadedExecutor(context=context)
+    executor.add_node(probe)
+    env = ros_environment(domain_id)
+    env['NUMBA_CACHE_DIR'] = tempfile.mkdtemp(prefix='dpn_cold_cache_')
+    if tree is not None:
+        env['PYTHONPATH'] = os.pathsep.join([str(tree), env.get('PYTHONPATH', '')])
+    log_path = Path(log_dir) / f'dpn_cold_{len(os.listdir(log_dir))}.log'
+    started = time.perf_counter()
+    started_system = time.time()
+    with open(log_path, 'w') as log:
+        process = subprocess.Popen(
+            [str(installed_executable('dpn_navigator', 'dpn')), '--ros-args', '-p',
+             'map_width:=100.0', '-p', 'map_height:=100.0'], env=env, stdout=log,
+            stderr=subprocess.STDOUT)
+    try:
+        k = 0
+        while not probe.latencies and time.perf_counter() - started < 120.0:
+            stamp = probe.get_clock().now().to_msg()
+            probe.odom_pub.publish(pose_to_odometry(poses[k % len(poses)], (0.0, 0.0), stamp))
+            executor.spin_once(timeout_sec=0.01)
+            probe.sent[(stamp.sec, stamp.nanosec)] = time.perf_counter()
+            probe.scan_pub.publish(make_laser_scan(ranges[k % len(poses)], ANGLE_MIN,
+                                                   ANGLE_INCREMENT, RANGE_MIN, RANGE_MAX,
+                                                   stamp))
+            k += 1
+            deadline = time.monotonic() + 0.1
+            while not probe.latencies and time.monotonic() < deadline:
+                executor.spin_once(timeout_sec=0.02)
+        first_map = time.perf_counter() - started
+    finally:
+        stop_nodes({'dpn': process})
+        probe.destroy_node()
+        rclpy.try_shutdown(context=context)
+        shutil.rmtree(env['NUMBA_CACHE_DIR'], ignore_errors=True)
+    ready = node_ready = math.nan
+    for line in log_path.read_text().splitlines():
+        if 'kernels ready in' in line:
+            ready = float(line.split('kernels ready in')[1].split()[0])
+            node_ready = float(line.split('[')[2].split(']')[0]) - started_system
+    return first_map, node_ready, ready
+
+
+def cold_start_table(domain_id, log_dir):
+    """Print the node's start to first map with an empty cache, shipped kernels or none."""
+    scenes = walking_scans(10)
+    print('| dpn process start, empty NUMBA_CACHE_DIR, 200x200 cells | first map received [s] '
+          '| node ready (its log) [s] | of which kernels ready [s] |')
+    print('|---|---|---|---|')
+    for name, tree in (('installed package, kernels shipped (compile_kernels)', None),
+                       ('source tree, nothing shipped: compiles', HERE.parent)):
+        first_map, node_ready, ready = first_map_seconds(domain_id, log_dir, scenes, tree)
+        print(f'| {name} | {first_map:.2f} | {node_ready:.2f} | {ready:.2f} |')
+    print()
+
+
 def latency_tables(domain_id, log_dir, cells_list, rounds, scans, old_tree):
     """Print the scan-to-map latency of every variant, alternated, per grid size."""
     scenes = walking_scans()
@@ -259,11 +329,13 @@ def main(argv=None):
                         default=int(os.environ.get('ROS_DOMAIN_ID') or 77))
     parser.add_argument('--latency-only', action='store_true',
                         help='skip the simulator real-time factors')
-    parser.add_argument('--cells', type=int, nargs='+', default=[200, 2000],
+    parser.add_argument('--cells', type=int, nargs='*', default=[200, 2000],
                         help='grid sides of the latency runs (a 100 m map)')
     parser.add_argument('--rounds', type=int, default=2, help='alternations of the variants')
     parser.add_argument('--scans', type=int, default=300, help='scans per latency run')
     parser.add_argument('--old-tree', help='a source tree of the package to time as well')
+    parser.add_argument('--cold-start', action='store_true',
+                        help='also time a node start to its first map with an empty cache')
     args = parser.parse_args(argv)
     os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
     log_dir = tempfile.mkdtemp(prefix='dpn_bench_ros_')
@@ -279,6 +351,8 @@ def main(argv=None):
               f'{node_rtf(0, args.domain_id, log_dir):.1f}x '
               f'| {node_rtf(10, args.domain_id, log_dir):.1f}x |')
         print()
+    if args.cold_start:
+        cold_start_table(args.domain_id, log_dir)
     latency_tables(args.domain_id, log_dir, args.cells, args.rounds, args.scans,
                    args.old_tree)
     print(f'(process logs: {log_dir})')

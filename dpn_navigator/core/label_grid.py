@@ -239,6 +239,9 @@ def warm_up_label_update():
     for stamp in (0.0, 2.0):
         grid.update((1.0, 1.5, 0.0), ranges, -0.5, 0.5, 0.1, 1.5, 0.25, path=[[0, 0]],
                     stamp=stamp)
+    # Without the tracks the kernel finds the scan's points itself.
+    LabelGrid(2.0, 2.0, 0.5).update((1.0, 1.5, 0.0), ranges, -0.5, 0.5, 0.1, 1.5, 0.25,
+                                    path=[[0, 0]])
 
 
 class ChangeTracker:
