@@ -6,7 +6,7 @@
 #                about 30 s) into .venv, since PyPI has no tf2_msgs wheel (docs/setup.md)
 #   make build   colcon build into build/ install/ log/, then compile_kernels: the kernels
 #                compiled into the installed package, so a node's first start loads them
-#                (about 16 CPU-s the first time, under 1 s when the sources did not change)
+#                (about 25 CPU-s the first time, under 1 s when the sources did not change)
 #   make test    build, then colcon test (pytest output on the console) and colcon test-result;
 #                fails if any test fails or errors
 #   make demo    build, then one episode over ROS 2: the pybullet world (back_and_forth, 3

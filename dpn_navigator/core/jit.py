@@ -19,7 +19,7 @@ An installed package can ship its kernels compiled: ``compile_kernels`` (``ros2 
 dpn_navigator compile_kernels``; ``make build`` runs it) compiles them for the installed copy
 of the sources into ``SHIPPED_CACHE``, next to this file, and at import this module copies
 what the cache in use lacks (or holds older) from there. A first start with an empty cache
-then loads the kernels instead of compiling them for about 16 CPU-s. The cache is keyed on the
+then loads the kernels instead of compiling them for about 25 CPU-s. The cache is keyed on the
 source files' paths and stamps and on the CPU, so kernels shipped for other sources or another
 machine are just compiled again.
 
