@@ -4,7 +4,9 @@
 #                requirements-ray.txt (so the Ray backend's test runs); re-runs only when they
 #                change. Then builds the TFMessage-only tf2_msgs stand-in (fallback/tf2_msgs,
 #                about 30 s) into .venv, since PyPI has no tf2_msgs wheel (docs/setup.md)
-#   make build   colcon build into build/ install/ log/
+#   make build   colcon build into build/ install/ log/, then compile_kernels: the kernels
+#                compiled into the installed package, so a node's first start loads them
+#                (about 25 CPU-s the first time, under 1 s when the sources did not change)
 #   make test    build, then colcon test (pytest output on the console) and colcon test-result;
 #                fails if any test fails or errors
 #   make demo    build, then one episode over ROS 2: the pybullet world (back_and_forth, 3
@@ -33,7 +35,7 @@
 # Jazzy wheels on PyPI are built for CPython 3.11 only.
 #
 # Knobs: PYTHON (interpreter for the venv), ROS_DOMAIN_ID (default 42), COLCON_BUILD_ARGS (e.g.
-# --symlink-install), BENCH_ARGS.
+# --symlink-install), BENCH_ARGS, BENCH_ROS_ARGS.
 
 SHELL := /bin/bash
 # No -u: colcon's setup.bash reads unset variables.
@@ -110,6 +112,7 @@ $(TF2_MSGS_STAMP): $(TF2_MSGS_SOURCES) $(REQUIREMENTS_STAMP)
 
 build: setup
 	cd $(ROOT) && $(COLCON) build $(COLCON_BUILD_ARGS)
+	cd $(ROOT) && $(SOURCE_INSTALL) && $(ROOT)/install/dpn_navigator/lib/dpn_navigator/compile_kernels
 
 # colcon test runs pytest in this directory with the package's install prefix on
 # AMENT_PREFIX_PATH and PYTHONPATH (no need to source install/setup.bash). It exits 0 when tests
@@ -141,7 +144,7 @@ bench: build
 	cd $(ROOT) && $(SOURCE_INSTALL) && python benchmarks/bench_core.py $(BENCH_ARGS)
 
 bench-ros: build
-	cd $(ROOT) && $(SOURCE_INSTALL) && python benchmarks/bench_ros.py
+	cd $(ROOT) && $(SOURCE_INSTALL) && python benchmarks/bench_ros.py $(BENCH_ROS_ARGS)
 
 benchmark: build
 	cd $(ROOT) && $(SOURCE_INSTALL) && \

@@ -34,6 +34,7 @@ PACKAGE_NAME = 'dpn_navigator'
 CONSOLE_SCRIPTS = [
     'dpn = dpn_navigator.dpn_node:main',
     'dpn-benchmark = dpn_navigator.benchmark.cli:main',
+    'compile_kernels = dpn_navigator.compile_kernels:main',
 ]
 
 #: Console scripts of the other ROS packages this distribution registers in the ament index,

@@ -3,6 +3,9 @@ Benchmark of the navigation core, each figure against the implementation it repl
 
 Prints Markdown tables of medians, old and new timed interleaved in one run, with their ratio:
 
+- the dpn rule's motion tracks, trail marks and object memory (compiled) against
+  ``NumpyExtrasLabelGrid`` (the same label kernel with them in numpy around it,
+  ``test/numpy_label_grid.py``), on scenes of boxes that walk, with every array compared;
 - ``LabelGrid.update`` (the compiled kernel) against ``NumpyLabelGrid`` (the numpy update and
   whole-grid ghost expiry it replaced, ``test/numpy_label_grid.py``), under the paper's rule
   and the navigator's default rule, with the labels compared after every update; the paper's
@@ -23,6 +26,7 @@ Run with ``make bench`` or ``python benchmarks/bench_core.py [--quick] [--only P
 """
 
 import argparse
+import dataclasses
 import math
 import os
 import statistics
@@ -47,9 +51,9 @@ from dpn_navigator.core.navigator import Navigator, NavigatorConfig  # noqa: E40
 from dpn_navigator.core.planning_masks import touches_blocked  # noqa: E402
 from grid_worlds import maze_grid, random_grid  # noqa: E402
 from literal_reference import literal_update, tuple_astar  # noqa: E402
-from numpy_label_grid import NumpyLabelGrid  # noqa: E402
+from numpy_label_grid import NumpyExtrasLabelGrid, NumpyLabelGrid  # noqa: E402
 from scan_scenes import (ANGLE_INCREMENT, ANGLE_MIN, free_pose, hall,  # noqa: E402
-                         random_ranges, RANGE_MAX, RANGE_MIN, ray_cast)
+                         moving_box_world, random_ranges, RANGE_MAX, RANGE_MIN, ray_cast)
 
 SAFETY_RADIUS = 0.6
 
@@ -229,17 +233,23 @@ def bench_map_refresh(cells, resolution, rng, repeats):
     return new_ms, old_ms, same
 
 
-def kernel_start_seconds():
+def kernel_start_seconds(tree=None):
     """
     Time a fresh process's import of the core plus `jit.warm_up`, with an empty cache, then warm.
+
+    Parameters
+    ----------
+    tree : str, optional
+        A source tree to import the package from; by default the package on ``PYTHONPATH``
+        (``make bench``: the installed one, with the kernels ``compile_kernels`` shipped).
 
     Returns
     -------
     cold, warm : (float, float, float, float)
         ``(import wall, warm-up wall, import CPU, warm-up CPU)`` times [s] of the first process
-        (empty cache: compiles) and of a second one (loads the cache the first wrote). CPU
-        time (user + system) is what the work costs; wall time also holds the waits of a
-        loaded machine.
+        (empty cache: compiles, or copies the shipped kernels) and of a second one (loads the
+        cache the first wrote). CPU time (user + system) is what the work costs; wall time
+        also holds the waits of a loaded machine.
 
     """
     code = ('import resource, time\n'
@@ -254,7 +264,9 @@ def kernel_start_seconds():
             'print(wall1 - wall0, wall2 - wall1, cpu1 - cpu0, cpu2 - cpu1)\n')
     with tempfile.TemporaryDirectory() as cache:
         env = dict(os.environ, NUMBA_CACHE_DIR=cache)
-        runs = [subprocess.run([sys.executable, '-c', code], env=env, check=True,
+        if tree is not None:
+            env['PYTHONPATH'] = os.pathsep.join([tree, env.get('PYTHONPATH', '')])
+        runs = [subprocess.run([sys.executable, '-c', code], env=env, check=True, cwd=cache,
                                capture_output=True, text=True).stdout.split()
                 for _ in range(2)]
     return tuple(tuple(float(value) for value in run) for run in runs)
@@ -359,14 +371,88 @@ def bench_recorded_calls(calls, repeats):
     return ratios, core_ms, previous_ms, same
 
 
+def walking_scenes(cells, resolution, boxes, scans, rng):
+    """
+    Poses and ranges of ``scans`` scans at 10 Hz in a hall where ``boxes`` 0.6 m boxes walk.
+
+    The laser stands still for ten scans at a time (a robot waiting, turning, or driving slowly
+    relative to the boxes), so the boxes are followed from scan to scan.
+    """
+    size = cells * resolution
+    static = hall(size, int(size * size / 120), rng)
+    seed = int(rng.integers(1 << 30))
+    poses, ranges = [], []
+    for step in range(scans):
+        world = moving_box_world(static, step, seed, boxes=boxes)
+        if step % 10 == 0:
+            pose = free_pose(world, rng)
+        poses.append(pose)
+        ranges.append(ray_cast(world, pose))
+    return poses, ranges
+
+
+def bench_rule_parts(rng, rounds, scans):
+    """
+    Print per-scan update times of the dpn rule's parts, compiled against numpy, interleaved.
+
+    Three rules on the same walking-box scans: the rule alone (tracks, trails and object
+    memory off), with the motion tracks and trails, and the default (object memory too). Each
+    scan is folded into the compiled grid (``LabelGrid``) and into ``NumpyExtrasLabelGrid``
+    in turn; medians over every scan of every round, and the arrays compared after each.
+    """
+    default = NavigatorConfig(width=1.0, height=1.0).label_rule()
+    rules = (('rule alone', dataclasses.replace(default, track_confirm_time=0.0,
+                                                trail_distance=0.0, object_memory=0.0)),
+             ('+ motion tracks and trails', dataclasses.replace(default, object_memory=0.0)),
+             ('+ object memory (the default)', default))
+    print('| LabelGrid.update per scan, dpn rule, 10 walking boxes, 640 beams, 10 Hz '
+          '| cells | numpy around the kernel before [ms] | compiled [ms] | ratio '
+          '| compiled / rule alone | same arrays |')
+    print('|---|---|---|---|---|---|---|')
+    for cells in (80, 200):
+        poses, scans_ranges = walking_scenes(cells, 0.5, 10, scans, rng)
+        size = cells * 0.5
+        alone_ms = None
+        for name, rule in rules:
+            grids = (LabelGrid(size, size, 0.5, rule=rule),
+                     NumpyExtrasLabelGrid(size, size, 0.5, rule=rule))
+            times = ([], [])
+            same = True
+            for round_number in range(rounds):
+                for grid in grids:
+                    grid.reset()
+                for k, (pose, ranges) in enumerate(zip(poses, scans_ranges)):
+                    order = (0, 1) if (k + round_number) % 2 else (1, 0)
+                    for which in order:
+                        start = time.process_time()
+                        grids[which].update(pose, ranges, ANGLE_MIN, ANGLE_INCREMENT,
+                                            RANGE_MIN, RANGE_MAX, SAFETY_RADIUS,
+                                            stamp=0.1 * k)
+                        times[which].append(time.process_time() - start)
+                    same &= bool(np.array_equal(grids[0].labels, grids[1].labels))
+                    if grids[0].cell_track is not None:
+                        same &= bool(np.array_equal(grids[0].cell_track,
+                                                    grids[1].cell_track))
+            new_ms, old_ms = (1e3 * statistics.median(spent) for spent in times)
+            alone_ms = new_ms if alone_ms is None else alone_ms
+            print(f'| {name} | {cells}x{cells} | {old_ms:.3f} | {new_ms:.3f} '
+                  f'| {old_ms / new_ms:.1f}x | {new_ms / alone_ms:.2f} '
+                  f'| {"yes" if same else "NO"} |')
+    print()
+
+
 def bench_start():
     """Print the kernels' cold and warm start times."""
-    cold, warm = kernel_start_seconds()
+    source_cold, source_warm = kernel_start_seconds(os.path.join(HERE, '..'))
+    shipped_cold, _ = kernel_start_seconds()
     print('| kernels at process start (fresh process: import of the core, then jit.warm_up) '
           '| import wall [s] | warm-up wall [s] | import CPU [s] | warm-up CPU [s] |')
     print('|---|---|---|---|---|')
-    for what, times in (('cold: empty cache, compiles', cold),
-                        ('warm: cache written by the cold run', warm)):
+    for what, times in (('cold: empty cache, nothing shipped (source tree), compiles',
+                         source_cold),
+                        ('warm: cache written by the cold run', source_warm),
+                        ('cold: empty cache, the package on PYTHONPATH (make bench: '
+                         'installed, kernels shipped by compile_kernels)', shipped_cold)):
         print(f'| {what} | ' + ' | '.join(f'{value:.2f}' for value in times) + ' |')
     print(f'\nThis process: kernels ready in {jit.warm_up():.2f} s '
           f'(cache: {jit.cache_dir() or "numba default"})')
@@ -452,13 +538,15 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[1])
     parser.add_argument('--quick', action='store_true', help='fewer repetitions')
     parser.add_argument('--seed', type=int, default=1)
-    parser.add_argument('--only', choices=('start', 'update', 'node', 'astar'),
-                        help='run one part: kernel start times, LabelGrid.update, the masks '
-                             'and map of the node, or astar')
+    parser.add_argument('--only', choices=('start', 'rule', 'update', 'node', 'astar'),
+                        help='run one part: kernel start times, the parts of the dpn rule, '
+                             'LabelGrid.update, the masks and map of the node, or astar')
     args = parser.parse_args(argv)
     rng = np.random.default_rng(args.seed)
     if args.only in (None, 'start'):
         bench_start()
+    if args.only in (None, 'rule'):
+        bench_rule_parts(rng, 3 if args.quick else 10, 100)
     if args.only in (None, 'update'):
         bench_updates(rng, 20 if args.quick else 200)
     if args.only in (None, 'node'):

@@ -6,16 +6,25 @@ Benchmark of the two nodes over ROS 2: simulator speed and scan-to-map latency.
    (``real_time_factor`` 1000), headless, back_and_forth, 640-beam scans at 10 Hz, pinned to
    one core. Simulated seconds per wall second, from ``/sim/status``.
 2. The dpn node's scan-to-map latency: a probe publishes odometry and a ray-cast 640-beam scan
-   to the ``dpn`` process (200x200 cells of 0.5 m) and times the ``/compabot/map`` that answers,
-   wall clock, both ends in this machine's loopback DDS.
+   at 10 Hz to the ``dpn`` process (a 100 m hall with 160 boxes and 10 walking 0.6 m boxes,
+   the laser standing still for ten scans at a time; 200x200 cells of 0.5 m and 2000x2000 of
+   0.05 m) and times the ``/compabot/map`` that answers, wall clock, both ends in this
+   machine's loopback DDS. Node variants run in turn, alternating, ``--rounds`` times: the
+   default, the dpn rule without its motion tracks, trails and object memory, the markers on
+   every replan (``marker_min_period`` 0), and with ``--old-tree DIR`` the default of another
+   source tree of the package (the code before a change, from ``git worktree add`` or
+   ``git archive``), imported instead of the installed one.
 
-Not a test: it prints a Markdown table. Run with ``make bench-ros``.
+Not a test: it prints Markdown tables. Run with ``make bench-ros`` (``BENCH_ROS_ARGS``), or
+``python benchmarks/bench_ros.py [--latency-only] [--cells 200 2000] [--old-tree DIR]``.
 
 """
 
 import argparse
+import math
 import os
 from pathlib import Path
+import shutil
 import statistics
 import subprocess
 import sys
@@ -35,13 +44,20 @@ import rclpy  # noqa: E402
 from rclpy.context import Context  # noqa: E402
 from rclpy.executors import SingleThreadedExecutor  # noqa: E402
 from rclpy.node import Node  # noqa: E402
-from scan_scenes import (ANGLE_INCREMENT, ANGLE_MIN, free_pose, hall, RANGE_MAX,  # noqa: E402
-                         RANGE_MIN, ray_cast)
+from scan_scenes import (ANGLE_INCREMENT, ANGLE_MIN, free_pose, hall,  # noqa: E402
+                         moving_box_world, RANGE_MAX, RANGE_MIN, ray_cast)
 from sensor_msgs.msg import LaserScan  # noqa: E402
 from sim_bridge.scenario import load_scenario  # noqa: E402
 from sim_bridge.world import World, WorldConfig  # noqa: E402
 
 CORE = 0
+#: Node arguments of the variants timed against each other.
+VARIANTS = {
+    'default': (),
+    'without tracks, trails, object memory': (
+        'track_confirm_time:=0.0', 'trail_distance:=0.0', 'object_memory:=0.0'),
+    'markers on every replan': ('marker_min_period:=0.0',),
+}
 
 
 def pin_to_one_core():
@@ -117,9 +133,43 @@ class LatencyProbe(Node):
             self.latencies.append(time.perf_counter() - self.sent.pop(key))
 
 
-def scan_to_map_latency(domain_id, log_dir, scans=300, rate=10.0):
+def walking_scans(count=100):
+    """Poses and ranges of ``count`` scans: a 100 m hall, 160 boxes, 10 walking boxes."""
+    rng = np.random.default_rng(0)
+    static = hall(100.0, 160, rng)
+    poses, ranges = [], []
+    for step in range(count):
+        world = moving_box_world(static, step, 7, boxes=10)
+        if step % 10 == 0:
+            pose = free_pose(world, rng)
+        poses.append(pose)
+        ranges.append(ray_cast(world, pose))
+    return poses, ranges
+
+
+def scan_to_map_latency(domain_id, log_dir, scenes, cells=200, node_args=(), tree=None,
+                        scans=300, rate=10.0):
     """
-    Time the dpn process's scan-to-map latency at 200x200 cells.
+    Time the dpn process's scan-to-map latency on a 100 m map of ``cells`` x ``cells``.
+
+    Parameters
+    ----------
+    domain_id : int
+        The DDS domain of the probe and the node.
+    log_dir : str
+        Where the node's output goes (``dpn.log``, appended).
+    scenes : (poses, ranges)
+        From `walking_scans`, sent in turn.
+    cells : int
+        Grid side: the 100 m map at ``100 / cells`` m.
+    node_args : sequence of str
+        Extra ``name:=value`` parameters of the node.
+    tree : str, optional
+        A source tree whose ``dpn_navigator`` the node imports instead of the installed one.
+    scans : int
+        Scans sent.
+    rate : float
+        Scans per second [Hz].
 
     Returns
     -------
@@ -129,23 +179,28 @@ def scan_to_map_latency(domain_id, log_dir, scans=300, rate=10.0):
         The node's own median from scan callback to map published, from its status [ms].
 
     """
-    rng = np.random.default_rng(0)
-    truth = hall(100.0, 160, rng)
-    poses = [free_pose(truth, rng) for _ in range(50)]
-    ranges = [ray_cast(truth, pose) for pose in poses]
+    poses, ranges = scenes
     context = Context()
     rclpy.init(context=context, domain_id=domain_id)
     probe = LatencyProbe(context)
     executor = SingleThreadedExecutor(context=context)
     executor.add_node(probe)
     command = [str(installed_executable('dpn_navigator', 'dpn')), '--ros-args',
-               '-p', 'map_width:=100.0', '-p', 'map_height:=100.0']
-    with open(Path(log_dir) / 'dpn.log', 'w') as log:
-        process = subprocess.Popen(command, env=ros_environment(domain_id), stdout=log,
-                                   stderr=subprocess.STDOUT)
+               '-p', 'map_width:=100.0', '-p', 'map_height:=100.0',
+               '-p', f'resolution:={100.0 / cells!r}']
+    for argument in node_args:
+        command += ['-p', argument]
+    env = ros_environment(domain_id)
+    if tree is not None:
+        env['PYTHONPATH'] = os.pathsep.join([str(tree), env.get('PYTHONPATH', '')])
+    with open(Path(log_dir) / 'dpn.log', 'a') as log:
+        process = subprocess.Popen(command, env=env, stdout=log, stderr=subprocess.STDOUT)
     try:
-        deadline = time.monotonic() + 20.0
+        deadline = time.monotonic() + 60.0
         while probe.scan_pub.get_subscription_count() == 0 and time.monotonic() < deadline:
+            executor.spin_once(timeout_sec=0.05)
+        settle = time.monotonic() + 1.0                # discovery both ways
+        while time.monotonic() < settle:
             executor.spin_once(timeout_sec=0.05)
         for k in range(scans):
             stamp = probe.get_clock().now().to_msg()
@@ -170,33 +225,137 @@ def scan_to_map_latency(domain_id, log_dir, scans=300, rate=10.0):
     return [1e3 * latency for latency in probe.latencies[5:]], in_node    # skip the warm-up
 
 
+def first_map_seconds(domain_id, log_dir, scenes, tree=None):
+    """
+    Time a ``dpn`` process's start, with an empty numba cache, to its first map [s].
+
+    The probe sends odometry and a scan every 0.1 s from the process's start on. ``tree``: a
+    source tree imported instead of the installed package (which may ship compiled kernels,
+    ``compile_kernels``). Returns ``(first map, node ready, kernels ready)`` [s]: the first
+    map received, the node's "dpn ready" log line (its ROS time against the start's system
+    time), and the warm-up time the node logs.
+    """
+    poses, ranges = scenes
+    context = Context()
+    rclpy.init(context=context, domain_id=domain_id)
+    probe = LatencyProbe(context)
+    executor = SingleThreadedExecutor(context=context)
+    executor.add_node(probe)
+    env = ros_environment(domain_id)
+    env['NUMBA_CACHE_DIR'] = tempfile.mkdtemp(prefix='dpn_cold_cache_')
+    if tree is not None:
+        env['PYTHONPATH'] = os.pathsep.join([str(tree), env.get('PYTHONPATH', '')])
+    log_path = Path(log_dir) / f'dpn_cold_{len(os.listdir(log_dir))}.log'
+    started = time.perf_counter()
+    started_system = time.time()
+    with open(log_path, 'w') as log:
+        process = subprocess.Popen(
+            [str(installed_executable('dpn_navigator', 'dpn')), '--ros-args', '-p',
+             'map_width:=100.0', '-p', 'map_height:=100.0'], env=env, stdout=log,
+            stderr=subprocess.STDOUT)
+    try:
+        k = 0
+        while not probe.latencies and time.perf_counter() - started < 120.0:
+            stamp = probe.get_clock().now().to_msg()
+            probe.odom_pub.publish(pose_to_odometry(poses[k % len(poses)], (0.0, 0.0), stamp))
+            executor.spin_once(timeout_sec=0.01)
+            probe.sent[(stamp.sec, stamp.nanosec)] = time.perf_counter()
+            probe.scan_pub.publish(make_laser_scan(ranges[k % len(poses)], ANGLE_MIN,
+                                                   ANGLE_INCREMENT, RANGE_MIN, RANGE_MAX,
+                                                   stamp))
+            k += 1
+            deadline = time.monotonic() + 0.1
+            while not probe.latencies and time.monotonic() < deadline:
+                executor.spin_once(timeout_sec=0.02)
+        first_map = time.perf_counter() - started
+    finally:
+        stop_nodes({'dpn': process})
+        probe.destroy_node()
+        rclpy.try_shutdown(context=context)
+        shutil.rmtree(env['NUMBA_CACHE_DIR'], ignore_errors=True)
+    ready = node_ready = math.nan
+    for line in log_path.read_text().splitlines():
+        if 'kernels ready in' in line:
+            ready = float(line.split('kernels ready in')[1].split()[0])
+            node_ready = float(line.split('[')[2].split(']')[0]) - started_system
+    return first_map, node_ready, ready
+
+
+def cold_start_table(domain_id, log_dir):
+    """Print the node's start to first map with an empty cache, shipped kernels or none."""
+    scenes = walking_scans(10)
+    print('| dpn process start, empty NUMBA_CACHE_DIR, 200x200 cells | first map received [s] '
+          '| node ready (its log) [s] | of which kernels ready [s] |')
+    print('|---|---|---|---|')
+    for name, tree in (('installed package, kernels shipped (compile_kernels)', None),
+                       ('source tree, nothing shipped: compiles', HERE.parent)):
+        first_map, node_ready, ready = first_map_seconds(domain_id, log_dir, scenes, tree)
+        print(f'| {name} | {first_map:.2f} | {node_ready:.2f} | {ready:.2f} |')
+    print()
+
+
+def latency_tables(domain_id, log_dir, cells_list, rounds, scans, old_tree):
+    """Print the scan-to-map latency of every variant, alternated, per grid size."""
+    scenes = walking_scans()
+    variants = [(name, args, None) for name, args in VARIANTS.items()]
+    if old_tree:
+        variants.append(('default, old tree', (), old_tree))
+    for cells in cells_list:
+        results = {name: [] for name, _, _ in variants}
+        for round_number in range(rounds):
+            order = variants if round_number % 2 == 0 else variants[::-1]
+            for name, args, tree in order:
+                results[name].append(scan_to_map_latency(
+                    domain_id, log_dir, scenes, cells, args, tree, scans))
+        print(f'| dpn scan-to-map, {cells}x{cells} cells, 640 beams at 10 Hz, 10 walking boxes '
+              '| scans | over ROS median [ms], per round | all rounds: median / 90 % / 99 % '
+              '[ms] | in the node (its status), per round [ms] |')
+        print('|---|---|---|---|---|')
+        for name, _, _ in variants:
+            runs = results[name]
+            every = [latency for latencies, _ in runs for latency in latencies]
+            quantiles = np.percentile(every, [50, 90, 99]) if every else [math.nan] * 3
+            medians = [statistics.median(latencies or [math.nan]) for latencies, _ in runs]
+            print(f'| {name} | {len(every)} '
+                  f'| {" / ".join(f"{median:.2f}" for median in medians)} '
+                  f'| {quantiles[0]:.2f} / {quantiles[1]:.2f} / {quantiles[2]:.2f} '
+                  f'| {" / ".join(f"{in_node:.2f}" for _, in_node in runs)} |')
+        print()
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[1])
     parser.add_argument('--domain-id', type=int,
                         default=int(os.environ.get('ROS_DOMAIN_ID') or 77))
+    parser.add_argument('--latency-only', action='store_true',
+                        help='skip the simulator real-time factors')
+    parser.add_argument('--cells', type=int, nargs='*', default=[200, 2000],
+                        help='grid sides of the latency runs (a 100 m map)')
+    parser.add_argument('--rounds', type=int, default=2, help='alternations of the variants')
+    parser.add_argument('--scans', type=int, default=300, help='scans per latency run')
+    parser.add_argument('--old-tree', help='a source tree of the package to time as well')
+    parser.add_argument('--cold-start', action='store_true',
+                        help='also time a node start to its first map with an empty cache')
     args = parser.parse_args(argv)
     os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
     log_dir = tempfile.mkdtemp(prefix='dpn_bench_ros_')
-    os.sched_setaffinity(0, {CORE})
-    print('| simulator, back_and_forth, 640 beams at 10 Hz, 50 Hz physics, one core '
-          '| 0 wanderers | 10 wanderers |')
-    print('|---|---|---|')
-    print(f'| World.advance in-process (no ROS) | {world_rtf(0):.1f}x | {world_rtf(10):.1f}x |')
-    os.sched_setaffinity(0, set(range(os.cpu_count())))
-    print(f'| pybullet_world node, publishing scan, odom, /clock | '
-          f'{node_rtf(0, args.domain_id, log_dir):.1f}x '
-          f'| {node_rtf(10, args.domain_id, log_dir):.1f}x |')
-    print()
-    latencies, in_node = scan_to_map_latency(args.domain_id, log_dir)
-    quantiles = np.percentile(latencies, [50, 90, 99])
-    print('| dpn scan-to-map latency, 200x200 cells, 640 beams, hall scans | scans '
-          '| median [ms] | 90 % [ms] | 99 % [ms] |')
-    print('|---|---|---|---|---|')
-    print(f'| over ROS: scan published -> OccupancyGrid received | {len(latencies)} '
-          f'| {quantiles[0]:.2f} | {quantiles[1]:.2f} | {quantiles[2]:.2f} |')
-    print(f'| in the node: scan callback -> map published (its status) | last 100 '
-          f'| {in_node:.2f} | | |')
-    print(f'\n(process logs: {log_dir}; median of all: {statistics.median(latencies):.2f} ms)')
+    if not args.latency_only:
+        os.sched_setaffinity(0, {CORE})
+        print('| simulator, back_and_forth, 640 beams at 10 Hz, 50 Hz physics, one core '
+              '| 0 wanderers | 10 wanderers |')
+        print('|---|---|---|')
+        print(f'| World.advance in-process (no ROS) | {world_rtf(0):.1f}x '
+              f'| {world_rtf(10):.1f}x |')
+        os.sched_setaffinity(0, set(range(os.cpu_count())))
+        print(f'| pybullet_world node, publishing scan, odom, /clock | '
+              f'{node_rtf(0, args.domain_id, log_dir):.1f}x '
+              f'| {node_rtf(10, args.domain_id, log_dir):.1f}x |')
+        print()
+    if args.cold_start:
+        cold_start_table(args.domain_id, log_dir)
+    latency_tables(args.domain_id, log_dir, args.cells, args.rounds, args.scans,
+                   args.old_tree)
+    print(f'(process logs: {log_dir})')
 
 
 if __name__ == '__main__':

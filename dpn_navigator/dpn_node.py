@@ -42,7 +42,7 @@ from .core.scan_polygon import check_scan
 from .diagnostics import diagnostic_status, DiagnosticsPublisher
 from .dpn_params import declare_parameters
 from .names import DEFAULT_NAMESPACE
-from .navigator_markers import extend_trail, markers_due, navigator_markers
+from .navigator_markers import extend_trail, NavigatorMarkers
 from .qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS
 from .safety_params import declare_safety_parameters
 from .sensor_watchdog import SensorWatchdog, steady_arrival_time
@@ -81,7 +81,7 @@ class DpnNode(Node):
         self.scans_placed_at_latest_pose = 0
         self.velocity = (0.0, 0.0)
         self.last_map_time = None
-        self.last_marker_time = -math.inf
+        self.markers = NavigatorMarkers(self.params.map_frame, self.params.marker_min_period)
         self.scan_to_map_ms = deque(maxlen=LATENCY_WINDOW)
         self.stale = False
         self.last_status = None
@@ -221,9 +221,8 @@ class DpnNode(Node):
         status_changed = out.status is not self.last_status
         if status_changed:
             self.publish_status()
-        if markers_due(out.replanned, status_changed, now, self.last_marker_time):
-            self.publish_markers(stamp)
-            self.last_marker_time = now
+        if self.markers.due(out.replanned, status_changed, now):
+            self.publish_markers(stamp, now)
 
     def publish_map(self, stamp):
         """Publish the labelled grid as an ``OccupancyGrid``."""
@@ -237,10 +236,10 @@ class DpnNode(Node):
             geometry.resolution, geometry.origin, stamp, frame_id=self.params.map_frame,
             load_time=self.map_load_time))
 
-    def publish_markers(self, stamp):
+    def publish_markers(self, stamp, now):
         """Publish the planned path (as markers and as a ``Path``), the executed path, the goal."""
-        markers, plan = navigator_markers(self.navigator.path_xy, self.trail,
-                                          self.navigator.goal, stamp, self.params.map_frame)
+        markers, plan = self.markers.messages(self.navigator.path_xy, self.trail,
+                                              self.navigator.goal, stamp, now)
         self.marker_pub.publish(markers)
         self.plan_pub.publish(plan)
 

@@ -103,6 +103,9 @@ FLOAT_PARAMETERS = {
                        'the node clock or the steady clock.', (0.01, 60.0), True),
     'map_publish_period': (0.0, 'Publish the map at most this often [s]; 0: every scan.',
                            (0.0, 60.0), True),
+    'marker_min_period': (0.2, 'Send the markers and plan at most this often on replans and '
+                          'status changes [s] (a later one waits for the period); 0: on every '
+                          'one. They also go out every 0.5 s.', (0.0, 60.0), True),
 }
 
 # name: (default, description); read-only, typed by the default.
@@ -128,6 +131,7 @@ class DpnParameters:
     goal: tuple          # (x, y) [m], or None
     sensor_timeout: float
     map_publish_period: float
+    marker_min_period: float = 0.2
     map_frame: str = 'map'
     laser_frame: str = 'laser'
     base_frame: str = 'base_link'
@@ -193,7 +197,7 @@ def declare_parameters(node):
         goal = (values['goal_x'], values['goal_y'])
     return DpnParameters(
         navigator, goal, values['sensor_timeout'], values['map_publish_period'],
-        **{name: values[name] for name in OTHER_PARAMETERS})
+        values['marker_min_period'], **{name: values[name] for name in OTHER_PARAMETERS})
 
 
 def check_grid_size(width, height, resolution):

@@ -6,7 +6,9 @@ the scan's window (``scan_features``, ``free_evidence``, ``moving_objects``), an
 expiry that sweeps the whole grid every scan; with the motion tracks and trails as the numpy
 update of 57d0f72 ran them (the tracks told the object rule's moving hits, the trail marks
 stamped from f1's runs). Tests check the kernel against it on long scan
-sequences; the core benchmark times the two side by side.
+sequences; the core benchmark times the two side by side. ``NumpyExtrasLabelGrid`` is the grid
+of commit 1d9ead7, the compiled label kernel with the tracks, trails and object memory in
+numpy around it: the oracle of their compiled versions.
 
 """
 
@@ -19,6 +21,8 @@ from dpn_navigator.core.moving_objects import moving_object_hits
 from dpn_navigator.core.scan_features import hit_runs, run_cover, scan_input
 from dpn_navigator.core.scan_polygon import scan_points
 import numpy as np
+from numpy_motion_tracks import NumpyMotionTracks
+from numpy_object_memory import NumpyObjectMemory
 
 # TRANSITION flattened for one-step lookup with index (label << 2) | scan_input.
 _TRANSITION_BY_CODE = np.zeros(4 * len(CellLabel), dtype=LABEL_DTYPE)
@@ -43,7 +47,104 @@ def _runs_touching(runs, cells, hit_count):
     return touching
 
 
-class NumpyLabelGrid(LabelGrid):
+class NumpyExtrasLabelGrid(LabelGrid):
+    """
+    ``LabelGrid`` of commit 1d9ead7: the compiled label kernel, the rest numpy.
+
+    The motion tracks (``NumpyMotionTracks``), the trail marks and the object memory
+    (``NumpyObjectMemory``) as they ran in numpy around the kernel before they were compiled.
+    """
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.tracks = NumpyMotionTracks(self.tracks.config)
+        if self.object_memory is not None:
+            self.object_memory = NumpyObjectMemory(self.geometry, self.rule.object_memory)
+
+    def _follow(self, *args):
+        """Follow the objects; the label kernel then finds the scan's points itself again."""
+        followed, _ = super()._follow(*args)
+        return followed, None
+
+    def _trails(self, safety_radius, stamp):
+        """Stamp the marks from f1's runs, then expire the trails, in numpy."""
+        self._stamp_tracks(safety_radius)
+        self._expire_trails(stamp)
+
+    def _stamp_tracks(self, safety_radius):
+        """Note in ``cell_track`` which track's hits are within the safety radius of a cell."""
+        rows, cols, cell_input = self.last_window
+        window = self.cell_track[rows, cols]
+        window[cell_input == ScanInput.HIT] = -1     # marks are of the last hit
+        ids = self.tracks.hit_ids
+        tracked = ids >= 0
+        if not tracked.any():
+            return
+        hits_x, hits_y = self._followed_hits
+        starts, ends, hit_index = hit_runs(
+            self.geometry, rows, cols, self.geometry.window_centres(rows, cols),
+            hits_x[tracked], hits_y[tracked], safety_radius, return_hits=True)
+        self._mark_runs(rows, cols, starts, ends, ids[tracked][hit_index])
+
+    def _mark_runs(self, rows, cols, starts, ends, run_ids):
+        """
+        Mark the cells of each f1 run with its hit's track in ``cell_track``, and list them.
+
+        ``starts``, ``ends`` are window runs (``hit_runs``), ``run_ids`` the track of each run
+        (-1: none).
+        """
+        window = self.cell_track[rows, cols]
+        for track in np.unique(run_ids[run_ids >= 0]):
+            own = run_ids == track
+            cover = run_cover(starts[own], ends[own], window.shape)
+            window[cover] = track
+            local_rr, local_cc = np.nonzero(cover)
+            self._marked = np.concatenate((
+                self._marked,
+                (local_rr + rows.start) * self.geometry.cols + local_cc + cols.start))
+        if self._marked.shape[0] > 4096:
+            self._marked = np.unique(self._marked)
+
+    def _expire_trails(self, stamp):
+        """Set out-of-view mobile cells whose object the scan sees far from them to explored."""
+        tracks = self.tracks
+        seen = tracks.last_seen == stamp
+        if not seen.any() or not self._marked.size:
+            return
+        marked = np.unique(self._marked)
+        rr, cc = np.divmod(marked, self.geometry.cols)
+        marks = self.cell_track[rr, cc]
+        kept = (marks >= 0) & (self.labels[rr, cc] == CellLabel.MOBILE_OBSTACLE)
+        self.cell_track[rr[~kept], cc[~kept]] = -1
+        rr, cc, marks = rr[kept], cc[kept], marks[kept]
+        order = np.argsort(tracks.ids[seen])
+        seen_ids = tracks.ids[seen][order]
+        seen_xy = tracks.positions[seen][order]
+        which = np.minimum(np.searchsorted(seen_ids, marks), seen_ids.shape[0] - 1)
+        found = seen_ids[which] == marks
+        rr, cc, which = rr[found], cc[found], which[found]
+        rows, cols, cell_input = self.last_window
+        out_of_view = np.ones(rr.shape[0], dtype=bool)
+        inside = ((rr >= rows.start) & (rr < rows.stop) & (cc >= cols.start)
+                  & (cc < cols.stop))
+        out_of_view[inside] = (cell_input[rr[inside] - rows.start, cc[inside] - cols.start]
+                               == ScanInput.NONE)
+        centre_x, centre_y = self.geometry.cell_to_world(rr, cc)
+        far = (np.hypot(centre_x - seen_xy[which, 0], centre_y - seen_xy[which, 1])
+               >= self.rule.trail_distance)
+        trail = out_of_view & far
+        if trail.any():
+            self.labels[rr[trail], cc[trail]] = CellLabel.EXPLORED
+            self.cell_track[rr[trail], cc[trail]] = -1
+            # The ghost expiry's list drops cells no longer mobile when it next visits them.
+            self._widen_trackers(slice(int(rr[trail].min()), int(rr[trail].max()) + 1),
+                                 slice(int(cc[trail].min()), int(cc[trail].max()) + 1))
+        cleared = np.zeros(found.shape[0], dtype=bool)
+        cleared[np.flatnonzero(found)[trail]] = True
+        self._marked = marked[kept][~cleared]
+
+
+class NumpyLabelGrid(NumpyExtrasLabelGrid):
     """``LabelGrid`` with the numpy update of commit 83e3dc1 (see the module docstring)."""
 
     def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max,

@@ -96,6 +96,26 @@ def ray_cast(occupied, pose, truth_resolution=0.05, range_max=RANGE_MAX):
     return np.where(hit.any(axis=1), distances[first], np.inf)
 
 
+def moving_box_world(static, step, rng_seed, boxes=3, truth_resolution=0.05):
+    """
+    Return ``static`` with ``boxes`` 0.6 m boxes, each moving along a fixed heading.
+
+    Box ``k`` starts at a random cell and moves up to 6 truth cells along each axis per step,
+    stopping at the hall's border: at step ``step`` it stands where that walk puts it.
+    """
+    occupied = static.copy()
+    rng = np.random.default_rng(rng_seed)
+    n = static.shape[0]
+    side = int(round(0.6 / truth_resolution))
+    for _ in range(boxes):
+        r0, c0 = rng.integers(side, n - 2 * side, 2)
+        dr, dc = rng.integers(-6, 7, 2)
+        r = int(np.clip(r0 + dr * step, 0, n - side))
+        c = int(np.clip(c0 + dc * step, 0, n - side))
+        occupied[r:r + side, c:c + side] = True
+    return occupied
+
+
 def random_ranges(rng):
     """Worst case: independent ranges, 2 to 35 m, so every edge of the polygon is a spike."""
     return rng.uniform(2.0, 35.0, LASER_BEAMS)

@@ -121,3 +121,49 @@ def test_markers():
     assert empty.action == Marker.DELETE
     goal = sphere_marker((3.0, 4.0), 'goal', 2, (0, 1, 0, 1), 0.4, STAMP)
     assert (goal.pose.position.x, goal.pose.position.y) == (3.0, 4.0)
+
+
+def test_navigator_markers_built_once_per_change_equal_a_fresh_build():
+    # The node's cached markers against navigator_markers on every scan of a run: the path
+    # replaced now and then, the trail growing and started over, the goal set and changed.
+    from dpn_navigator.navigator_markers import (extend_trail, navigator_markers,
+                                                 NavigatorMarkers)
+    rng = np.random.default_rng(4)
+    cached = NavigatorMarkers('map', min_period=0.0)
+    trail, path, goal = [], None, None
+    for step in range(120):
+        if step % 17 == 3:
+            path = rng.uniform(0.0, 20.0, (int(rng.integers(0, 30)), 2))
+        if step % 40 == 1:
+            goal = tuple(rng.uniform(0.0, 20.0, 2).tolist())
+        if step == 70:
+            trail = []                                      # a new goal starts it over
+        extend_trail(trail, tuple(rng.uniform(0.0, 20.0, 2).tolist()))
+        stamp = Time(sec=step, nanosec=7)
+        want = navigator_markers(path, trail, goal, stamp)
+        got = cached.messages(path, trail, goal, stamp, float(step))
+        # Field by field (their CDR bytes differ in the padding, which is not initialised).
+        assert got == want
+
+
+@pytest.mark.parametrize('min_period', [0.0, 0.2])
+def test_marker_schedule_sends_every_replan_late_at_most(min_period):
+    from dpn_navigator.navigator_markers import markers_due, NavigatorMarkers
+    schedule = NavigatorMarkers(min_period=min_period)
+    last, sent, replans = -math.inf, [], []
+    for step in range(60):
+        now = 0.05 * step
+        replanned = step % 3 == 0 and step < 40
+        if replanned:
+            replans.append(now)
+        if schedule.due(replanned, False, now):
+            schedule.messages(None, [], None, Time(), now)
+            sent.append(now)
+        if min_period == 0.0:                  # the schedule of markers_due, scan for scan
+            assert (sent[-1:] == [now]) == markers_due(replanned, False, now, last)
+            last = sent[-1] if sent else last
+    gaps = np.diff(sent)
+    assert np.all(gaps >= min_period - 1e-9)
+    # Every replan goes out, within min_period and one scan.
+    assert all(any(replan <= s <= replan + min_period + 0.05 + 1e-9 for s in sent)
+               for replan in replans)

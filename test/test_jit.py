@@ -6,6 +6,8 @@ No ROS is needed: run ``python -m pytest test/test_jit.py`` from the repository 
 """
 
 import os
+from pathlib import Path
+import shutil
 import subprocess
 import sys
 
@@ -65,3 +67,42 @@ def test_warm_up_compiles_every_kernel():
     assert jit.warm_up() >= 0.0
     assert astar_search._search.signatures
     assert jit.warm_up() < 0.5          # ready now: a tiny call, no compiling
+
+
+def test_seed_cache_copies_what_the_cache_lacks_or_holds_older(tmp_path):
+    shipped = tmp_path / 'shipped' / 'core_0123'
+    shipped.mkdir(parents=True)
+    (shipped / 'k.nbi').write_text('index')
+    (shipped / 'k.nbc').write_text('code')
+    target = tmp_path / 'cache'
+    assert jit.seed_cache(tmp_path / 'shipped', target) == 2
+    assert (target / 'core_0123' / 'k.nbc').read_text() == 'code'
+    assert jit.seed_cache(tmp_path / 'shipped', target) == 0         # once
+    os.utime(target / 'core_0123' / 'k.nbi', (0, 0))                  # older: replaced
+    (target / 'core_0123' / 'k.nbi').write_text('stale')
+    os.utime(target / 'core_0123' / 'k.nbi', (0, 0))
+    assert jit.seed_cache(tmp_path / 'shipped', target) == 1
+    assert (target / 'core_0123' / 'k.nbi').read_text() == 'index'
+    assert jit.seed_cache(tmp_path / 'nothing shipped', target) == 0
+    assert jit.seed_cache(tmp_path / 'shipped', tmp_path / 'shipped') == 0
+    not_a_dir = tmp_path / 'file'
+    not_a_dir.write_text('')
+    assert jit.seed_cache(tmp_path / 'shipped', not_a_dir) == 0     # unwritable: numba's turn
+
+
+def test_shipped_kernels_are_seeded_into_an_empty_cache(tmp_path):
+    # In a fresh interpreter whose jit module ships a (fake) compiled kernel.
+    package = Path(jit.__file__).resolve().parents[1]
+    copy = tmp_path / 'tree' / 'dpn_navigator'
+    shutil.copytree(package, copy, ignore=shutil.ignore_patterns('kernel_cache',
+                                                                 '__pycache__'))
+    (copy / 'core' / 'kernel_cache' / 'core_0123').mkdir(parents=True)
+    (copy / 'core' / 'kernel_cache' / 'core_0123' / 'k.nbi').write_text('index')
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / 'empty'),
+               PYTHONPATH=os.pathsep.join([str(tmp_path / 'tree')]
+                                          + [path for path in sys.path if path]))
+    code = 'from dpn_navigator.core import jit; print(jit.__file__)'
+    out = subprocess.run([sys.executable, '-c', code], env=env, check=True, cwd=tmp_path,
+                         capture_output=True, text=True).stdout
+    assert out.strip().startswith(str(copy))
+    assert (tmp_path / 'empty' / 'core_0123' / 'k.nbi').read_text() == 'index'

@@ -18,25 +18,10 @@ from numpy.testing import assert_array_equal
 from numpy_label_grid import NumpyLabelGrid
 import pytest
 from scan_scenes import ANGLE_INCREMENT, ANGLE_MIN, free_pose, hall, RANGE_MAX, RANGE_MIN
-from scan_scenes import ray_cast
+from scan_scenes import moving_box_world, ray_cast
 
 TRUTH_RESOLUTION = 0.05
 DPN_RULE = NavigatorConfig(width=1.0, height=1.0).label_rule()
-
-
-def moving_box_world(static, step, rng_seed):
-    """Return ``static`` with three 0.6 m boxes that move along fixed headings each step."""
-    occupied = static.copy()
-    rng = np.random.default_rng(rng_seed)
-    n = static.shape[0]
-    side = int(round(0.6 / TRUTH_RESOLUTION))
-    for _ in range(3):
-        r0, c0 = rng.integers(side, n - 2 * side, 2)
-        dr, dc = rng.integers(-6, 7, 2)
-        r = int(np.clip(r0 + dr * step, 0, n - side))
-        c = int(np.clip(c0 + dc * step, 0, n - side))
-        occupied[r:r + side, c:c + side] = True
-    return occupied
 
 
 def assert_same_state(fast, reference):

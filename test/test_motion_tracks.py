@@ -4,11 +4,16 @@ import math
 
 from dpn_navigator.core.cell_label import CellLabel
 from dpn_navigator.core.label_grid import LabelGrid, LabelRule
-from dpn_navigator.core.motion_tracks import (MotionTracks, seen_free_points, segment_summary,
-                                              TrackConfig)
+from dpn_navigator.core.motion_tracks import MotionTracks, TrackConfig
 from dpn_navigator.core.moving_objects import scan_segments
+from dpn_navigator.core.navigator import NavigatorConfig
 import numpy as np
+from numpy.testing import assert_array_equal
+from numpy_label_grid import NumpyExtrasLabelGrid
+from numpy_motion_tracks import seen_free_points, segment_summary
 import pytest
+from scan_scenes import ANGLE_INCREMENT, ANGLE_MIN, free_pose, hall, RANGE_MAX
+from scan_scenes import moving_box_world, RANGE_MIN, ray_cast
 
 S, M = CellLabel.STEADY_OBSTACLE, CellLabel.MOBILE_OBSTACLE
 
@@ -214,3 +219,65 @@ def test_followed_object_partly_hidden_on_one_side_stays_mobile_within_the_tight
         ranges = np.minimum(disc_scan(laser, centre), disc_scan(laser, (2.5, 6.15), 0.08))
         grid.update(laser, ranges, safety_radius=0.6, stamp=stamp, **SCAN)
         assert disc_labels(grid, centre) == label
+
+
+def assert_same_tracks(fast, reference):
+    for name in ('positions', 'ids', 'last_seen', 'last_confirmed', 'hit_ids', 'hit_long',
+                 'hit_object', '_history_xy', '_history_stamp', '_next_id'):
+        assert_array_equal(getattr(fast, name), getattr(reference, name), err_msg=name)
+
+
+def assert_same_grids(fast, reference):
+    assert_same_tracks(fast.tracks, reference.tracks)
+    assert_array_equal(fast.labels, reference.labels)
+    if reference.cell_track is not None:
+        assert_array_equal(fast.cell_track, reference.cell_track)
+        assert_array_equal(np.unique(fast._marked), np.unique(reference._marked))
+
+
+@pytest.mark.parametrize('seed', range(4))
+def test_compiled_tracks_equal_the_numpy_ones_on_hall_sequences(seed):
+    # A laser that stands still for ten scans at a time among boxes that walk; the numpy
+    # tracks (and trail marks) of commit 1d9ead7 are the oracle, after every scan.
+    rule = NavigatorConfig(width=1.0, height=1.0).label_rule()
+    rng = np.random.default_rng(seed)
+    static = hall(30.0, 10, rng)
+    fast = LabelGrid(30.0, 30.0, 0.5, rule=rule)
+    reference = NumpyExtrasLabelGrid(30.0, 30.0, 0.5, rule=rule)
+    trackers = (fast.change_tracker(), reference.change_tracker())
+    path = np.array([[30, c] for c in range(60)])
+    stamp = 0.0
+    followed = started = 0
+    for step in range(120):
+        world = moving_box_world(static, step, seed, boxes=5)
+        if step % 10 == 0:
+            pose = free_pose(world, rng)
+        ranges = ray_cast(world, pose)
+        # Mostly forward by a scan period; once back in time (a restarted simulation).
+        stamp = 0.5 if step == 80 else stamp + 0.1
+        args = (pose, ranges, ANGLE_MIN, ANGLE_INCREMENT, RANGE_MIN, RANGE_MAX, 0.6)
+        assert fast.update(*args, path=path, stamp=stamp) == reference.update(
+            *args, path=path, stamp=stamp)
+        assert_same_grids(fast, reference)
+        assert trackers[0].take() == trackers[1].take()
+        followed += np.count_nonzero(fast.tracks.hit_ids >= 0)
+        started = max(started, fast.tracks._next_id)
+    assert followed > 0 and started > 1
+
+
+@pytest.mark.parametrize('half_open_gate', [0.35, 0.0])
+def test_compiled_tracks_equal_the_numpy_ones_on_a_walking_disc(half_open_gate):
+    rule = LabelRule(**DPN, track_confirm_time=2.0, mobile_expiry=5.0, trail_distance=1.2)
+    grids = (LabelGrid(width=12.0, height=12.0, rule=rule),
+             NumpyExtrasLabelGrid(width=12.0, height=12.0, rule=rule))
+    for grid in grids:
+        grid.tracks.config = TrackConfig(confirm_within=2.0, half_open_gate=half_open_gate)
+    laser = (1.0, 6.0, 0.0)
+    for step in range(70):
+        stamp = step / 10
+        centre = (4.0 + 0.5 * min(stamp, 2.0), 6.0 + 0.3 * math.sin(stamp))
+        ranges = np.minimum(disc_scan(laser, centre), disc_scan(laser, (2.5, 6.15), 0.08))
+        for grid in grids:
+            grid.update(laser, ranges, safety_radius=0.6, stamp=stamp, **SCAN)
+        assert_same_grids(*grids)
+    assert grids[0].tracks._next_id >= 1

@@ -1,15 +1,21 @@
 """Tests of object memory: small objects are forgotten out of view, walls never."""
 
+import dataclasses
 import math
 
 from dpn_navigator.core.cell_label import CellLabel, ScanInput
 from dpn_navigator.core.grid_geometry import GridGeometry
 from dpn_navigator.core.label_grid import LabelGrid, LabelRule
-from dpn_navigator.core.object_memory import ObjectMemory, run_cells
+from dpn_navigator.core.navigator import NavigatorConfig
+from dpn_navigator.core.object_memory import ObjectMemory
 from dpn_navigator.core.scan_features import squared_radius_bound
 import numpy as np
 from numpy.testing import assert_array_equal
+from numpy_label_grid import NumpyExtrasLabelGrid
+from numpy_object_memory import run_cells
 import pytest
+from scan_scenes import ANGLE_INCREMENT, ANGLE_MIN, free_pose, hall, RANGE_MAX
+from scan_scenes import moving_box_world, RANGE_MIN, ray_cast
 from test_motion_tracks import BEAMS, disc_scan, DPN, SCAN
 
 N, E, S, M = (CellLabel.NON_EXPLORED, CellLabel.EXPLORED, CellLabel.STEADY_OBSTACLE,
@@ -228,3 +234,39 @@ def test_object_memory_equals_its_literal_twin(seed):
         assert_array_equal(labels, twin_labels)
         assert_array_equal(fast.anchored, twin.anchored)
     assert fast.forgotten > 0
+
+
+@pytest.mark.parametrize(('memory', 'resolution', 'seed'), [
+    (5.0, 0.5, 0), (1.0, 0.5, 1), (0.5, 0.5, 2), (0.3, 0.1, 3), (0.3, 0.1, 4)])
+def test_compiled_object_memory_equals_the_numpy_one_on_hall_sequences(
+        memory, resolution, seed):
+    # Boxes the size of a wanderer cross the hall: they are listed, anchored where they stand
+    # by a wall, forgotten once out of view. Every array, the list, the counter, the replan
+    # flag and the change trackers, after every scan.
+    rule = dataclasses.replace(NavigatorConfig(width=1.0, height=1.0).label_rule(),
+                               object_memory=memory)
+    rng = np.random.default_rng(seed)
+    size = 30.0 if resolution == 0.5 else 12.0
+    static = hall(size, 10 if resolution == 0.5 else 3, rng)
+    fast = LabelGrid(size, size, resolution, rule=rule)
+    reference = NumpyExtrasLabelGrid(size, size, resolution, rule=rule)
+    trackers = (fast.change_tracker(), reference.change_tracker())
+    middle = fast.labels.shape[0] // 2
+    path = np.array([[middle, c] for c in range(2 * middle)])
+    stamp = 0.0
+    for step in range(90):
+        world = moving_box_world(static, step, seed, boxes=4)
+        pose = free_pose(world, rng)
+        ranges = ray_cast(world, pose)
+        stamp += rng.choice([0.1, 0.2, 0.4])
+        args = (pose, ranges, ANGLE_MIN, ANGLE_INCREMENT, RANGE_MIN, RANGE_MAX, 0.6)
+        assert fast.update(*args, path=path, stamp=stamp) == reference.update(
+            *args, path=path, stamp=stamp)
+        assert_array_equal(fast.labels, reference.labels)
+        assert_array_equal(fast.object_memory.anchored, reference.object_memory.anchored)
+        assert_array_equal(fast.object_memory.provisional,
+                           reference.object_memory.provisional)
+        assert fast.object_memory.forgotten == reference.object_memory.forgotten
+        assert trackers[0].take() == trackers[1].take()
+    assert fast.object_memory.forgotten > 0
+    assert fast.object_memory.anchored.any()

@@ -15,10 +15,20 @@ no cache, with a warning).
 A node or the benchmark calls `warm_up` once at start, so that the first scan is not the one
 that waits for the compiler or the cache.
 
+An installed package can ship its kernels compiled: ``compile_kernels`` (``ros2 run
+dpn_navigator compile_kernels``; ``make build`` runs it) compiles them for the installed copy
+of the sources into ``SHIPPED_CACHE``, next to this file, and at import this module copies
+what the cache in use lacks (or holds older) from there. A first start with an empty cache
+then loads the kernels instead of compiling them for about 25 CPU-s. The cache is keyed on the
+source files' paths and stamps and on the CPU, so kernels shipped for other sources or another
+machine are just compiled again.
+
 """
 
 import os
 from pathlib import Path
+import shutil
+import subprocess
 import sys
 import tempfile
 import time
@@ -59,16 +69,55 @@ def _writable_dir(path):
     return True
 
 
+#: Where `compile_kernels` puts the kernels it compiles for this copy of the package.
+SHIPPED_CACHE = Path(__file__).resolve().parent / 'kernel_cache'
+
+
 def _configure_cache():
     """Point numba's cache at `default_cache_dir` unless ``NUMBA_CACHE_DIR`` says otherwise."""
-    if os.environ.get('NUMBA_CACHE_DIR'):
-        return
-    path = default_cache_dir()
-    if _writable_dir(path):
+    if not os.environ.get('NUMBA_CACHE_DIR'):
+        path = default_cache_dir()
+        if not _writable_dir(path):
+            return
         # Read at import by numba, and by its cache locators each time a kernel is defined.
         os.environ['NUMBA_CACHE_DIR'] = str(path)
         if 'numba' in sys.modules:
             sys.modules['numba'].config.CACHE_DIR = str(path)
+    seed_cache(SHIPPED_CACHE, os.environ['NUMBA_CACHE_DIR'])
+
+
+def seed_cache(source, target):
+    """
+    Copy the cached kernels of ``source`` that ``target`` lacks or holds older.
+
+    Parameters
+    ----------
+    source, target : path-like
+        numba cache directories (``NUMBA_CACHE_DIR`` layout: one sub-directory per source
+        directory, index and data files in it); a missing ``source`` copies nothing.
+
+    Returns
+    -------
+    copied : int
+        Files copied (0 as well when ``target`` cannot be written: numba then compiles).
+
+    """
+    source = Path(source)
+    if not source.is_dir() or source.resolve() == Path(target).resolve():
+        return 0
+    copied = 0
+    for file in source.glob('*/*'):
+        destination = Path(target) / file.relative_to(source)
+        try:
+            if (destination.exists()
+                    and destination.stat().st_mtime >= file.stat().st_mtime):
+                continue
+            destination.parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(file, destination)           # with its time: copied once
+        except OSError:
+            return copied
+        copied += 1
+    return copied
 
 
 # Before numba is imported: it reads NUMBA_CACHE_DIR once, at import.
@@ -122,3 +171,30 @@ def warm_up():
     warm_up_label_update()
     warm_up_costmap()
     return time.perf_counter() - started
+
+
+def compile_kernels(directory=SHIPPED_CACHE):
+    """
+    Compile every kernel into ``directory``, the cache a first start copies from.
+
+    Runs `warm_up` in a fresh process with ``NUMBA_CACHE_DIR`` set to ``directory``: kernels
+    whose cached code matches the sources are loaded, the others compiled.
+
+    Parameters
+    ----------
+    directory : path-like
+        Default `SHIPPED_CACHE`, beside this package's sources.
+
+    Returns
+    -------
+    seconds : float
+        Wall time of the fresh process's `warm_up` [s].
+
+    """
+    os.makedirs(directory, exist_ok=True)
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(directory))
+    code = f'import sys; sys.path.insert(0, {str(Path(__file__).resolve().parents[2])!r}); ' \
+        'from dpn_navigator.core import jit; print(jit.warm_up())'
+    result = subprocess.run([sys.executable, '-c', code], env=env, check=True,
+                            capture_output=True, text=True)
+    return float(result.stdout.split()[-1])

@@ -18,13 +18,13 @@ import math
 
 import numpy as np
 
-from .cell_label import blocked_mask, CellLabel, LABEL_DTYPE, ScanInput
+from .cell_label import blocked_mask, CellLabel, LABEL_DTYPE
 from .grid_geometry import GridGeometry
 from .label_kernel import expire_listed, scan_hits, scan_update, squared_bound
 from .motion_tracks import MotionTracks, TrackConfig
 from .object_memory import ObjectMemory
-from .scan_features import hit_runs, run_cover
 from .scan_polygon import check_pose, check_scan
+from .trail_marks import update_trails
 
 _EMPTY_WINDOW = (slice(0, 0), slice(0, 0), np.zeros((0, 0), dtype=LABEL_DTYPE))
 
@@ -239,6 +239,9 @@ def warm_up_label_update():
     for stamp in (0.0, 2.0):
         grid.update((1.0, 1.5, 0.0), ranges, -0.5, 0.5, 0.1, 1.5, 0.25, path=[[0, 0]],
                     stamp=stamp)
+    # Without the tracks the kernel finds the scan's points itself.
+    LabelGrid(2.0, 2.0, 0.5).update((1.0, 1.5, 0.0), ranges, -0.5, 0.5, 0.1, 1.5, 0.25,
+                                    path=[[0, 0]])
 
 
 class ChangeTracker:
@@ -441,39 +444,56 @@ class LabelGrid(ChangeTrackers):
         expiring = self.rule.mobile_expiry > 0.0
         if expiring:
             self._restart_clocks_if_time_went_back(stamp)
-        followed = None
+        followed = points = None
         if self.rule.track_confirm_time > 0.0:
-            followed = self._follow(pose, ranges, angle_min, angle_increment, range_min,
-                                    range_max, stamp)
+            followed, points = self._follow(pose, ranges, angle_min, angle_increment,
+                                            range_min, range_max, stamp)
         replan, self.last_window, new_mobile = scan_update(
             self.labels, _NO_BOOL if self.seen_free is None else self.seen_free,
             _NO_TIME if self.last_hit is None else self.last_hit,
             _NO_BOOL if self._listed is None else self._listed, self.geometry, pose, ranges,
             angle_min, angle_increment, range_min, range_max, safety_radius, self._kernel_rule,
-            stamp if expiring else 0.0, _NO_PATH if path is None else path, followed)
+            stamp if expiring else 0.0, _NO_PATH if path is None else path, followed, points)
         self._widen_trackers(self.last_window[0], self.last_window[1])
         if expiring:
             self._list_mobile(new_mobile, stamp)
             self._expire_mobile(stamp)
         if self.cell_track is not None and self.last_window[2].size:
-            self._stamp_tracks(safety_radius)
-            self._expire_trails(stamp)
+            self._trails(safety_radius, stamp)
         if self.object_memory is not None:
             self._forget_objects(safety_radius, stamp)
         return replan
 
     def _follow(self, pose, ranges, angle_min, angle_increment, range_min, range_max, stamp):
-        """Follow the moving objects through the scan; return the hits of followed ones."""
-        vertices_x, vertices_y, hits_x, hits_y, hit_beams, moving = scan_hits(
+        """
+        Follow the moving objects through the scan.
+
+        Returns the hits of followed objects, and the scan's points and moving hits
+        (`scan_hits`) for the update.
+        """
+        points = scan_hits(
             _NO_BOOL if self.seen_free is None else self.seen_free, self.geometry, pose, ranges,
             angle_min, angle_increment, range_min, range_max, self._kernel_rule)
+        vertices_x, vertices_y, hits_x, hits_y, hit_beams, moving = points
         self._followed_hits = (hits_x, hits_y)
         self._laser_xy = (vertices_x[0], vertices_y[0])
         beam_reach = np.hypot(vertices_x[1:-1] - vertices_x[0],
                               vertices_y[1:-1] - vertices_y[0])
-        return self.tracks.update(
+        followed = self.tracks.update(
             stamp, (vertices_x[0], vertices_y[0]), hits_x, hits_y, hit_beams, ranges.shape[0],
             moving, self.rule.segment_gap, pose[2] + angle_min, angle_increment, beam_reach)
+        return followed, points
+
+    def _trails(self, safety_radius, stamp):
+        """Mark the cells of the followed objects' hits; clear the trails they left."""
+        hits_x, hits_y = self._followed_hits
+        tracks = self.tracks
+        self._marked, cleared = update_trails(
+            self.cell_track, self.labels, self._marked, self.geometry, self.last_window,
+            hits_x, hits_y, tracks.hit_ids, tracks.ids, tracks.positions, tracks.last_seen,
+            stamp, safety_radius, self.rule.trail_distance)
+        # The ghost expiry's list drops cells no longer mobile when it next visits them.
+        self._widen_trackers(*cleared)
 
     def _forget_objects(self, safety_radius, stamp):
         """Forget the steady cells of small objects out of view and unconfirmed for long."""
@@ -483,78 +503,6 @@ class LabelGrid(ChangeTrackers):
             self.tracks.hit_long, self.tracks.hit_object, self._laser_xy, safety_radius, stamp)
         if changed is not None:
             self._widen_trackers(*changed)
-
-    def _stamp_tracks(self, safety_radius):
-        """Note in ``cell_track`` which track's hits are within the safety radius of a cell."""
-        rows, cols, cell_input = self.last_window
-        window = self.cell_track[rows, cols]
-        window[cell_input == ScanInput.HIT] = -1     # marks are of the last hit
-        ids = self.tracks.hit_ids
-        tracked = ids >= 0
-        if not tracked.any():
-            return
-        hits_x, hits_y = self._followed_hits
-        starts, ends, hit_index = hit_runs(
-            self.geometry, rows, cols, self.geometry.window_centres(rows, cols),
-            hits_x[tracked], hits_y[tracked], safety_radius, return_hits=True)
-        self._mark_runs(rows, cols, starts, ends, ids[tracked][hit_index])
-
-    def _mark_runs(self, rows, cols, starts, ends, run_ids):
-        """
-        Mark the cells of each f1 run with its hit's track in ``cell_track``, and list them.
-
-        ``starts``, ``ends`` are window runs (``hit_runs``), ``run_ids`` the track of each run
-        (-1: none).
-        """
-        window = self.cell_track[rows, cols]
-        for track in np.unique(run_ids[run_ids >= 0]):
-            own = run_ids == track
-            cover = run_cover(starts[own], ends[own], window.shape)
-            window[cover] = track
-            local_rr, local_cc = np.nonzero(cover)
-            self._marked = np.concatenate((
-                self._marked,
-                (local_rr + rows.start) * self.geometry.cols + local_cc + cols.start))
-        if self._marked.shape[0] > 4096:
-            self._marked = np.unique(self._marked)
-
-    def _expire_trails(self, stamp):
-        """Set out-of-view mobile cells whose object the scan sees far from them to explored."""
-        tracks = self.tracks
-        seen = tracks.last_seen == stamp
-        if not seen.any() or not self._marked.size:
-            return
-        marked = np.unique(self._marked)
-        rr, cc = np.divmod(marked, self.geometry.cols)
-        marks = self.cell_track[rr, cc]
-        kept = (marks >= 0) & (self.labels[rr, cc] == CellLabel.MOBILE_OBSTACLE)
-        self.cell_track[rr[~kept], cc[~kept]] = -1
-        rr, cc, marks = rr[kept], cc[kept], marks[kept]
-        order = np.argsort(tracks.ids[seen])
-        seen_ids = tracks.ids[seen][order]
-        seen_xy = tracks.positions[seen][order]
-        which = np.minimum(np.searchsorted(seen_ids, marks), seen_ids.shape[0] - 1)
-        found = seen_ids[which] == marks
-        rr, cc, which = rr[found], cc[found], which[found]
-        rows, cols, cell_input = self.last_window
-        out_of_view = np.ones(rr.shape[0], dtype=bool)
-        inside = ((rr >= rows.start) & (rr < rows.stop) & (cc >= cols.start)
-                  & (cc < cols.stop))
-        out_of_view[inside] = (cell_input[rr[inside] - rows.start, cc[inside] - cols.start]
-                               == ScanInput.NONE)
-        centre_x, centre_y = self.geometry.cell_to_world(rr, cc)
-        far = (np.hypot(centre_x - seen_xy[which, 0], centre_y - seen_xy[which, 1])
-               >= self.rule.trail_distance)
-        trail = out_of_view & far
-        if trail.any():
-            self.labels[rr[trail], cc[trail]] = CellLabel.EXPLORED
-            self.cell_track[rr[trail], cc[trail]] = -1
-            # The ghost expiry's list drops cells no longer mobile when it next visits them.
-            self._widen_trackers(slice(int(rr[trail].min()), int(rr[trail].max()) + 1),
-                                 slice(int(cc[trail].min()), int(cc[trail].max()) + 1))
-        cleared = np.zeros(found.shape[0], dtype=bool)
-        cleared[np.flatnonzero(found)[trail]] = True
-        self._marked = marked[kept][~cleared]
 
     def _checked_scan(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
                       safety_radius, path, angle_max, stamp):

@@ -380,7 +380,7 @@ def _update_window(labels, seen_free, last_hit, listed, row0, col0, cell_input, 
                    resolution, vertices_x, vertices_y, hits_x, hits_y, hit_beams,
                    safety_radius, safety_bound, free_on, free_radius, free_bound, objects_on,
                    evidence_radius, evidence_bound, segment_gap, object_size, expiry_on,
-                   stamp, path, new_mobile, extra_moving):
+                   stamp, path, new_mobile, extra_moving, moving_known):
     """
     Fold one scan into the window ``labels[row0:row0 + n_rows, col0:col0 + n_cols]``.
 
@@ -423,6 +423,9 @@ def _update_window(labels, seen_free, last_hit, listed, row0, col0, cell_input, 
         Receives the flat grid indices of the cells newly listed.
     extra_moving : (K,) ndarray of bool
         Hits to count as moving besides those the object rule finds (empty: none).
+    moving_known : bool
+        ``extra_moving`` holds every moving hit, the object rule's included (as `scan_hits`
+        finds them): the rule's evidence is not looked for again.
 
     Returns
     -------
@@ -446,10 +449,14 @@ def _update_window(labels, seen_free, last_hit, listed, row0, col0, cell_input, 
                 x0, y0, resolution, safety_radius, safety_bound, extent)
     near_moving = np.zeros((0, 0), dtype=np.bool_)      # read only with objects_on
     if objects_on:
-        evidence = _hit_evidence(seen_free, hits_x, hits_y, x0, y0, resolution,
-                                 evidence_radius, evidence_bound)
-        moving = _moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_size)
-        if extra_moving.shape[0] == moving.shape[0]:
+        if moving_known:
+            moving = extra_moving
+        else:
+            evidence = _hit_evidence(seen_free, hits_x, hits_y, x0, y0, resolution,
+                                     evidence_radius, evidence_bound)
+            moving = _moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap,
+                                  object_size)
+        if not moving_known and extra_moving.shape[0] == moving.shape[0]:
             for k in range(moving.shape[0]):
                 if extra_moving[k]:
                     moving[k] = True
@@ -570,13 +577,31 @@ def _scan_update(labels, seen_free, last_hit, listed, ranges, x, y, yaw, angle_m
                  evidence_radius, evidence_bound, segment_gap, object_size, expiry_on, stamp,
                  path, extra_moving):
     """
-    Find the scan's points and window, then run `_update_window` over it.
+    Find the scan's points, then run `_points_update` with them.
+
+    Returns ``(replan, row0, row_end, col0, col_end, cell_input, new_mobile)``.
+    """
+    vertices_x, vertices_y, hits_x, hits_y, hit_beams = _scan_points(
+        ranges, x, y, yaw, angle_min, angle_increment, range_min, range_max)
+    return _points_update(
+        labels, seen_free, last_hit, listed, vertices_x, vertices_y, hits_x, hits_y,
+        hit_beams, x0, y0, resolution, reach, safety_radius, safety_bound, free_on,
+        free_radius, free_bound, objects_on, evidence_radius, evidence_bound, segment_gap,
+        object_size, expiry_on, stamp, path, extra_moving, False)
+
+
+@kernel
+def _points_update(labels, seen_free, last_hit, listed, vertices_x, vertices_y, hits_x,
+                   hits_y, hit_beams, x0, y0, resolution, reach, safety_radius, safety_bound,
+                   free_on, free_radius, free_bound, objects_on, evidence_radius,
+                   evidence_bound, segment_gap, object_size, expiry_on, stamp, path,
+                   extra_moving, moving_known):
+    """
+    Find the scan's window from its points, then run `_update_window` over it.
 
     Returns ``(replan, row0, row_end, col0, col_end, cell_input, new_mobile)``; an empty
     window (the scan misses the grid) changes nothing.
     """
-    vertices_x, vertices_y, hits_x, hits_y, hit_beams = _scan_points(
-        ranges, x, y, yaw, angle_min, angle_increment, range_min, range_max)
     rows, cols = labels.shape
     # GridGeometry.cell_window of the polygon's box widened by reach, margin 1.
     row0 = _window_bound(vertices_y.min() - reach, y0, resolution, -1.0, rows)
@@ -594,13 +619,14 @@ def _scan_update(labels, seen_free, last_hit, listed, ranges, x, y, yaw, angle_m
         labels, seen_free, last_hit, listed, row0, col0, cell_input, x0, y0, resolution,
         vertices_x, vertices_y, hits_x, hits_y, hit_beams, safety_radius, safety_bound,
         free_on, free_radius, free_bound, objects_on, evidence_radius, evidence_bound,
-        segment_gap, object_size, expiry_on, stamp, path, new_mobile, extra_moving)
+        segment_gap, object_size, expiry_on, stamp, path, new_mobile, extra_moving,
+        moving_known)
     return replan, row0, row_end, col0, col_end, cell_input, new_mobile[:new_count].copy()
 
 
 def scan_update(labels, seen_free, last_hit, listed, geometry, pose, ranges, angle_min,
                 angle_increment, range_min, range_max, safety_radius, rule_arguments, stamp,
-                path, extra_moving=None):
+                path, extra_moving=None, points=None):
     """
     Fold one validated scan into the grid's state arrays in place.
 
@@ -633,6 +659,10 @@ def scan_update(labels, seen_free, last_hit, listed, geometry, pose, ranges, ang
         Hits (in the order of `scan_hits`) to count as hits on moving objects besides those
         the object rule finds, such as the followed objects of ``motion_tracks``; read only
         with the object rule on.
+    points : tuple, optional
+        ``(vertices_x, vertices_y, hits_x, hits_y, hit_beams, moving)`` of this scan from
+        `scan_hits` on the same state, so that they are not found again; ``extra_moving`` is
+        then added to ``moving``.
 
     Returns
     -------
@@ -645,6 +675,17 @@ def scan_update(labels, seen_free, last_hit, listed, geometry, pose, ranges, ang
     """
     x0, y0 = geometry.origin
     reach = max(safety_radius, rule_arguments[1])
+    if points is not None:
+        vertices_x, vertices_y, hits_x, hits_y, hit_beams, moving = points
+        if extra_moving is not None:
+            moving = moving | extra_moving
+        replan, row0, row_end, col0, col_end, cell_input, new_mobile = _points_update(
+            labels, seen_free, last_hit, listed, vertices_x, vertices_y, hits_x, hits_y,
+            hit_beams, x0, y0, geometry.resolution, reach, safety_radius,
+            squared_bound(safety_radius), *rule_arguments, float(stamp),
+            np.ascontiguousarray(path), moving, True)
+        return (bool(replan), (slice(row0, row_end), slice(col0, col_end), cell_input),
+                new_mobile)
     replan, row0, row_end, col0, col_end, cell_input, new_mobile = _scan_update(
         labels, seen_free, last_hit, listed, np.ascontiguousarray(ranges), pose[0], pose[1],
         pose[2], float(angle_min), float(angle_increment), float(range_min), float(range_max),

@@ -23,6 +23,12 @@ is taken for the wanderer for at most ``confirm_within`` seconds. A wall is neve
 free-standing unless only a short piece of it shows between nearer objects, and then it is not
 free-standing (a neighbouring beam returns nearer).
 
+One compiled kernel per scan (`_track_update`) follows the objects. The bearings of the
+places seen a moment ago are numpy's (``arctan2``, ``arcsin``: on this AVX-512 machine
+numpy's SIMD routines, which differ from the C library's in the last bits), computed before
+the call, so that the kernel decides exactly as the numpy implementation it replaced, the
+oracle of the tests (``test/numpy_motion_tracks.py``).
+
 """
 
 from dataclasses import dataclass
@@ -30,8 +36,7 @@ import math
 
 import numpy as np
 
-from .moving_objects import scan_segments
-
+from .jit import kernel
 
 #: Fewest hits of a scan segment that is a small object (``MotionTracks.hit_object``).
 OBJECT_MIN_HITS = 3
@@ -87,107 +92,6 @@ class TrackConfig:
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0.0):
                 raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
-
-
-def segment_summary(laser_xy, hits_x, hits_y, hit_beams, beam_count, segment, arc):
-    """
-    Centroid, extent and standing of each scan segment.
-
-    Parameters
-    ----------
-    laser_xy : (float, float)
-        Laser position [m], map frame.
-    hits_x, hits_y : (K,) ndarray of float64
-        Hit points in beam order [m], ``K >= 1``.
-    hit_beams : (K,) ndarray of int64
-        Beam index of each hit, increasing.
-    beam_count : int
-        Beams in the scan.
-    segment, arc : (K,) ndarray
-        From ``scan_segments``.
-
-    Returns
-    -------
-    centroid_x, centroid_y : (S,) ndarray of float64
-        Mean hit of each segment [m].
-    extent : (S,) ndarray of float64
-        Arc length from its first to its last hit [m].
-    open_sides : (S,) ndarray of int64
-        How many of its two ends are open, 0 to 2: the beam just outside the end exists and
-        returns nothing or a hit farther from the laser than the end. With 2 the segment is
-        free-standing.
-
-    """
-    count = segment.shape[0]
-    segments = int(segment[-1]) + 1
-    sizes = np.bincount(segment, minlength=segments)
-    centroid_x = np.bincount(segment, weights=hits_x, minlength=segments) / sizes
-    centroid_y = np.bincount(segment, weights=hits_y, minlength=segments) / sizes
-    first = np.concatenate(([0], np.flatnonzero(np.diff(segment)) + 1))
-    last = np.concatenate((first[1:] - 1, [count - 1]))
-    extent = arc[last] - arc[first]
-    distance = np.hypot(hits_x - laser_xy[0], hits_y - laser_xy[1])
-    # The hit just outside each end, when its beam is the next one (else nothing returned).
-    before = first - 1
-    after = last + 1
-    before_is_hit = (before >= 0) & (hit_beams[np.maximum(before, 0)] == hit_beams[first] - 1)
-    after_is_hit = ((after < count)
-                    & (hit_beams[np.minimum(after, count - 1)] == hit_beams[last] + 1))
-    open_before = np.where(before_is_hit,
-                           distance[np.maximum(before, 0)] > distance[first],
-                           hit_beams[first] > 0)
-    open_after = np.where(after_is_hit,
-                          distance[np.minimum(after, count - 1)] > distance[last],
-                          hit_beams[last] < beam_count - 1)
-    return centroid_x, centroid_y, extent, open_before.astype(np.int64) + open_after
-
-
-def seen_free_points(points_xy, laser_xy, first_angle, increment, beam_reach, margin):
-    """
-    Tell which points the scan saw empty: every beam within ``margin`` of the point passes it.
-
-    Parameters
-    ----------
-    points_xy : (P, 2) ndarray of float64
-        Points [m], map frame.
-    laser_xy : (float, float)
-        Laser position [m].
-    first_angle : float
-        Map-frame bearing of beam 0 [rad].
-    increment : float
-        Angle between beams [rad], positive.
-    beam_reach : (L,) ndarray of float64
-        How far each beam saw free space [m]: its range, ``range_max`` for no return, 0 for
-        an invalid beam.
-    margin : float
-        Clearance [m]: the beams whose bearing is within ``asin(margin / rho)`` of the
-        point's, at range ``rho``, must all reach ``rho + margin``.
-
-    Returns
-    -------
-    free : (P,) ndarray of bool
-
-    """
-    dx = points_xy[:, 0] - laser_xy[0]
-    dy = points_xy[:, 1] - laser_xy[1]
-    rho = np.hypot(dx, dy)
-    bearing = np.mod(np.arctan2(dy, dx) - first_angle + np.pi, 2.0 * np.pi) - np.pi
-    centre = bearing / increment
-    half = np.arcsin(np.minimum(1.0, margin / np.maximum(rho, margin))) / increment
-    low = np.floor(centre - half).astype(np.int64)
-    high = np.ceil(centre + half).astype(np.int64)
-    beams = beam_reach.shape[0]
-    free = np.zeros(points_xy.shape[0], dtype=bool)
-    inside = np.flatnonzero((low >= 0) & (high < beams) & (rho > margin))
-    if not inside.size:
-        return free
-    # The least reach over each point's beams [low, high], all points at once.
-    lengths = high[inside] - low[inside] + 1
-    starts = np.concatenate(([0], np.cumsum(lengths)[:-1]))
-    beams_of = (np.arange(lengths.sum()) - np.repeat(starts - low[inside], lengths))
-    least = np.minimum.reduceat(beam_reach[beams_of], starts)
-    free[inside] = least >= rho[inside] + margin
-    return free
 
 
 class MotionTracks:
@@ -260,8 +164,8 @@ class MotionTracks:
         first_angle, increment : float, optional
             Map-frame bearing of beam 0 and the step between beams [rad].
         beam_reach : (L,) ndarray of float64, optional
-            How far each beam saw free space [m] (``seen_free_points``); without it no
-            segment is seen to move by the place it left.
+            How far each beam saw free space [m]: its range, ``range_max`` for no return, 0
+            for an invalid beam; without it no segment is seen to move by the place it left.
 
         Returns
         -------
@@ -270,118 +174,266 @@ class MotionTracks:
             ``moving``).
 
         """
-        count = hits_x.shape[0]
-        followed = np.zeros(count, dtype=bool)
+        stamp = float(stamp)
         if stamp < self._last_stamp:
             self.reset()                        # time went back: a restarted simulation
         self._last_stamp = stamp
-        self.hit_ids = np.full(count, -1, dtype=np.int64)
-        self.hit_long = np.zeros(count, dtype=bool)
-        self.hit_object = np.zeros(count, dtype=bool)
-        if self.config.confirm_within == 0.0:
-            return followed
-        self._drop_dead(stamp)
-        if count == 0:
-            return followed
-        segment, arc = scan_segments(hits_x, hits_y, hit_beams, segment_gap)
-        centroid_x, centroid_y, extent, open_sides = segment_summary(
-            laser_xy, hits_x, hits_y, hit_beams, beam_count, segment, arc)
-        small = extent <= self.config.compact_size
-        segments = centroid_x.shape[0]
-        # Segment ids are sorted: segment s holds hits first[s]:stop[s].
-        first = np.searchsorted(segment, np.arange(segments))
-        stop = np.append(first[1:], count)
-        # Segments with motion evidence: the centroid of their moving hits.
-        moving_count = np.bincount(segment[moving], minlength=segments)
-        evidence = moving_count > 0
-        if evidence.any():
-            mx = np.bincount(segment[moving], weights=hits_x[moving], minlength=segments)
-            my = np.bincount(segment[moving], weights=hits_y[moving], minlength=segments)
-            for s in np.flatnonzero(evidence):
-                track = self._continue(np.array([mx[s], my[s]]) / moving_count[s], stamp,
-                                       confirmed=True)
-                own = slice(first[s], stop[s])
-                self.hit_ids[own][moving[own]] = self.ids[track]
-        compact = small & (open_sides == 2)
-        self.hit_long = ~small[segment]
-        self.hit_object = (small & (stop - first >= OBJECT_MIN_HITS))[segment]
-        vacated = np.zeros(segments, dtype=bool)
-        if self.config.vacated and beam_reach is not None:
-            vacated = self._vacated(stamp, centroid_x, centroid_y, compact & ~evidence,
-                                    laser_xy, first_angle, increment, beam_reach)
-        candidates = compact & ~evidence
-        if not self.positions.shape[0]:
-            candidates &= vacated               # nothing to continue: only new tracks
-        for s in np.flatnonzero(candidates):
-            position = np.array([centroid_x[s], centroid_y[s]])
-            track = self._continue(position, stamp, confirmed=bool(vacated[s]))
-            if track >= 0:
-                followed[first[s]:stop[s]] = True
-                self.hit_ids[first[s]:stop[s]] = self.ids[track]
-        if self.config.half_open_gate > 0.0 and self.positions.shape[0]:
-            for s in np.flatnonzero(small & (open_sides == 1) & ~evidence):
-                position = np.array([centroid_x[s], centroid_y[s]])
-                track = self._continue(position, stamp, confirmed=False,
-                                       gate=self.config.half_open_gate)
-                if track >= 0:
-                    followed[first[s]:stop[s]] = True
-                    self.hit_ids[first[s]:stop[s]] = self.ids[track]
-        keep = stamp - self._history_stamp <= self.config.history
-        self._history_xy = np.vstack((self._history_xy[keep],
-                                      np.column_stack((centroid_x[compact],
-                                                       centroid_y[compact]))))
-        self._history_stamp = np.concatenate((self._history_stamp[keep],
-                                              np.full(int(compact.sum()), stamp)))
+        config = self.config
+        vacated_on = config.vacated and beam_reach is not None
+        if vacated_on:
+            low, high, rho = _place_bearings(self._history_xy, laser_xy, first_angle,
+                                             increment, config.free_margin)
+        else:
+            low = high = np.zeros(0, dtype=np.int64)
+            rho = np.zeros(0)
+            beam_reach = np.zeros(0)
+        (followed, self.hit_ids, self.hit_long, self.hit_object, self.positions, self.ids,
+         self.last_seen, self.last_confirmed, self._next_id, self._history_xy,
+         self._history_stamp) = _track_update(
+            self.positions, self.ids, self.last_seen, self.last_confirmed, self._next_id,
+            self._history_xy, self._history_stamp, low, high, rho, stamp,
+            float(laser_xy[0]), float(laser_xy[1]), np.ascontiguousarray(hits_x, np.float64),
+            np.ascontiguousarray(hits_y, np.float64), np.ascontiguousarray(hit_beams, np.int64),
+            int(beam_count), np.ascontiguousarray(moving, bool), float(segment_gap),
+            float(config.compact_size), float(config.gate), float(config.lost_after),
+            float(config.confirm_within), vacated_on, float(config.history),
+            float(config.min_age), float(config.reach), float(config.free_margin),
+            float(config.half_open_gate), np.ascontiguousarray(beam_reach, np.float64))
         return followed
 
-    def _vacated(self, stamp, centroid_x, centroid_y, candidates, laser_xy, first_angle,
-                 increment, beam_reach):
-        """Segments near which a compact segment stood a moment ago, where now is empty."""
-        vacated = np.zeros(candidates.shape[0], dtype=bool)
-        age = stamp - self._history_stamp
-        old = (age >= self.config.min_age) & (age <= self.config.history)
-        if not old.any() or not candidates.any():
-            return vacated
-        old_xy = self._history_xy[old]
-        free = seen_free_points(old_xy, laser_xy, first_angle, increment, beam_reach,
-                                self.config.free_margin)
-        if not free.any():
-            return vacated
-        old_xy = old_xy[free]
-        for s in np.flatnonzero(candidates):
-            distance = np.hypot(old_xy[:, 0] - centroid_x[s], old_xy[:, 1] - centroid_y[s])
-            vacated[s] = bool((distance <= self.config.reach).any())
-        return vacated
 
-    def _continue(self, position, stamp, confirmed, gate=None):
-        """
-        Move the nearest track within the gate to ``position``; return its index, or -1.
+def _place_bearings(points_xy, laser_xy, first_angle, increment, margin):
+    """
+    Return the beams ``[low, high]`` passing within ``margin`` of each point, and its range.
 
-        With ``confirmed``, a new track starts when none is near.
-        """
-        if self.positions.shape[0]:
-            distance = np.hypot(*(self.positions - position).T)
-            nearest = int(np.argmin(distance))
-            if distance[nearest] <= (self.config.gate if gate is None else gate):
-                self.positions[nearest] = position
-                self.last_seen[nearest] = stamp
-                if confirmed:
-                    self.last_confirmed[nearest] = stamp
-                return nearest
-        if not confirmed:
-            return -1
-        self.positions = np.vstack((self.positions, position))
-        self.ids = np.append(self.ids, self._next_id)
-        self._next_id += 1
-        self.last_seen = np.append(self.last_seen, stamp)
-        self.last_confirmed = np.append(self.last_confirmed, stamp)
-        return self.positions.shape[0] - 1
+    numpy's ``arctan2`` and ``arcsin``, as the numpy implementation used them (the kernel's
+    would differ in the last bits); `_seen_free` decides with them.
 
-    def _drop_dead(self, stamp):
-        """Drop tracks lost or unconfirmed for too long."""
-        alive = ((stamp - self.last_seen <= self.config.lost_after)
-                 & (stamp - self.last_confirmed <= self.config.confirm_within))
-        self.positions = self.positions[alive]
-        self.ids = self.ids[alive]
-        self.last_seen = self.last_seen[alive]
-        self.last_confirmed = self.last_confirmed[alive]
+    Returns
+    -------
+    low, high : (P,) ndarray of int64
+    rho : (P,) ndarray of float64
+        Distance from the laser [m].
+
+    """
+    dx = points_xy[:, 0] - laser_xy[0]
+    dy = points_xy[:, 1] - laser_xy[1]
+    rho = np.hypot(dx, dy)
+    bearing = np.mod(np.arctan2(dy, dx) - first_angle + np.pi, 2.0 * np.pi) - np.pi
+    centre = bearing / increment
+    half = np.arcsin(np.minimum(1.0, margin / np.maximum(rho, margin))) / increment
+    return (np.floor(centre - half).astype(np.int64), np.ceil(centre + half).astype(np.int64),
+            rho)
+
+
+@kernel
+def _seen_free(low, high, rho, beam_reach, margin):
+    """Tell whether every beam ``low..high`` reaches ``rho + margin`` (False off the fan)."""
+    if low < 0 or high >= beam_reach.shape[0] or not rho > margin:
+        return False
+    least = beam_reach[low]
+    for beam in range(low + 1, high + 1):
+        least = min(least, beam_reach[beam])
+    return least >= rho + margin
+
+
+@kernel
+def _continue(positions, ids, last_seen, last_confirmed, count, next_id, x, y, stamp,
+              confirmed, gate):
+    """
+    Move the nearest of ``count`` tracks within ``gate`` to ``(x, y)``, or start one.
+
+    A track starts only when ``confirmed``. The arrays have room for one more track. Returns
+    ``(index or -1, count, next_id)``.
+    """
+    if count:
+        nearest = 0
+        least = math.hypot(positions[0, 0] - x, positions[0, 1] - y)
+        for t in range(1, count):
+            distance = math.hypot(positions[t, 0] - x, positions[t, 1] - y)
+            if distance < least:
+                least = distance
+                nearest = t
+        if least <= gate:
+            positions[nearest, 0] = x
+            positions[nearest, 1] = y
+            last_seen[nearest] = stamp
+            if confirmed:
+                last_confirmed[nearest] = stamp
+            return nearest, count, next_id
+    if not confirmed:
+        return -1, count, next_id
+    positions[count, 0] = x
+    positions[count, 1] = y
+    ids[count] = next_id
+    last_seen[count] = stamp
+    last_confirmed[count] = stamp
+    return count, count + 1, next_id + 1
+
+
+@kernel
+def _track_update(positions, ids, last_seen, last_confirmed, next_id, history_xy,
+                  history_stamp, place_low, place_high, place_rho, stamp, laser_x, laser_y,
+                  hits_x, hits_y, hit_beams, beam_count, moving, segment_gap, compact_size,
+                  gate, lost_after, confirm_within, vacated_on, history, min_age, reach,
+                  free_margin, half_open_gate, beam_reach):
+    """
+    `MotionTracks.update` after its time check, as one pass over the scan's segments.
+
+    Returns ``(followed, hit_ids, hit_long, hit_object, positions, ids, last_seen,
+    last_confirmed, next_id, history_xy, history_stamp)``, the state arrays new.
+    """
+    count = hits_x.shape[0]
+    followed = np.zeros(count, dtype=np.bool_)
+    hit_ids = np.full(count, -1, dtype=np.int64)
+    hit_long = np.zeros(count, dtype=np.bool_)
+    hit_object = np.zeros(count, dtype=np.bool_)
+    if confirm_within == 0.0:
+        return (followed, hit_ids, hit_long, hit_object, positions, ids, last_seen,
+                last_confirmed, next_id, history_xy, history_stamp)
+    # Drop the tracks lost or unconfirmed for too long; room for one new track per segment.
+    tracks = 0
+    room = positions.shape[0] + count
+    new_positions = np.empty((room, 2))
+    new_ids = np.empty(room, dtype=np.int64)
+    new_seen = np.empty(room)
+    new_confirmed = np.empty(room)
+    for t in range(positions.shape[0]):
+        if (stamp - last_seen[t] <= lost_after
+                and stamp - last_confirmed[t] <= confirm_within):
+            new_positions[tracks] = positions[t]
+            new_ids[tracks] = ids[t]
+            new_seen[tracks] = last_seen[t]
+            new_confirmed[tracks] = last_confirmed[t]
+            tracks += 1
+    positions, ids, last_seen, last_confirmed = (new_positions, new_ids, new_seen,
+                                                 new_confirmed)
+    if count == 0:
+        return (followed, hit_ids, hit_long, hit_object, positions[:tracks].copy(),
+                ids[:tracks].copy(), last_seen[:tracks].copy(), last_confirmed[:tracks].copy(),
+                next_id, history_xy, history_stamp)
+    # Segments (moving_objects.scan_segments): first[s]:stop[s] are the hits of segment s.
+    first = np.empty(count + 1, dtype=np.int64)
+    arc = np.zeros(count)
+    segments = 1
+    first[0] = 0
+    for k in range(1, count):
+        dx = hits_x[k] - hits_x[k - 1]
+        dy = hits_y[k] - hits_y[k - 1]
+        step = math.sqrt(dx * dx + dy * dy)
+        arc[k] = arc[k - 1] + step
+        if step > segment_gap or hit_beams[k] - hit_beams[k - 1] != 1:
+            first[segments] = k
+            segments += 1
+    first[segments] = count
+    # Their summary (segment_summary) and motion evidence.
+    centroid_x = np.zeros(segments)
+    centroid_y = np.zeros(segments)
+    small = np.zeros(segments, dtype=np.bool_)
+    open_sides = np.zeros(segments, dtype=np.int64)
+    moving_count = np.zeros(segments, dtype=np.int64)
+    moving_x = np.zeros(segments)
+    moving_y = np.zeros(segments)
+    for s in range(segments):
+        start = first[s]
+        stop = first[s + 1]
+        for k in range(start, stop):
+            centroid_x[s] += hits_x[k]
+            centroid_y[s] += hits_y[k]
+            if moving[k]:
+                moving_count[s] += 1
+                moving_x[s] += hits_x[k]
+                moving_y[s] += hits_y[k]
+        centroid_x[s] /= stop - start
+        centroid_y[s] /= stop - start
+        small[s] = arc[stop - 1] - arc[start] <= compact_size
+        distance_first = math.hypot(hits_x[start] - laser_x, hits_y[start] - laser_y)
+        distance_last = math.hypot(hits_x[stop - 1] - laser_x, hits_y[stop - 1] - laser_y)
+        if start > 0 and hit_beams[start - 1] == hit_beams[start] - 1:
+            open_sides[s] += math.hypot(hits_x[start - 1] - laser_x,
+                                        hits_y[start - 1] - laser_y) > distance_first
+        else:
+            open_sides[s] += hit_beams[start] > 0
+        if stop < count and hit_beams[stop] == hit_beams[stop - 1] + 1:
+            open_sides[s] += math.hypot(hits_x[stop] - laser_x,
+                                        hits_y[stop] - laser_y) > distance_last
+        else:
+            open_sides[s] += hit_beams[stop - 1] < beam_count - 1
+    # Segments with motion evidence start or confirm a track at their moving hits' centroid.
+    for s in range(segments):
+        if moving_count[s] == 0:
+            continue
+        track, tracks, next_id = _continue(
+            positions, ids, last_seen, last_confirmed, tracks, next_id,
+            moving_x[s] / moving_count[s], moving_y[s] / moving_count[s], stamp, True, gate)
+        for k in range(first[s], first[s + 1]):
+            if moving[k]:
+                hit_ids[k] = ids[track]
+    for s in range(segments):
+        size = first[s + 1] - first[s]
+        for k in range(first[s], first[s + 1]):
+            hit_long[k] = not small[s]
+            hit_object[k] = small[s] and size >= OBJECT_MIN_HITS
+    # Compact free-standing segments next to a place such a segment left, now seen empty.
+    candidate = np.zeros(segments, dtype=np.bool_)
+    vacated = np.zeros(segments, dtype=np.bool_)
+    for s in range(segments):
+        candidate[s] = small[s] and open_sides[s] == 2 and moving_count[s] == 0
+    if vacated_on:
+        for h in range(history_stamp.shape[0]):
+            age = stamp - history_stamp[h]
+            if not (age >= min_age and age <= history):
+                continue
+            if not _seen_free(place_low[h], place_high[h], place_rho[h], beam_reach,
+                              free_margin):
+                continue
+            for s in range(segments):
+                if candidate[s] and math.hypot(history_xy[h, 0] - centroid_x[s],
+                                               history_xy[h, 1] - centroid_y[s]) <= reach:
+                    vacated[s] = True
+    # They continue a track (starting one when vacated); with no track, only new ones start.
+    any_track = tracks > 0
+    for s in range(segments):
+        if not candidate[s] or not (any_track or vacated[s]):
+            continue
+        track, tracks, next_id = _continue(
+            positions, ids, last_seen, last_confirmed, tracks, next_id, centroid_x[s],
+            centroid_y[s], stamp, vacated[s], gate)
+        if track >= 0:
+            for k in range(first[s], first[s + 1]):
+                followed[k] = True
+                hit_ids[k] = ids[track]
+    if half_open_gate > 0.0 and tracks > 0:
+        for s in range(segments):
+            if not (small[s] and open_sides[s] == 1 and moving_count[s] == 0):
+                continue
+            track, tracks, next_id = _continue(
+                positions, ids, last_seen, last_confirmed, tracks, next_id, centroid_x[s],
+                centroid_y[s], stamp, False, half_open_gate)
+            if track >= 0:
+                for k in range(first[s], first[s + 1]):
+                    followed[k] = True
+                    hit_ids[k] = ids[track]
+    # The history of compact free-standing centroids: the recent ones, then this scan's.
+    kept = 0
+    for h in range(history_stamp.shape[0]):
+        kept += stamp - history_stamp[h] <= history
+    for s in range(segments):
+        kept += small[s] and open_sides[s] == 2
+    new_xy = np.empty((kept, 2))
+    new_stamp = np.empty(kept)
+    kept = 0
+    for h in range(history_stamp.shape[0]):
+        if stamp - history_stamp[h] <= history:
+            new_xy[kept] = history_xy[h]
+            new_stamp[kept] = history_stamp[h]
+            kept += 1
+    for s in range(segments):
+        if small[s] and open_sides[s] == 2:
+            new_xy[kept, 0] = centroid_x[s]
+            new_xy[kept, 1] = centroid_y[s]
+            new_stamp[kept] = stamp
+            kept += 1
+    return (followed, hit_ids, hit_long, hit_object, positions[:tracks].copy(),
+            ids[:tracks].copy(), last_seen[:tracks].copy(), last_confirmed[:tracks].copy(),
+            next_id, new_xy, new_stamp)

@@ -27,36 +27,27 @@ A pillar is provisional too: out of view for that long it is forgotten, and foun
 soon as a scan sees it (a path through it turns the robot towards it first, and the laser looks
 ahead). That is the price of forgetting a wanderer that was never seen to move.
 
+One compiled kernel per scan (`_memory_update`) does it all, over the scan's window and the
+listed cells only; the numpy implementation it replaced is the oracle of the tests
+(``test/numpy_object_memory.py``), equal array for array and list for list.
+
 """
+
+import math
 
 import numpy as np
 
 from .cell_label import CellLabel, ScanInput
-from .scan_features import hit_runs
+from .jit import kernel
+from .label_kernel import _mark_discs, squared_bound
 
 #: Entries of the list of provisional cells at first; it doubles when full.
 _INITIAL_LIST = 256
 
-
-def run_cells(starts, ends):
-    """
-    Expand half-open runs into the positions they cover.
-
-    Parameters
-    ----------
-    starts, ends : (R,) ndarray of int64
-        Runs ``[start, end)``, ``end >= start``.
-
-    Returns
-    -------
-    positions : (sum(ends - starts),) ndarray of int64
-        Every position of every run, run after run (overlapping runs repeat positions).
-
-    """
-    lengths = ends - starts
-    total = int(lengths.sum())
-    offsets = np.cumsum(lengths) - lengths
-    return np.arange(total, dtype=np.int64) + np.repeat(starts - offsets, lengths)
+_EXPLORED = int(CellLabel.EXPLORED)
+_NON_EXPLORED = int(CellLabel.NON_EXPLORED)
+_STEADY = int(CellLabel.STEADY_OBSTACLE)
+_NONE = int(ScanInput.NONE)
 
 
 class ObjectMemory:
@@ -136,76 +127,94 @@ class ObjectMemory:
 
         """
         rows, cols, cell_input = window
-        if cell_input.size and hits_x.shape[0]:
-            self._anchor(rows, cols, hits_x[long], hits_y[long], safety_radius)
-            self._list(labels, rows, cols, hits_x[small_object], hits_y[small_object],
-                       safety_radius)
-        return self._forget(labels, seen_free, last_hit, window, laser_xy,
-                            2.0 * safety_radius, stamp)
-
-    def _window_cells(self, rows, cols, hits_x, hits_y, safety_radius):
-        """Flat grid indices of the window cells within the safety radius of the hits."""
-        if not hits_x.shape[0]:
-            return np.zeros(0, dtype=np.int64)
-        starts, ends = hit_runs(self.geometry, rows, cols,
-                                self.geometry.window_centres(rows, cols), hits_x, hits_y,
-                                safety_radius)
-        local = run_cells(starts, ends)
-        n_cols = cols.stop - cols.start
-        return ((local // n_cols + rows.start) * self.geometry.cols + local % n_cols
-                + cols.start)
-
-    def _anchor(self, rows, cols, hits_x, hits_y, safety_radius):
-        """Anchor the cells near hits of long segments."""
-        self.anchored.ravel()[self._window_cells(rows, cols, hits_x, hits_y,
-                                                 safety_radius)] = True
-
-    def _list(self, labels, rows, cols, hits_x, hits_y, safety_radius):
-        """List the steady, unanchored cells near hits of small objects."""
-        cells = np.unique(self._window_cells(rows, cols, hits_x, hits_y, safety_radius))
-        cells = cells[(labels.ravel()[cells] == CellLabel.STEADY_OBSTACLE)
-                      & ~self.anchored.ravel()[cells] & ~self._listed.ravel()[cells]]
-        if not cells.shape[0]:
-            return
-        needed = self._count + cells.shape[0]
-        if needed > self._cells.shape[0]:
-            grown = np.empty(max(needed, 2 * self._cells.shape[0]), dtype=np.int64)
-            grown[:self._count] = self._cells[:self._count]
-            self._cells = grown
-        self._cells[self._count:needed] = cells
-        self._count = needed
-        self._listed.ravel()[cells] = True
-
-    def _forget(self, labels, seen_free, last_hit, window, laser_xy, keep_within, stamp):
-        """Forget the listed cells that are due; drop those no longer provisional."""
-        if not self._count:
+        x0, y0 = self.geometry.origin
+        (self._cells, self._count, forgotten, row_lo, row_hi, col_lo,
+         col_hi) = _memory_update(
+            labels, seen_free, last_hit, self.anchored, self._listed, self._cells, self._count,
+            rows.start, cols.start, cell_input, x0, y0, self.geometry.resolution,
+            np.ascontiguousarray(hits_x, dtype=np.float64),
+            np.ascontiguousarray(hits_y, dtype=np.float64),
+            np.ascontiguousarray(long, dtype=bool),
+            np.ascontiguousarray(small_object, dtype=bool), float(laser_xy[0]),
+            float(laser_xy[1]), float(safety_radius), squared_bound(float(safety_radius)),
+            2.0 * float(safety_radius), float(stamp), self.memory)
+        if not forgotten:
             return None
-        cells = self._cells[:self._count]
-        flat_labels = labels.ravel()
-        still = ((flat_labels[cells] == CellLabel.STEADY_OBSTACLE)
-                 & ~self.anchored.ravel()[cells])
-        rr, cc = np.divmod(cells, self.geometry.cols)
-        rows, cols, cell_input = window
-        out_of_view = np.ones(cells.shape[0], dtype=bool)
-        inside = ((rr >= rows.start) & (rr < rows.stop) & (cc >= cols.start)
-                  & (cc < cols.stop))
-        out_of_view[inside] = (cell_input[rr[inside] - rows.start, cc[inside] - cols.start]
-                               == ScanInput.NONE)
-        centre_x, centre_y = self.geometry.cell_to_world(rr, cc)
-        far = np.hypot(centre_x - laser_xy[0], centre_y - laser_xy[1]) > keep_within
-        due = (still & out_of_view & far
-               & (stamp - last_hit.ravel()[cells] >= self.memory))
-        changed = None
-        if due.any():
-            gone = cells[due]
-            flat_labels[gone] = np.where(seen_free.ravel()[gone], CellLabel.EXPLORED,
-                                         CellLabel.NON_EXPLORED)
-            self.forgotten += int(gone.shape[0])
-            changed = (slice(int(rr[due].min()), int(rr[due].max()) + 1),
-                       slice(int(cc[due].min()), int(cc[due].max()) + 1))
-        keep = still & ~due
-        self._listed.ravel()[cells[~keep]] = False
-        kept = cells[keep]
-        self._cells[:kept.shape[0]] = kept
-        self._count = kept.shape[0]
-        return changed
+        self.forgotten += int(forgotten)
+        return slice(row_lo, row_hi), slice(col_lo, col_hi)
+
+
+@kernel
+def _memory_update(labels, seen_free, last_hit, anchored, listed, cells, count, row0, col0,
+                   cell_input, x0, y0, resolution, hits_x, hits_y, long, small_object,
+                   laser_x, laser_y, safety_radius, safety_bound, keep_within, stamp, memory):
+    """
+    `ObjectMemory.update` in one pass: anchor, list, then forget what is due.
+
+    ``anchored``, ``listed`` and ``labels`` are updated in place; ``cells[:count]`` is the
+    list of provisional cells (flat grid indices), grown into a new array when full.
+    Returns ``(cells, count, forgotten, row_lo, row_hi, col_lo, col_hi)``: the list, how many
+    cells this scan forgot and the half-open box around them.
+    """
+    n_rows, n_cols = cell_input.shape
+    grid_cols = labels.shape[1]
+    if n_rows * n_cols > 0 and hits_x.shape[0] > 0:
+        hit_count = hits_x.shape[0]
+        no_extent = np.zeros((0, 2), dtype=np.int64)
+        # Anchor the cells near hits of long segments.
+        _mark_discs(anchored[row0:row0 + n_rows, col0:col0 + n_cols], True, hits_x, hits_y,
+                    hit_count, long, row0, col0, x0, y0, resolution, safety_radius,
+                    safety_bound, no_extent)
+        # List the steady, unanchored cells near hits of small objects, in grid order: the
+        # columns [extent[i, 0], extent[i, 1]) of row i hold those of the row.
+        near = np.zeros((n_rows, n_cols), dtype=np.bool_)
+        extent = np.empty((n_rows, 2), dtype=np.int64)
+        extent[:, 0] = n_cols
+        extent[:, 1] = 0
+        _mark_discs(near, True, hits_x, hits_y, hit_count, small_object, row0, col0, x0, y0,
+                    resolution, safety_radius, safety_bound, extent)
+        for i in range(n_rows):
+            row = row0 + i
+            for j in range(extent[i, 0], extent[i, 1]):
+                col = col0 + j
+                if (near[i, j] and labels[row, col] == _STEADY and not anchored[row, col]
+                        and not listed[row, col]):
+                    if count == cells.shape[0]:
+                        grown = np.empty(2 * cells.shape[0], dtype=np.int64)
+                        grown[:count] = cells[:count]
+                        cells = grown
+                    cells[count] = row * grid_cols + col
+                    count += 1
+                    listed[row, col] = True
+    # Forget the listed cells that are due; drop those no longer provisional.
+    forgotten = 0
+    row_lo = labels.shape[0]
+    row_hi = 0
+    col_lo = grid_cols
+    col_hi = 0
+    kept = 0
+    for k in range(count):
+        flat = cells[k]
+        row = flat // grid_cols
+        col = flat - row * grid_cols
+        if labels[row, col] != _STEADY or anchored[row, col]:
+            listed[row, col] = False
+            continue
+        i = row - row0
+        j = col - col0
+        out_of_view = not (0 <= i < n_rows and 0 <= j < n_cols) or cell_input[i, j] == _NONE
+        centre_x = x0 + (float(col) + 0.5) * resolution
+        centre_y = y0 + (float(row) + 0.5) * resolution
+        far = math.hypot(centre_x - laser_x, centre_y - laser_y) > keep_within
+        if out_of_view and far and stamp - last_hit[row, col] >= memory:
+            labels[row, col] = _EXPLORED if seen_free[row, col] else _NON_EXPLORED
+            listed[row, col] = False
+            forgotten += 1
+            row_lo = min(row_lo, row)
+            row_hi = max(row_hi, row + 1)
+            col_lo = min(col_lo, col)
+            col_hi = max(col_hi, col + 1)
+            continue
+        cells[kept] = flat
+        kept += 1
+    return cells, kept, forgotten, row_lo, row_hi, col_lo, col_hi
