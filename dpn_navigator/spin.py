@@ -6,9 +6,10 @@ still be publishing or the executor building its wait set: such a node ends with
 a traceback (``publisher's context is invalid``, ``failed to initialize wait set``), and a
 second SIGINT raises ``KeyboardInterrupt`` anywhere, even in ``destroy_node``. Here rclpy is
 initialised without signal handlers; SIGINT and SIGTERM only set a flag that the spin loop
-reads between callbacks. The loop then ends, the node is destroyed while the context is still
-valid (``DpnNode.destroy_node`` sends its zero command there), rclpy shuts down, and ``main``
-returns 0. A node that cannot start because of its parameters logs one error line and returns 1.
+reads between callbacks, and make every later one ignored. The loop then ends, the node is
+destroyed while the context is still valid (``DpnNode.destroy_node`` sends its zero command
+there), rclpy shuts down, and ``main`` returns 0. A node that cannot start because of its
+parameters logs one error line and returns 1.
 
 """
 
@@ -44,6 +45,11 @@ class StopRequest:
     def _on_signal(self, signum, frame):
         if self.signal_name is None:
             self.signal_name = signal.Signals(signum).name
+        # Later stop signals are ignored, not handled: at exit Python puts the default action
+        # back for signals with a Python handler (not for ignored ones), and a second Ctrl-C
+        # arriving then would kill the stopping process (exit -2) instead of letting it end.
+        for stop_signal in STOP_SIGNALS:
+            signal.signal(stop_signal, signal.SIG_IGN)
 
     @property
     def requested(self):

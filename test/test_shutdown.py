@@ -80,3 +80,22 @@ def test_absurd_grid_parameters_end_in_one_error_line(ros_domain_id):
     assert result.returncode == 1, output
     assert 'cannot start' in output and 'use a coarser resolution' in output, output
     assert 'Traceback' not in output and 'MemoryError' not in output, output
+
+
+def test_a_stop_signal_is_taken_once_and_later_ones_are_ignored():
+    from dpn_navigator.spin import StopRequest
+    saved = {signum: signal.getsignal(signum) for signum in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        stop = StopRequest()
+        assert not stop.requested
+        os.kill(os.getpid(), signal.SIGTERM)
+        assert stop.signal_name == 'SIGTERM'
+        # Ignored, not handled by Python: Python's exit puts back the default action (which
+        # kills) only for signals with a Python handler.
+        assert signal.getsignal(signal.SIGINT) == signal.SIG_IGN
+        assert signal.getsignal(signal.SIGTERM) == signal.SIG_IGN
+        os.kill(os.getpid(), signal.SIGINT)
+        assert stop.signal_name == 'SIGTERM'
+    finally:
+        for signum, handler in saved.items():
+            signal.signal(signum, handler)
