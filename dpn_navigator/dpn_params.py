@@ -65,9 +65,9 @@ FLOAT_PARAMETERS = {
                      True),
     'robot_width': (0.67, 'Robot footprint along y, centred on the base [m].', (0.01, 10.0),
                     True),
-    'turn_sweep_memory': (2.0, 'Turn sweep: a turn in place is tested against the laser hits '
+    'turn_sweep_memory': (0.0, 'Turn sweep: a turn in place is tested against the laser hits '
                           'of this long before, and replaced by a creep ahead or held when '
-                          'its corners would hit one [s]; 0: off.',
+                          'its corners would hit one [s]; 0: off (the default for now).',
                           (0.0, 60.0), True),
     'turn_sweep_margin': (0.05, 'Clearance the turn sweep keeps from the laser hits [m].',
                           (0.0, 1.0), True),

@@ -70,6 +70,11 @@ def test_navigator_variants_are_valid_configs():
     dpn_yield = NavigatorConfig(width=10.0, height=10.0, **NAVIGATORS['dpn_yield'])
     assert dpn_yield.yield_config().enabled
     assert dpn_yield.label_rule() == NavigatorConfig(width=10.0, height=10.0).label_rule()
+    # The turn sweep: off in dpn and paper for now, on in dpn_sweep.
+    assert paper.turn_sweep_memory == 0.0
+    assert NavigatorConfig(width=10.0, height=10.0).turn_sweep_memory == 0.0
+    assert NavigatorConfig(width=10.0, height=10.0,
+                           **NAVIGATORS['dpn_sweep']).turn_sweep_memory > 0.0
 
 
 def test_the_nodes_paper_params_file_is_the_benchmarks_paper_navigator():
@@ -78,9 +83,11 @@ def test_the_nodes_paper_params_file_is_the_benchmarks_paper_navigator():
     assert paper == NAVIGATORS['paper']
     shipped = yaml.safe_load((config / 'dpn.yaml').read_text())['/**/dpn']['ros__parameters']
     assert set(paper) <= set(shipped)
-    # Each one is on in the dpn file, but the head-on yield state, off by default for now.
-    assert all(shipped[name] > 0.0 for name in paper if name != 'yield_corridor_width')
-    assert shipped['yield_corridor_width'] == paper['yield_corridor_width'] == 0.0
+    # Each one is on in the dpn file, but the head-on yield state and the turn sweep, off by
+    # default for now.
+    off_for_now = ('yield_corridor_width', 'turn_sweep_memory')
+    assert all(shipped[name] > 0.0 for name in paper if name not in off_for_now)
+    assert all(shipped[name] == paper[name] == 0.0 for name in off_for_now)
 
 
 def test_plan_is_the_cross_product_without_repeats():

@@ -23,13 +23,15 @@ import numpy as np
 #: obstacle proximity cost of A*, forgetting unseen obstacles when stuck, the label rules:
 #: conservative free space, object-level relabelling and ghost expiry, and the turn sweep).
 #: The two reference navigators (`MAP_MODELS`) plan on another map with dpn's planner and
-#: follower (turn sweep included); they forget nothing (the costmap has no decay, the oracle
+#: follower; they forget nothing (the costmap has no decay, the oracle
 #: nothing to forget). ``dpn_yield`` is dpn with the head-on yield state on
 #: (``NavigatorConfig.yield_corridor_width``, off by default); paper names it off, so that it
-#: stays the paper's method whatever the default.
+#: stays the paper's method whatever the default. ``dpn_sweep`` is dpn with the turn sweep
+#: on (``NavigatorConfig.turn_sweep_memory``, off by default), which paper names off too.
 NAVIGATORS = {
     'dpn': {},
     'dpn_yield': {'yield_corridor_width': 2.5},
+    'dpn_sweep': {'turn_sweep_memory': 2.0},
     'paper': {'obstacle_proximity_cost': 0.0, 'forget_obstacles_after': 0.0,
               'free_evidence_radius': 0.0, 'moving_object_size': 0.0, 'mobile_expiry': 0.0,
               'track_confirm_time': 0.0, 'trail_distance': 0.0, 'object_memory': 0.0,

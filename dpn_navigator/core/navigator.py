@@ -121,7 +121,8 @@ class NavigatorConfig:
     turn_sweep_memory : float
         Turn sweep [s]: a turn in place is tested against the laser hits of this long before,
         and replaced by a creep ahead, or held, when the robot's corners would sweep into one;
-        see ``turn_sweep``. 0: off (the follower's turn is sent as it is).
+        see ``turn_sweep``. 0: off, the default for now (the follower's turn is sent as it
+        is); ``dpn-benchmark --navigator dpn_sweep`` runs it with 2 s.
     turn_sweep_margin : float
         Clearance the turn sweep keeps from the kept hits [m].
     yield_corridor_width : float
@@ -167,7 +168,7 @@ class NavigatorConfig:
     object_memory: float = 5.0
     robot_length: float = 0.99
     robot_width: float = 0.67
-    turn_sweep_memory: float = 2.0
+    turn_sweep_memory: float = 0.0
     turn_sweep_margin: float = 0.05
     yield_corridor_width: float = 0.0
     yield_trigger_distance: float = 8.0
