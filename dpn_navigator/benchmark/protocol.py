@@ -43,8 +43,8 @@ NAVIGATORS = {
 #: The map each ``--navigator`` plans on: ``labels`` (the paper's labelled grid,
 #: ``LabelGrid``), ``costmap`` (Nav2's obstacle and inflation layers, ``CostmapGrid``) or
 #: ``oracle`` (the true walls and wanderers, ``OracleGrid``).
-MAP_MODELS = {'dpn': 'labels', 'dpn_yield': 'labels', 'paper': 'labels', 'costmap': 'costmap',
-              'oracle': 'oracle'}
+MAP_MODELS = {'dpn': 'labels', 'dpn_sweep': 'labels', 'dpn_yield': 'labels', 'paper': 'labels',
+              'costmap': 'costmap', 'oracle': 'oracle'}
 
 #: A ``--maps`` range of map numbers, e.g. ``1-34``.
 _NUMBER_RANGE = re.compile(r'\d+-\d+')
