@@ -133,6 +133,16 @@ class LatencyProbe(Node):
             self.latencies.append(time.perf_counter() - self.sent.pop(key))
 
 
+def start_probe(domain_id):
+    """Return ``(context, probe, executor)``: a `LatencyProbe` in a context of its own."""
+    context = Context()
+    rclpy.init(context=context, domain_id=domain_id)
+    probe = LatencyProbe(context)
+    executor = SingleThreadedExecutor(context=context)
+    executor.add_node(probe)
+    return context, probe, executor
+
+
 def walking_scans(count=100):
     """Poses and ranges of ``count`` scans: a 100 m hall, 160 boxes, 10 walking boxes."""
     rng = np.random.default_rng(0)
@@ -180,11 +190,7 @@ def scan_to_map_latency(domain_id, log_dir, scenes, cells=200, node_args=(), tre
 
     """
     poses, ranges = scenes
-    context = Context()
-    rclpy.init(context=context, domain_id=domain_id)
-    probe = LatencyProbe(context)
-    executor = SingleThreadedExecutor(context=context)
-    executor.add_node(probe)
+    context, probe, executor = start_probe(domain_id)
     command = [str(installed_executable('dpn_navigator', 'dpn')), '--ros-args',
                '-p', 'map_width:=100.0', '-p', 'map_height:=100.0',
                '-p', f'resolution:={100.0 / cells!r}']
@@ -236,11 +242,7 @@ def first_map_seconds(domain_id, log_dir, scenes, tree=None):
     time), and the warm-up time the node logs.
     """
     poses, ranges = scenes
-    context = Context()
-    rclpy.init(context=context, domain_id=domain_id)
-    probe = LatencyProbe(context)
-    executor = SingleThreadedExecutor(context=context)
-    executor.add_node(probe)
+    context, probe, executor = start_probe(domain_id)
     env = ros_environment(domain_id)
     env['NUMBA_CACHE_DIR'] = tempfile.mkdtemp(prefix='dpn_cold_cache_')
     if tree is not None:

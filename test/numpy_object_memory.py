@@ -8,11 +8,9 @@ forgetting as array operations (``numpy_label_grid.NumpyExtrasLabelGrid`` runs i
 """
 
 from dpn_navigator.core.cell_label import CellLabel, ScanInput
+from dpn_navigator.core.object_memory import ObjectMemory
 from dpn_navigator.core.scan_features import hit_runs
 import numpy as np
-
-#: Entries of the list of provisional cells at first; it doubles when full.
-_INITIAL_LIST = 256
 
 
 def run_cells(starts, ends):
@@ -36,82 +34,18 @@ def run_cells(starts, ends):
     return np.arange(total, dtype=np.int64) + np.repeat(starts - offsets, lengths)
 
 
-class NumpyObjectMemory:
+class NumpyObjectMemory(ObjectMemory):
     """
-    Which steady cells only small objects explain, and when to forget them.
+    ``ObjectMemory`` with the per-scan work of commit 1d9ead7, in numpy.
 
-    Parameters
-    ----------
-    geometry : GridGeometry
-        The grid's geometry.
-    memory : float
-        How long a provisional cell is kept without a hit, out of view [s], > 0.
-
-    Attributes
-    ----------
-    anchored : (rows, cols) ndarray of bool
-        Cells a hit of a long segment was once within the safety radius of.
-    forgotten : int
-        Cells forgotten since the last ``reset``.
-
+    The state (anchors, the list of provisional cells, the counter) and its reset are the
+    compiled class's; ``update`` (same arguments and result) and its steps are the old array
+    operations, so that the tests compare the two algorithms on the same state.
     """
-
-    def __init__(self, geometry, memory):
-        if not memory > 0.0:
-            raise ValueError(f'memory must be positive, got {memory!r} s')
-        self.geometry = geometry
-        self.memory = float(memory)
-        self.anchored = np.zeros(geometry.shape, dtype=bool)
-        self._listed = np.zeros(geometry.shape, dtype=bool)
-        self.reset()
-
-    def reset(self):
-        """Forget every anchor and every listed cell."""
-        self.anchored.fill(False)
-        self._listed.fill(False)
-        self._cells = np.empty(_INITIAL_LIST, dtype=np.int64)
-        self._count = 0
-        self.forgotten = 0
-
-    @property
-    def provisional(self):
-        """(N,) ndarray of int64: flat indices of the listed cells (some may be stale)."""
-        return self._cells[:self._count].copy()
 
     def update(self, labels, seen_free, last_hit, window, hits_x, hits_y, long, small_object,
                laser_xy, safety_radius, stamp):
-        """
-        Take one scan's hits into account, then forget the provisional cells due.
-
-        Parameters
-        ----------
-        labels : (rows, cols) ndarray of uint8
-            The grid's labels after the scan's update; forgotten cells are written here.
-        seen_free : (rows, cols) ndarray of bool
-            Cells once surely seen free.
-        last_hit : (rows, cols) ndarray of float64
-            Stamp of the last scan with f1 = 1 on each cell [s].
-        window : (slice, slice, (n_rows, n_cols) ndarray of uint8)
-            The update's window and its FSM input (``LabelGrid.last_window``).
-        hits_x, hits_y : (K,) ndarray of float64
-            The scan's hit points [m], map frame.
-        long : (K,) ndarray of bool
-            Hits of segments longer than ``compact_size`` (``MotionTracks.hit_long``).
-        small_object : (K,) ndarray of bool
-            Hits of small-object segments (``MotionTracks.hit_object``).
-        laser_xy : (float, float)
-            Laser position [m].
-        safety_radius : float
-            f1's ``r`` [m].
-        stamp : float
-            Time of the scan [s].
-
-        Returns
-        -------
-        changed : (slice, slice) or None
-            The box of the cells forgotten, None when none was.
-
-        """
+        """Take one scan's hits into account, then forget the provisional cells due."""
         rows, cols, cell_input = window
         if cell_input.size and hits_x.shape[0]:
             self._anchor(rows, cols, hits_x[long], hits_y[long], safety_radius)
