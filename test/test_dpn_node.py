@@ -5,12 +5,14 @@ from pathlib import Path as FilePath
 import time
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
-from dpn_navigator.conversions import (labels_to_occupancy_grid, make_laser_scan,
+from dpn_navigator.conversions import (apply_occupancy_grid_update,
+                                       labels_to_occupancy_grid, make_laser_scan,
                                        marker_points, occupancy_grid_values, pose_to_odometry)
 from dpn_navigator.core.cell_label import CellLabel
 from dpn_navigator.dpn_node import DpnNode
 from dpn_navigator.qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS
 from geometry_msgs.msg import PoseStamped, Twist, TwistStamped
+from map_msgs.msg import OccupancyGridUpdate
 from nav_msgs.msg import OccupancyGrid, Odometry, Path
 from node_harness import executor_for, spin_until
 import numpy as np
@@ -231,6 +233,40 @@ def test_stamped_commands_integer_parameters_and_mobile_value(ros_context):
                                     probe.get_clock().now().to_msg(),
                                     mobile_value=dpn.params.map_mobile_value)
     assert occupancy_grid_values(grid)[0, 0] == 99
+
+
+@pytest.mark.parametrize('updates', [True, False])
+def test_between_full_maps_the_changed_cells_go_out_as_updates(ros_context, updates):
+    overrides = [Parameter('map_width', value=12.0), Parameter('map_height', value=12.0),
+                 Parameter('goal_x', value=10.0), Parameter('goal_y', value=6.0),
+                 Parameter('laser_x', value=0.0), Parameter('map_publish_period', value=60.0),
+                 Parameter('map_updates', value=updates)]
+    dpn = DpnNode(context=ros_context, parameter_overrides=overrides)
+    probe = Probe(ros_context)
+    received = []
+    probe.create_subscription(OccupancyGridUpdate, '/compabot/map_updates', received.append,
+                              COMMAND_QOS)
+    with executor_for(ros_context, dpn, probe) as executor:
+        wait_for_discovery(executor, probe)
+        # The robot drives through the room: every scan changes some cells.
+        for step in range(8):
+            probe.send(pose=(2.0 + 0.5 * step, 6.0 - 0.3 * step, 0.1 * step))
+            spin_until(executor, lambda: False, timeout=0.05)
+        assert spin_until(executor, lambda: probe.received['map'])
+        if updates:
+            assert spin_until(executor, lambda: len(received) >= 3)
+        else:
+            spin_until(executor, lambda: False, timeout=0.5)
+    assert len(probe.received['map']) == 1            # one full map within the 60 s
+    assert (len(received) > 0) == updates
+    values = occupancy_grid_values(probe.received['map'][0]).copy()
+    for update in received:
+        assert update.header.frame_id == 'map'
+        apply_occupancy_grid_update(values, update)
+    now = occupancy_grid_values(labels_to_occupancy_grid(
+        dpn.navigator.grid.labels, 0.5, (0.0, 0.0), probe.get_clock().now().to_msg()))
+    # With the updates, the subscriber holds the node's map; without them, the first one.
+    assert np.array_equal(values, now) == updates
 
 
 @pytest.mark.parametrize('value, match', [

@@ -30,7 +30,8 @@ MARKER_DIR = Path('share', 'ament_index', 'resource_index', 'packages')
 
 EXEC_DEPENDS = {
     'rclpy', 'sensor_msgs', 'nav_msgs', 'geometry_msgs', 'visualization_msgs', 'std_msgs',
-    'diagnostic_msgs', 'python3-yaml', 'tf2_msgs', 'rcl_interfaces', 'builtin_interfaces',
+    'diagnostic_msgs', 'python3-yaml', 'tf2_msgs', 'map_msgs', 'rcl_interfaces',
+    'builtin_interfaces',
     'ament_index_python', 'launch', 'launch_ros', 'rviz2',
     'rosgraph_msgs', 'python3-numpy', 'python3-numba', 'python3-pybullet-pip',
     'python3-rosbags-pip',
