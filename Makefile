@@ -103,6 +103,7 @@ $(REQUIREMENTS_STAMP): $(ROOT)/requirements.txt $(ROOT)/requirements-ray.txt \
 # build of this repository (the apt Jazzy path) never sees them.
 .SECONDEXPANSION:
 $(STAND_IN_STAMPS): $(VENV)/.%.stamp: $$(wildcard $(ROOT)/fallback/$$*/*.* $(ROOT)/fallback/$$*/msg/*) \
+    $(ROOT)/fallback/wheel_include_dirs.cmake \
     $(REQUIREMENTS_STAMP)
 	rm -rf $(VENV)/build/$*
 	$(VENV_BIN)/cmake -S $(ROOT)/fallback/$* -B $(VENV)/build/$* \
