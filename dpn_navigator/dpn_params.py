@@ -54,6 +54,9 @@ FLOAT_PARAMETERS = {
     'track_confirm_time': (5.0, 'Motion tracks: a compact free-standing segment near a moving '
                            'object stays mobile while motion was seen within this long [s]; '
                            '0: off.', (0.0, 3600.0), True),
+    'track_still_distance': (0.08, 'Still objects: a compact free-standing segment this close '
+                             'to where one stood 0.3-1.5 s ago is not seen to move by the '
+                             'places left empty near it [m]; 0: off.', (0.0, 10.0), True),
     'trail_distance': (1.2, 'Trails: out-of-view mobile cells whose followed object the scan '
                        'sees at least this far away go back to explored [m]; 0: off.',
                        (0.0, 100.0), True),
@@ -180,6 +183,7 @@ def declare_parameters(node):
         evidence_margin=values['evidence_margin'], segment_gap=values['segment_gap'],
         mobile_expiry=values['mobile_expiry'],
         track_confirm_time=values['track_confirm_time'],
+        track_still_distance=values['track_still_distance'],
         trail_distance=values['trail_distance'], object_memory=values['object_memory'],
         robot_length=values['robot_length'], robot_width=values['robot_width'],
         turn_sweep_memory=values['turn_sweep_memory'],

@@ -268,6 +268,12 @@ class NumpyMotionTracks:
         if not old.any() or not candidates.any():
             return vacated
         old_xy = self._history_xy[old]
+        if self.config.still_distance > 0.0:
+            # A candidate standing where a compact segment stood a moment ago stood still.
+            candidates = candidates.copy()
+            for s in np.flatnonzero(candidates):
+                distance = np.hypot(old_xy[:, 0] - centroid_x[s], old_xy[:, 1] - centroid_y[s])
+                candidates[s] = not (distance <= self.config.still_distance).any()
         free = seen_free_points(old_xy, laser_xy, first_angle, increment, beam_reach,
                                 self.config.free_margin)
         if not free.any():

@@ -108,6 +108,10 @@ class NavigatorConfig:
     track_confirm_time : float
         Motion tracks [s]: a compact, free-standing scan segment near an object seen to move
         is that object while motion was seen within this long; see ``LabelRule``. 0: off.
+    track_still_distance : float
+        Still objects [m]: a compact free-standing segment this close to where one stood
+        0.3-1.5 s ago is not seen to move by the places left empty near it; see
+        ``LabelRule``. 0: off.
     trail_distance : float
         Trails [m]: out-of-view mobile cells whose object the scan sees at least this far away
         go back to explored; see ``LabelRule``. 0: off.
@@ -164,6 +168,7 @@ class NavigatorConfig:
     segment_gap: float = 0.3
     mobile_expiry: float = 3.0
     track_confirm_time: float = 5.0
+    track_still_distance: float = 0.08
     trail_distance: float = 1.2
     object_memory: float = 5.0
     robot_length: float = 0.99
@@ -203,6 +208,7 @@ class NavigatorConfig:
                          evidence_margin=self.evidence_margin, segment_gap=self.segment_gap,
                          mobile_expiry=self.mobile_expiry,
                          track_confirm_time=self.track_confirm_time,
+                         track_still_distance=self.track_still_distance,
                          trail_distance=self.trail_distance,
                          object_memory=self.object_memory)
 
