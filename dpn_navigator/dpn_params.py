@@ -120,6 +120,9 @@ OTHER_PARAMETERS = {
     'base_frame': ('base_link', 'Frame of the robot base: header of TwistStamped commands.'),
     'cmd_vel_stamped': (False, 'Send geometry_msgs/TwistStamped on cmd_vel instead of Twist '
                         "(Jazzy's diff_drive_controller takes TwistStamped)."),
+    'track_exclusive': (True, 'Exclusive motion tracks: at most one scan segment continues a '
+                        'track per scan (false: the paper has no tracks; before, a post next '
+                        'to a wanderer shared its track).'),
     'map_mobile_value': (OCCUPANCY_MOBILE_OBSTACLE, 'OccupancyGrid value of mobile-obstacle '
                          'cells in map, 1 to 100 (steady obstacles are 100).'),
 }
@@ -184,6 +187,7 @@ def declare_parameters(node):
         mobile_expiry=values['mobile_expiry'],
         track_confirm_time=values['track_confirm_time'],
         track_still_distance=values['track_still_distance'],
+        track_exclusive=values['track_exclusive'],
         trail_distance=values['trail_distance'], object_memory=values['object_memory'],
         robot_length=values['robot_length'], robot_width=values['robot_width'],
         turn_sweep_memory=values['turn_sweep_memory'],

@@ -3,7 +3,8 @@ The numpy motion tracks that the compiled ones replaced, kept as the oracle of t
 
 ``NumpyMotionTracks`` is ``motion_tracks.MotionTracks`` of commit 1d9ead7: scan segments,
 their summary and the places seen free as array operations, the tracks as object-level Python
-loops; with the still-object rule (``TrackConfig.still_distance``) added since. The tests
+loops; with the still-object rule (``TrackConfig.still_distance``) and exclusive tracks
+(``TrackConfig.exclusive``) added since. The tests
 compare the compiled tracks with it, track for track and hit for hit.
 
 """
@@ -166,6 +167,7 @@ class NumpyMotionTracks:
         self.last_confirmed = np.zeros(0)
         self.origins = np.zeros((0, 2))
         self.moved = np.zeros(0, dtype=bool)
+        self._claimed = np.zeros(0, dtype=bool)
         self._last_stamp = -math.inf
 
     def update(self, stamp, laser_xy, hits_x, hits_y, hit_beams, beam_count, moving,
@@ -213,6 +215,7 @@ class NumpyMotionTracks:
         if self.config.confirm_within == 0.0:
             return followed
         self._drop_dead(stamp)
+        self._claimed = np.zeros(self.positions.shape[0], dtype=bool)
         if count == 0:
             return followed
         segment, arc = scan_segments(hits_x, hits_y, hit_beams, segment_gap)
@@ -304,14 +307,18 @@ class NumpyMotionTracks:
         Move the nearest track within the gate to ``position``; return its index, or -1.
 
         With ``confirmed``, a new track starts when none is near. A ``still`` segment does not
-        continue a track that has not moved.
+        continue a track that has not moved; with ``exclusive``, no segment continues a track
+        another segment of the scan continued.
         """
+        exclusive = self.config.exclusive
         if self.positions.shape[0]:
             distance = np.hypot(*(self.positions - position).T)
             nearest = int(np.argmin(distance))
-            if distance[nearest] <= (self.config.gate if gate is None else gate):
+            if (distance[nearest] <= (self.config.gate if gate is None else gate)
+                    and not (exclusive and self._claimed[nearest])):
                 if still and not self.moved[nearest]:
                     return -1
+                self._claimed[nearest] = exclusive
                 self.positions[nearest] = position
                 if (np.hypot(*(position - self.origins[nearest]))
                         >= self.config.move_distance):
@@ -325,6 +332,7 @@ class NumpyMotionTracks:
         self.positions = np.vstack((self.positions, position))
         self.origins = np.vstack((self.origins, position))
         self.moved = np.append(self.moved, False)
+        self._claimed = np.append(self._claimed, exclusive)
         self.ids = np.append(self.ids, self._next_id)
         self._next_id += 1
         self.last_seen = np.append(self.last_seen, stamp)

@@ -176,6 +176,8 @@ def test_bad_track_config_raises(name):
         LabelRule(**DPN, track_confirm_time=1.0, track_still_distance=math.nan)
     with pytest.raises(ValueError, match='track_still_distance needs track_confirm_time'):
         LabelRule(**DPN, track_still_distance=0.08)
+    with pytest.raises(ValueError, match='track_exclusive needs track_confirm_time'):
+        LabelRule(**DPN, track_exclusive=True)
 
 
 def post_and_passer(rule, grid_class=LabelGrid, seconds=10.0):
@@ -201,11 +203,13 @@ def post_and_passer(rule, grid_class=LabelGrid, seconds=10.0):
 
 
 @pytest.mark.parametrize(('still_distance', 'post_mobile'), [(0.08, False), (0.0, True)])
+@pytest.mark.parametrize('exclusive', [False, True])
 def test_post_a_moving_object_passes_is_not_mobile_with_the_still_object_rule(
-        still_distance, post_mobile):
+        still_distance, post_mobile, exclusive):
     # The places the passer left, within 1.2 m of the post and now seen empty, showed the
     # post moving, and its track lived on 5 s after that; the post stands where it stood.
-    rule = LabelRule(**DPN, track_confirm_time=5.0, track_still_distance=still_distance)
+    rule = LabelRule(**DPN, track_confirm_time=5.0, track_still_distance=still_distance,
+                     track_exclusive=exclusive)
     _, post_labels, passer_labels = post_and_passer(rule)
     assert set(post_labels) == ({S, M} if post_mobile else {S})
     assert all(label == M for label in passer_labels[10:])
@@ -224,6 +228,23 @@ def test_a_track_started_on_a_post_is_not_continued_by_it_once_it_stands_still()
     assert [bool(out.all()) for out in followed] == [True, True, False, False, False]
     assert tracks.ids.tolist() == [0]
     assert_array_equal(tracks.origins, [[3.0, 0.0]])
+
+
+@pytest.mark.parametrize('exclusive', [False, True])
+def test_exclusive_tracks_let_one_segment_per_scan_continue_a_track(exclusive):
+    tracks = MotionTracks(TrackConfig(confirm_within=5.0, exclusive=exclusive))
+    laser = (0.0, 0.0)
+    tracks.update(0.0, laser, np.full(3, 3.0), np.array([-0.05, 0.0, 0.05]),
+                  np.array([15, 16, 17]), 40, np.ones(3, dtype=bool), 0.3)
+    # Two compact free-standing segments 0.25 m either side of the track, no evidence: the
+    # first in beam order takes it; the second is 0.5 m from it then, within the gate.
+    hits_y = np.array([-0.3, -0.25, -0.2, 0.2, 0.25, 0.3])
+    followed = tracks.update(0.1, laser, np.full(6, 3.0), hits_y,
+                             np.array([10, 11, 12, 20, 21, 22]), 40, np.zeros(6, dtype=bool),
+                             0.3)
+    assert followed.tolist() == [True] * 3 + [not exclusive] * 3
+    assert tracks.hit_ids.tolist() == [0] * 3 + [-1 if exclusive else 0] * 3
+    assert_array_equal(tracks.positions, [[3.0, -0.25 if exclusive else 0.25]])
 
 
 def test_trail_out_of_view_goes_back_to_explored_once_its_object_is_seen_far_away():
@@ -293,10 +314,13 @@ def assert_same_grids(fast, reference):
 
 
 @pytest.mark.parametrize('seed', range(4))
-def test_compiled_tracks_equal_the_numpy_ones_on_hall_sequences(seed):
+@pytest.mark.parametrize('still_rules', [True, False])
+def test_compiled_tracks_equal_the_numpy_ones_on_hall_sequences(seed, still_rules):
     # A laser that stands still for ten scans at a time among boxes that walk; the numpy
-    # tracks (and trail marks) of commit 1d9ead7 are the oracle, after every scan.
-    rule = NavigatorConfig(width=1.0, height=1.0).label_rule()
+    # tracks (and trail marks) of commit 1d9ead7 are the oracle, after every scan. The
+    # shipped rule, and the one before still objects and exclusive tracks.
+    before = {} if still_rules else {'track_still_distance': 0.0, 'track_exclusive': False}
+    rule = NavigatorConfig(width=1.0, height=1.0, **before).label_rule()
     rng = np.random.default_rng(seed)
     static = hall(30.0, 10, rng)
     fast = LabelGrid(30.0, 30.0, 0.5, rule=rule)
@@ -323,14 +347,15 @@ def test_compiled_tracks_equal_the_numpy_ones_on_hall_sequences(seed):
 
 
 @pytest.mark.parametrize('half_open_gate', [0.35, 0.0])
-@pytest.mark.parametrize('still_distance', [0.0, 0.08])
-def test_compiled_tracks_equal_the_numpy_ones_on_a_walking_disc(half_open_gate, still_distance):
+@pytest.mark.parametrize(('still_distance', 'exclusive'), [(0.0, False), (0.08, True)])
+def test_compiled_tracks_equal_the_numpy_ones_on_a_walking_disc(half_open_gate, still_distance,
+                                                                exclusive):
     rule = LabelRule(**DPN, track_confirm_time=2.0, mobile_expiry=5.0, trail_distance=1.2)
     grids = (LabelGrid(width=12.0, height=12.0, rule=rule),
              NumpyExtrasLabelGrid(width=12.0, height=12.0, rule=rule))
     for grid in grids:
         grid.tracks.config = TrackConfig(confirm_within=2.0, half_open_gate=half_open_gate,
-                                         still_distance=still_distance)
+                                         still_distance=still_distance, exclusive=exclusive)
     laser = (1.0, 6.0, 0.0)
     for step in range(70):
         stamp = step / 10
@@ -343,9 +368,11 @@ def test_compiled_tracks_equal_the_numpy_ones_on_a_walking_disc(half_open_gate, 
 
 
 @pytest.mark.parametrize('still_distance', [0.0, 0.08])
-def test_compiled_tracks_equal_the_numpy_ones_on_a_post_and_its_passer(still_distance):
+@pytest.mark.parametrize('exclusive', [False, True])
+def test_compiled_tracks_equal_the_numpy_ones_on_a_post_and_its_passer(still_distance,
+                                                                       exclusive):
     rule = LabelRule(**DPN, track_confirm_time=5.0, track_still_distance=still_distance,
-                     mobile_expiry=3.0, trail_distance=1.2)
+                     track_exclusive=exclusive, mobile_expiry=3.0, trail_distance=1.2)
     fast = post_and_passer(rule, LabelGrid, 8.0)
     reference = post_and_passer(rule, NumpyExtrasLabelGrid, 8.0)
     assert_same_grids(fast[0], reference[0])

@@ -161,6 +161,10 @@ class LabelRule:
         distance of where a compact free-standing segment stood 0.3-1.5 s ago stood still, and
         the places left empty near it (by a wanderer passing a post) do not show it moving. 0
         turns it off. Needs ``track_confirm_time`` > 0.
+    track_exclusive : bool
+        Exclusive tracks: at most one scan segment continues a track per scan; a segment whose
+        nearest track another one took is not followed (with motion evidence of its own it
+        starts a track). False: the segments share it. Needs ``track_confirm_time`` > 0.
     trail_distance : float
         Trails [m]: a mobile cell last labelled by a followed object goes back to explored
         while out of view (f1 = f2 = 0) once the scan sees that object at least this far from
@@ -185,6 +189,7 @@ class LabelRule:
     mobile_expiry: float = 0.0
     track_confirm_time: float = 0.0
     track_still_distance: float = 0.0
+    track_exclusive: bool = False
     trail_distance: float = 0.0
     object_memory: float = 0.0
 
@@ -200,9 +205,10 @@ class LabelRule:
         if self.trail_distance > 0.0 and self.track_confirm_time == 0.0:
             raise ValueError('trail_distance needs track_confirm_time > 0: a trail is left by '
                              'a followed object')
-        if self.track_still_distance > 0.0 and self.track_confirm_time == 0.0:
-            raise ValueError('track_still_distance needs track_confirm_time > 0: it is a rule '
-                             'of the motion tracks')
+        for name in ('track_still_distance', 'track_exclusive'):
+            if getattr(self, name) and self.track_confirm_time == 0.0:
+                raise ValueError(f'{name} needs track_confirm_time > 0: it is a rule of the '
+                                 'motion tracks')
         if self.object_memory > 0.0 and (self.track_confirm_time == 0.0
                                          or self.mobile_expiry == 0.0):
             raise ValueError('object_memory needs track_confirm_time > 0 (the scan segments) '
@@ -240,7 +246,8 @@ PAPER_RULE = LabelRule()
 def warm_up_label_update():
     """Compile (or load from the cache) the label kernels with one tiny scan, every rule part."""
     rule = LabelRule(free_evidence_radius=0.5, moving_object_size=0.5, mobile_expiry=1.0,
-                     track_confirm_time=1.0, track_still_distance=0.1, trail_distance=1.0,
+                     track_confirm_time=1.0, track_still_distance=0.1, track_exclusive=True,
+                     trail_distance=1.0,
                      object_memory=1.0)
     grid = LabelGrid(2.0, 2.0, 0.5, rule=rule)
     grid.labels[0, 0] = CellLabel.MOBILE_OBSTACLE          # to expire at the second scan
@@ -403,7 +410,8 @@ class LabelGrid(ChangeTrackers):
         self._trackers = []
         self.last_window = _EMPTY_WINDOW
         self.tracks = MotionTracks(TrackConfig(confirm_within=rule.track_confirm_time,
-                                               still_distance=rule.track_still_distance))
+                                               still_distance=rule.track_still_distance,
+                                               exclusive=bool(rule.track_exclusive)))
         self.cell_track = (np.full(self.geometry.shape, -1, dtype=np.int64)
                            if rule.trail_distance > 0.0 else None)
         self._marked = np.zeros(0, dtype=np.int64)   # flat cells that may hold a track

@@ -81,6 +81,12 @@ class TrackConfig:
         left stands where it stood.
     move_distance : float
         A track whose position has been this far from where it started has moved [m].
+    exclusive : bool
+        One segment per track and scan: a segment whose nearest track within the gate another
+        segment of the scan continued already does not continue it (with motion evidence, or
+        seen to move, it starts a track of its own). Without it, a wanderer's evidence and a
+        post next to it moved one track back and forth between them, and the post was
+        followed as that wanderer.
 
     """
 
@@ -96,6 +102,7 @@ class TrackConfig:
     half_open_gate: float = 0.35
     still_distance: float = 0.0
     move_distance: float = 0.3
+    exclusive: bool = False
 
     def __post_init__(self):
         for name in ('compact_size', 'gate', 'lost_after', 'confirm_within', 'history',
@@ -218,7 +225,8 @@ class MotionTracks:
             float(config.confirm_within), vacated_on, float(config.history),
             float(config.min_age), float(config.reach), float(config.free_margin),
             float(config.half_open_gate), float(config.still_distance),
-            float(config.move_distance), np.ascontiguousarray(beam_reach, np.float64))
+            float(config.move_distance), bool(config.exclusive),
+            np.ascontiguousarray(beam_reach, np.float64))
         return followed
 
 
@@ -258,13 +266,14 @@ def _seen_free(low, high, rho, beam_reach, margin):
 
 
 @kernel
-def _continue(positions, ids, last_seen, last_confirmed, origins, moved, count, next_id, x, y,
-              stamp, confirmed, gate, still, move_distance):
+def _continue(positions, ids, last_seen, last_confirmed, origins, moved, claimed, exclusive,
+              count, next_id, x, y, stamp, confirmed, gate, still, move_distance):
     """
     Move the nearest of ``count`` tracks within ``gate`` to ``(x, y)``, or start one.
 
     A track starts only when ``confirmed``; a ``still`` segment does not continue a track that
-    has not moved. The arrays have room for one more track. Returns
+    has not moved, and no segment one that is ``claimed`` (then marked, when exclusive; else
+    all False). The arrays have room for one more track. Returns
     ``(index or -1, count, next_id)``.
     """
     if count:
@@ -275,9 +284,10 @@ def _continue(positions, ids, last_seen, last_confirmed, origins, moved, count, 
             if distance < least:
                 least = distance
                 nearest = t
-        if least <= gate:
+        if least <= gate and not claimed[nearest]:
             if still and not moved[nearest]:
                 return -1, count, next_id
+            claimed[nearest] = exclusive
             positions[nearest, 0] = x
             positions[nearest, 1] = y
             if math.hypot(x - origins[nearest, 0], y - origins[nearest, 1]) >= move_distance:
@@ -293,6 +303,7 @@ def _continue(positions, ids, last_seen, last_confirmed, origins, moved, count, 
     origins[count, 0] = x
     origins[count, 1] = y
     moved[count] = False
+    claimed[count] = exclusive
     ids[count] = next_id
     last_seen[count] = stamp
     last_confirmed[count] = stamp
@@ -305,7 +316,8 @@ def _track_update(positions, ids, last_seen, last_confirmed, origins, moved, nex
                   history_stamp, place_low, place_high, place_rho, stamp, laser_x, laser_y,
                   hits_x, hits_y, hit_beams, beam_count, moving, segment_gap, compact_size,
                   gate, lost_after, confirm_within, vacated_on, history, min_age, reach,
-                  free_margin, half_open_gate, still_distance, move_distance, beam_reach):
+                  free_margin, half_open_gate, still_distance, move_distance, exclusive,
+                  beam_reach):
     """
     `MotionTracks.update` after its time check, as one pass over the scan's segments.
 
@@ -343,6 +355,7 @@ def _track_update(positions, ids, last_seen, last_confirmed, origins, moved, nex
     positions, ids, last_seen, last_confirmed = (new_positions, new_ids, new_seen,
                                                  new_confirmed)
     origins, moved = new_origins, new_moved
+    claimed = np.zeros(room, dtype=np.bool_)      # continued by a segment of this scan
     if count == 0:
         return (followed, hit_ids, hit_long, hit_object, positions[:tracks].copy(),
                 ids[:tracks].copy(), last_seen[:tracks].copy(), last_confirmed[:tracks].copy(),
@@ -400,9 +413,9 @@ def _track_update(positions, ids, last_seen, last_confirmed, origins, moved, nex
         if moving_count[s] == 0:
             continue
         track, tracks, next_id = _continue(
-            positions, ids, last_seen, last_confirmed, origins, moved, tracks, next_id,
-            moving_x[s] / moving_count[s], moving_y[s] / moving_count[s], stamp, True, gate,
-            False, move_distance)
+            positions, ids, last_seen, last_confirmed, origins, moved, claimed, exclusive,
+            tracks, next_id, moving_x[s] / moving_count[s], moving_y[s] / moving_count[s],
+            stamp, True, gate, False, move_distance)
         for k in range(first[s], first[s + 1]):
             if moving[k]:
                 hit_ids[k] = ids[track]
@@ -447,8 +460,9 @@ def _track_update(positions, ids, last_seen, last_confirmed, origins, moved, nex
         if not candidate[s] or not (any_track or vacated[s]):
             continue
         track, tracks, next_id = _continue(
-            positions, ids, last_seen, last_confirmed, origins, moved, tracks, next_id,
-            centroid_x[s], centroid_y[s], stamp, vacated[s], gate, still[s], move_distance)
+            positions, ids, last_seen, last_confirmed, origins, moved, claimed, exclusive,
+            tracks, next_id, centroid_x[s], centroid_y[s], stamp, vacated[s], gate, still[s],
+            move_distance)
         if track >= 0:
             for k in range(first[s], first[s + 1]):
                 followed[k] = True
@@ -458,9 +472,9 @@ def _track_update(positions, ids, last_seen, last_confirmed, origins, moved, nex
             if not (small[s] and open_sides[s] == 1 and moving_count[s] == 0):
                 continue
             track, tracks, next_id = _continue(
-                positions, ids, last_seen, last_confirmed, origins, moved, tracks, next_id,
-                centroid_x[s], centroid_y[s], stamp, False, half_open_gate, still[s],
-                move_distance)
+                positions, ids, last_seen, last_confirmed, origins, moved, claimed, exclusive,
+                tracks, next_id, centroid_x[s], centroid_y[s], stamp, False, half_open_gate,
+                still[s], move_distance)
             if track >= 0:
                 for k in range(first[s], first[s + 1]):
                     followed[k] = True

@@ -112,6 +112,8 @@ class NavigatorConfig:
         Still objects [m]: a compact free-standing segment this close to where one stood
         0.3-1.5 s ago is not seen to move by the places left empty near it; see
         ``LabelRule``. 0: off.
+    track_exclusive : bool
+        Exclusive tracks: one scan segment per track and scan; see ``LabelRule``.
     trail_distance : float
         Trails [m]: out-of-view mobile cells whose object the scan sees at least this far away
         go back to explored; see ``LabelRule``. 0: off.
@@ -169,6 +171,7 @@ class NavigatorConfig:
     mobile_expiry: float = 3.0
     track_confirm_time: float = 5.0
     track_still_distance: float = 0.08
+    track_exclusive: bool = True
     trail_distance: float = 1.2
     object_memory: float = 5.0
     robot_length: float = 0.99
@@ -209,6 +212,7 @@ class NavigatorConfig:
                          mobile_expiry=self.mobile_expiry,
                          track_confirm_time=self.track_confirm_time,
                          track_still_distance=self.track_still_distance,
+                         track_exclusive=self.track_exclusive,
                          trail_distance=self.trail_distance,
                          object_memory=self.object_memory)
 
