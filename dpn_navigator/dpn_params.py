@@ -54,9 +54,10 @@ FLOAT_PARAMETERS = {
     'track_confirm_time': (5.0, 'Motion tracks: a compact free-standing segment near a moving '
                            'object stays mobile while motion was seen within this long [s]; '
                            '0: off.', (0.0, 3600.0), True),
-    'track_still_distance': (0.08, 'Still objects: a compact free-standing segment this close '
-                             'to where one stood 0.3-1.5 s ago is not seen to move by the '
-                             'places left empty near it [m]; 0: off.', (0.0, 10.0), True),
+    'track_still_distance': (0.08, 'Still objects: a compact segment this close to where one '
+                             'stood 0.3-1.5 s ago is not seen to move by the places left '
+                             'empty near it, nor continues a track that never moved [m]; 0: '
+                             'off.', (0.0, 10.0), True),
     'trail_distance': (1.2, 'Trails: out-of-view mobile cells whose followed object the scan '
                        'sees at least this far away go back to explored [m]; 0: off.',
                        (0.0, 100.0), True),

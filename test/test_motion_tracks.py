@@ -174,10 +174,6 @@ def test_bad_track_config_raises(name):
         LabelRule(track_confirm_time=math.inf)
     with pytest.raises(ValueError, match='track_still_distance must be finite'):
         LabelRule(**DPN, track_confirm_time=1.0, track_still_distance=math.nan)
-    with pytest.raises(ValueError, match='track_still_distance needs track_confirm_time'):
-        LabelRule(**DPN, track_still_distance=0.08)
-    with pytest.raises(ValueError, match='track_exclusive needs track_confirm_time'):
-        LabelRule(**DPN, track_exclusive=True)
 
 
 def post_and_passer(rule, grid_class=LabelGrid, seconds=10.0):

@@ -157,14 +157,16 @@ class LabelRule:
         move. A track nothing showed moving for this long is dropped. 0 turns it off. Needs
         ``moving_object_size`` > 0 and the scan's ``stamp``.
     track_still_distance : float
-        Still objects [m]: a compact free-standing segment whose centroid lies within this
-        distance of where a compact free-standing segment stood 0.3-1.5 s ago stood still, and
-        the places left empty near it (by a wanderer passing a post) do not show it moving. 0
-        turns it off. Needs ``track_confirm_time`` > 0.
+        Still objects [m]: a compact segment whose centroid lies within this distance of where
+        a compact free-standing segment stood 0.3-1.5 s ago stood still: the places left empty
+        near it (by a wanderer passing a post) do not show it moving, and it does not continue
+        a track that never moved 0.3 m from where it started. 0 turns it off. Does nothing without ``track_confirm_time`` (a rule of the tracks; so
+        that turning the tracks off is one parameter).
     track_exclusive : bool
         Exclusive tracks: at most one scan segment continues a track per scan; a segment whose
         nearest track another one took is not followed (with motion evidence of its own it
-        starts a track). False: the segments share it. Needs ``track_confirm_time`` > 0.
+        starts a track). False: the segments share it. Does nothing without
+        ``track_confirm_time``.
     trail_distance : float
         Trails [m]: a mobile cell last labelled by a followed object goes back to explored
         while out of view (f1 = f2 = 0) once the scan sees that object at least this far from
@@ -205,10 +207,6 @@ class LabelRule:
         if self.trail_distance > 0.0 and self.track_confirm_time == 0.0:
             raise ValueError('trail_distance needs track_confirm_time > 0: a trail is left by '
                              'a followed object')
-        for name in ('track_still_distance', 'track_exclusive'):
-            if getattr(self, name) and self.track_confirm_time == 0.0:
-                raise ValueError(f'{name} needs track_confirm_time > 0: it is a rule of the '
-                                 'motion tracks')
         if self.object_memory > 0.0 and (self.track_confirm_time == 0.0
                                          or self.mobile_expiry == 0.0):
             raise ValueError('object_memory needs track_confirm_time > 0 (the scan segments) '

@@ -109,9 +109,9 @@ class NavigatorConfig:
         Motion tracks [s]: a compact, free-standing scan segment near an object seen to move
         is that object while motion was seen within this long; see ``LabelRule``. 0: off.
     track_still_distance : float
-        Still objects [m]: a compact free-standing segment this close to where one stood
-        0.3-1.5 s ago is not seen to move by the places left empty near it; see
-        ``LabelRule``. 0: off.
+        Still objects [m]: a compact segment this close to where a compact free-standing one
+        stood 0.3-1.5 s ago is not seen to move by the places left empty near it, nor
+        continues a track that never moved; see ``LabelRule``. 0: off.
     track_exclusive : bool
         Exclusive tracks: one scan segment per track and scan; see ``LabelRule``.
     trail_distance : float
