@@ -55,7 +55,7 @@ FLOAT_PARAMETERS = {
                            'object stays mobile while motion was seen within this long [s]; '
                            '0: off.', (0.0, 3600.0), True),
     'track_still_distance': (0.08, 'Still objects: a compact segment this close to where one '
-                             'stood 0.3-1.5 s ago is not seen to move by the places left '
+                             'stood 0.8-1.5 s ago is not seen to move by the places left '
                              'empty near it, nor continues a track that never moved [m]; 0: '
                              'off.', (0.0, 10.0), True),
     'trail_distance': (1.2, 'Trails: out-of-view mobile cells whose followed object the scan '

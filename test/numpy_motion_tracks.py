@@ -136,7 +136,8 @@ class NumpyMotionTracks:
     origins : (T, 2) ndarray of float64
         Where each track started [m].
     moved : (T,) ndarray of bool
-        Whether each track's position has been ``move_distance`` or more from its origin.
+        Whether motion evidence or an empty place confirmed each track ``move_distance`` or
+        more from its origin.
     hit_ids : (K,) ndarray of int64
         For each hit of the latest scan, the number of the track its segment continued, -1
         for none.
@@ -291,12 +292,12 @@ class NumpyMotionTracks:
         return vacated
 
     def _still(self, stamp, centroid_x, centroid_y, segments):
-        """Segments whose centroid is within ``still_distance`` of one a moment ago."""
+        """Segments whose centroid is within ``still_distance`` of one ``still_age`` ago."""
         still = np.zeros(segments.shape[0], dtype=bool)
         if self.config.still_distance == 0.0:
             return still
         age = stamp - self._history_stamp
-        old_xy = self._history_xy[(age >= self.config.min_age) & (age <= self.config.history)]
+        old_xy = self._history_xy[(age >= self.config.still_age) & (age <= self.config.history)]
         for s in np.flatnonzero(segments):
             distance = np.hypot(old_xy[:, 0] - centroid_x[s], old_xy[:, 1] - centroid_y[s])
             still[s] = bool((distance <= self.config.still_distance).any())
@@ -320,8 +321,8 @@ class NumpyMotionTracks:
                     return -1
                 self._claimed[nearest] = exclusive
                 self.positions[nearest] = position
-                if (np.hypot(*(position - self.origins[nearest]))
-                        >= self.config.move_distance):
+                if confirmed and (np.hypot(*(position - self.origins[nearest]))
+                                  >= self.config.move_distance):
                     self.moved[nearest] = True
                 self.last_seen[nearest] = stamp
                 if confirmed:

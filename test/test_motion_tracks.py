@@ -219,9 +219,9 @@ def test_a_track_started_on_a_post_is_not_continued_by_it_once_it_stands_still()
     tracks.update(0.0, (0.0, 0.0), post_x, post_y, beams, 30, moving, 0.3)
     assert tracks.ids.tolist() == [0] and tracks.moved.tolist() == [False]
     followed = [tracks.update(0.1 * step, (0.0, 0.0), post_x, post_y, beams, 30, ~moving, 0.3)
-                for step in range(1, 6)]
-    # Continued until the centroid of 0.3 s ago shows it standing where it stood.
-    assert [bool(out.all()) for out in followed] == [True, True, False, False, False]
+                for step in range(1, 11)]
+    # Continued until the centroid of 0.8 s ago (still_age) shows it standing where it stood.
+    assert [bool(out.all()) for out in followed] == [True] * 7 + [False] * 3
     assert tracks.ids.tolist() == [0]
     assert_array_equal(tracks.origins, [[3.0, 0.0]])
 

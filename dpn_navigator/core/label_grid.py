@@ -158,7 +158,7 @@ class LabelRule:
         ``moving_object_size`` > 0 and the scan's ``stamp``.
     track_still_distance : float
         Still objects [m]: a compact segment whose centroid lies within this distance of where
-        a compact free-standing segment stood 0.3-1.5 s ago stood still: the places left empty
+        a compact free-standing segment stood 0.8-1.5 s ago stood still: the places left empty
         near it (by a wanderer passing a post) do not show it moving, and it does not continue
         a track that never moved 0.3 m from where it started. 0 turns it off. Does nothing without ``track_confirm_time`` (a rule of the tracks; so
         that turning the tracks off is one parameter).

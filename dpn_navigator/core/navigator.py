@@ -110,7 +110,7 @@ class NavigatorConfig:
         is that object while motion was seen within this long; see ``LabelRule``. 0: off.
     track_still_distance : float
         Still objects [m]: a compact segment this close to where a compact free-standing one
-        stood 0.3-1.5 s ago is not seen to move by the places left empty near it, nor
+        stood 0.8-1.5 s ago is not seen to move by the places left empty near it, nor
         continues a track that never moved; see ``LabelRule``. 0: off.
     track_exclusive : bool
         Exclusive tracks: one scan segment per track and scan; see ``LabelRule``.
