@@ -160,8 +160,9 @@ class LabelRule:
         Still objects [m]: a compact segment whose centroid lies within this distance of where
         a compact free-standing segment stood 0.8-1.5 s ago stood still: the places left empty
         near it (by a wanderer passing a post) do not show it moving, and it does not continue
-        a track that never moved 0.3 m from where it started. 0 turns it off. Does nothing without ``track_confirm_time`` (a rule of the tracks; so
-        that turning the tracks off is one parameter).
+        a track that never moved 0.3 m from where it started. 0 turns it off. Does nothing
+        without ``track_confirm_time`` (a rule of the tracks; so that turning the tracks off
+        is one parameter).
     track_exclusive : bool
         Exclusive tracks: at most one scan segment continues a track per scan; a segment whose
         nearest track another one took is not followed (with motion evidence of its own it

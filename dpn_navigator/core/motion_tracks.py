@@ -281,8 +281,9 @@ def _continue(positions, ids, last_seen, last_confirmed, origins, moved, claimed
     Move the nearest of ``count`` tracks within ``gate`` to ``(x, y)``, or start one.
 
     A track starts only when ``confirmed``; a ``still`` segment does not continue a track that
-    has not moved (been confirmed ``move_distance`` or more from where it started), and no segment one that is ``claimed`` (then marked, when exclusive; else
-    all False). The arrays have room for one more track. Returns
+    has not moved (been confirmed ``move_distance`` or more from where it started), and no
+    segment one that is ``claimed`` (then marked, when exclusive; else all False). The arrays
+    have room for one more track. Returns
     ``(index or -1, count, next_id)``.
     """
     if count:
