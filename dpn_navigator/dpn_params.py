@@ -128,6 +128,9 @@ OTHER_PARAMETERS = {
                          'cells in map, 1 to 100 (steady obstacles are 100).'),
 }
 MOBILE_VALUE_RANGE = (1, 100)
+#: The parameters of ``OTHER_PARAMETERS`` that go to the navigator's configuration, not to
+#: ``DpnParameters``.
+NAVIGATOR_SWITCHES = ('track_exclusive',)
 
 
 @dataclass(frozen=True)
@@ -206,7 +209,8 @@ def declare_parameters(node):
         goal = (values['goal_x'], values['goal_y'])
     return DpnParameters(
         navigator, goal, values['sensor_timeout'], values['map_publish_period'],
-        values['marker_min_period'], **{name: values[name] for name in OTHER_PARAMETERS})
+        values['marker_min_period'],
+        **{name: values[name] for name in OTHER_PARAMETERS if name not in NAVIGATOR_SWITCHES})
 
 
 def check_grid_size(width, height, resolution):
