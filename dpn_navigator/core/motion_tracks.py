@@ -16,7 +16,12 @@ never seen free. So a moving object is followed from scan to scan, at the level 
   around it) whose centroid lies within ``gate`` of a live track continues that track: all
   its hits are hits on a moving object. It moves the track but does not confirm it;
 - a track dies when no segment continued it for ``lost_after`` seconds, or when nothing
-  confirmed it for ``confirm_within`` seconds.
+  confirmed it for ``confirm_within`` seconds;
+- *still objects* (``still_distance``): a compact segment standing where a compact
+  free-standing one stood ``still_age`` to ``history`` seconds ago is not seen to move by the
+  places near it left empty (a wanderer walked there, past the post), and does not continue
+  a track never confirmed ``move_distance`` from where it started;
+- *exclusive tracks* (``exclusive``): at most one segment of a scan continues a track.
 
 The last rule bounds what a wrong association can cost: a pillar that a wanderer walked past
 is taken for the wanderer for at most ``confirm_within`` seconds. A wall is never compact and
@@ -233,8 +238,7 @@ class MotionTracks:
             float(config.confirm_within), vacated_on, float(config.history),
             float(config.min_age), float(config.reach), float(config.free_margin),
             float(config.half_open_gate), float(config.still_distance),
-            float(config.still_age),
-            float(config.move_distance), bool(config.exclusive),
+            float(config.still_age), float(config.move_distance), bool(config.exclusive),
             np.ascontiguousarray(beam_reach, np.float64))
         return followed
 
@@ -283,8 +287,7 @@ def _continue(positions, ids, last_seen, last_confirmed, origins, moved, claimed
     A track starts only when ``confirmed``; a ``still`` segment does not continue a track that
     has not moved (been confirmed ``move_distance`` or more from where it started), and no
     segment one that is ``claimed`` (then marked, when exclusive; else all False). The arrays
-    have room for one more track. Returns
-    ``(index or -1, count, next_id)``.
+    have room for one more track. Returns ``(index or -1, count, next_id)``.
     """
     if count:
         nearest = 0
