@@ -54,6 +54,10 @@ FLOAT_PARAMETERS = {
     'track_confirm_time': (5.0, 'Motion tracks: a compact free-standing segment near a moving '
                            'object stays mobile while motion was seen within this long [s]; '
                            '0: off.', (0.0, 3600.0), True),
+    'track_still_distance': (0.08, 'Still objects: a compact segment this close to where one '
+                             'stood 0.8-1.5 s ago is not seen to move by the places left '
+                             'empty near it, nor continues a track that never moved [m]; 0: '
+                             'off.', (0.0, 10.0), True),
     'trail_distance': (1.2, 'Trails: out-of-view mobile cells whose followed object the scan '
                        'sees at least this far away go back to explored [m]; 0: off.',
                        (0.0, 100.0), True),
@@ -117,6 +121,9 @@ OTHER_PARAMETERS = {
     'base_frame': ('base_link', 'Frame of the robot base: header of TwistStamped commands.'),
     'cmd_vel_stamped': (False, 'Send geometry_msgs/TwistStamped on cmd_vel instead of Twist '
                         "(Jazzy's diff_drive_controller takes TwistStamped)."),
+    'track_exclusive': (True, 'Exclusive motion tracks: at most one scan segment continues a '
+                        'track per scan (false: the paper has no tracks; before, a post next '
+                        'to a wanderer shared its track).'),
     'map_mobile_value': (OCCUPANCY_MOBILE_OBSTACLE, 'OccupancyGrid value of mobile-obstacle '
                          'cells in map, 1 to 100 (steady obstacles are 100).'),
     'map_updates': (True, 'On the scans between full maps (map_publish_period > 0), publish the '
@@ -124,6 +131,9 @@ OTHER_PARAMETERS = {
                     '(map_msgs/OccupancyGridUpdate); false: nothing between full maps.'),
 }
 MOBILE_VALUE_RANGE = (1, 100)
+#: The parameters of ``OTHER_PARAMETERS`` that go to the navigator's configuration, not to
+#: ``DpnParameters``.
+NAVIGATOR_SWITCHES = ('track_exclusive',)
 
 
 @dataclass(frozen=True)
@@ -184,6 +194,8 @@ def declare_parameters(node):
         evidence_margin=values['evidence_margin'], segment_gap=values['segment_gap'],
         mobile_expiry=values['mobile_expiry'],
         track_confirm_time=values['track_confirm_time'],
+        track_still_distance=values['track_still_distance'],
+        track_exclusive=values['track_exclusive'],
         trail_distance=values['trail_distance'], object_memory=values['object_memory'],
         robot_length=values['robot_length'], robot_width=values['robot_width'],
         turn_sweep_memory=values['turn_sweep_memory'],
@@ -201,7 +213,8 @@ def declare_parameters(node):
         goal = (values['goal_x'], values['goal_y'])
     return DpnParameters(
         navigator, goal, values['sensor_timeout'], values['map_publish_period'],
-        values['marker_min_period'], **{name: values[name] for name in OTHER_PARAMETERS})
+        values['marker_min_period'],
+        **{name: values[name] for name in OTHER_PARAMETERS if name not in NAVIGATOR_SWITCHES})
 
 
 def check_grid_size(width, height, resolution):

@@ -3,7 +3,9 @@ The numpy motion tracks that the compiled ones replaced, kept as the oracle of t
 
 ``NumpyMotionTracks`` is ``motion_tracks.MotionTracks`` of commit 1d9ead7: scan segments,
 their summary and the places seen free as array operations, the tracks as object-level Python
-loops. The tests compare the compiled tracks with it, track for track and hit for hit.
+loops; with the still-object rule (``TrackConfig.still_distance``) and exclusive tracks
+(``TrackConfig.exclusive``) added since. The tests
+compare the compiled tracks with it, track for track and hit for hit.
 
 """
 
@@ -131,6 +133,11 @@ class NumpyMotionTracks:
         Each track's number, unique since the last ``reset``.
     last_seen, last_confirmed : (T,) ndarray of float64
         When a segment last continued each track, and when motion evidence last did [s].
+    origins : (T, 2) ndarray of float64
+        Where each track started [m].
+    moved : (T,) ndarray of bool
+        Whether motion evidence or an empty place confirmed each track ``move_distance`` or
+        more from its origin.
     hit_ids : (K,) ndarray of int64
         For each hit of the latest scan, the number of the track its segment continued, -1
         for none.
@@ -159,6 +166,9 @@ class NumpyMotionTracks:
         self._next_id = 0
         self.last_seen = np.zeros(0)
         self.last_confirmed = np.zeros(0)
+        self.origins = np.zeros((0, 2))
+        self.moved = np.zeros(0, dtype=bool)
+        self._claimed = np.zeros(0, dtype=bool)
         self._last_stamp = -math.inf
 
     def update(self, stamp, laser_xy, hits_x, hits_y, hit_beams, beam_count, moving,
@@ -206,6 +216,7 @@ class NumpyMotionTracks:
         if self.config.confirm_within == 0.0:
             return followed
         self._drop_dead(stamp)
+        self._claimed = np.zeros(self.positions.shape[0], dtype=bool)
         if count == 0:
             return followed
         segment, arc = scan_segments(hits_x, hits_y, hit_beams, segment_gap)
@@ -228,18 +239,20 @@ class NumpyMotionTracks:
                 own = slice(first[s], stop[s])
                 self.hit_ids[own][moving[own]] = self.ids[track]
         compact = small & (open_sides == 2)
+        still = self._still(stamp, centroid_x, centroid_y, small & ~evidence)
         self.hit_long = ~small[segment]
         self.hit_object = (small & (stop - first >= OBJECT_MIN_HITS))[segment]
         vacated = np.zeros(segments, dtype=bool)
         if self.config.vacated and beam_reach is not None:
-            vacated = self._vacated(stamp, centroid_x, centroid_y, compact & ~evidence,
+            vacated = self._vacated(stamp, centroid_x, centroid_y, compact & ~evidence & ~still,
                                     laser_xy, first_angle, increment, beam_reach)
         candidates = compact & ~evidence
         if not self.positions.shape[0]:
             candidates &= vacated               # nothing to continue: only new tracks
         for s in np.flatnonzero(candidates):
             position = np.array([centroid_x[s], centroid_y[s]])
-            track = self._continue(position, stamp, confirmed=bool(vacated[s]))
+            track = self._continue(position, stamp, confirmed=bool(vacated[s]),
+                                   still=bool(still[s]))
             if track >= 0:
                 followed[first[s]:stop[s]] = True
                 self.hit_ids[first[s]:stop[s]] = self.ids[track]
@@ -247,7 +260,7 @@ class NumpyMotionTracks:
             for s in np.flatnonzero(small & (open_sides == 1) & ~evidence):
                 position = np.array([centroid_x[s], centroid_y[s]])
                 track = self._continue(position, stamp, confirmed=False,
-                                       gate=self.config.half_open_gate)
+                                       gate=self.config.half_open_gate, still=bool(still[s]))
                 if track >= 0:
                     followed[first[s]:stop[s]] = True
                     self.hit_ids[first[s]:stop[s]] = self.ids[track]
@@ -278,17 +291,39 @@ class NumpyMotionTracks:
             vacated[s] = bool((distance <= self.config.reach).any())
         return vacated
 
-    def _continue(self, position, stamp, confirmed, gate=None):
+    def _still(self, stamp, centroid_x, centroid_y, segments):
+        """Segments whose centroid is within ``still_distance`` of one ``still_age`` ago."""
+        still = np.zeros(segments.shape[0], dtype=bool)
+        if self.config.still_distance == 0.0:
+            return still
+        age = stamp - self._history_stamp
+        old_xy = self._history_xy[(age >= self.config.still_age) & (age <= self.config.history)]
+        for s in np.flatnonzero(segments):
+            distance = np.hypot(old_xy[:, 0] - centroid_x[s], old_xy[:, 1] - centroid_y[s])
+            still[s] = bool((distance <= self.config.still_distance).any())
+        return still
+
+    def _continue(self, position, stamp, confirmed, gate=None, still=False):
         """
         Move the nearest track within the gate to ``position``; return its index, or -1.
 
-        With ``confirmed``, a new track starts when none is near.
+        With ``confirmed``, a new track starts when none is near. A ``still`` segment does not
+        continue a track that has not moved; with ``exclusive``, no segment continues a track
+        another segment of the scan continued.
         """
+        exclusive = self.config.exclusive
         if self.positions.shape[0]:
             distance = np.hypot(*(self.positions - position).T)
             nearest = int(np.argmin(distance))
-            if distance[nearest] <= (self.config.gate if gate is None else gate):
+            if (distance[nearest] <= (self.config.gate if gate is None else gate)
+                    and not (exclusive and self._claimed[nearest])):
+                if still and not self.moved[nearest]:
+                    return -1
+                self._claimed[nearest] = exclusive
                 self.positions[nearest] = position
+                if confirmed and (np.hypot(*(position - self.origins[nearest]))
+                                  >= self.config.move_distance):
+                    self.moved[nearest] = True
                 self.last_seen[nearest] = stamp
                 if confirmed:
                     self.last_confirmed[nearest] = stamp
@@ -296,6 +331,9 @@ class NumpyMotionTracks:
         if not confirmed:
             return -1
         self.positions = np.vstack((self.positions, position))
+        self.origins = np.vstack((self.origins, position))
+        self.moved = np.append(self.moved, False)
+        self._claimed = np.append(self._claimed, exclusive)
         self.ids = np.append(self.ids, self._next_id)
         self._next_id += 1
         self.last_seen = np.append(self.last_seen, stamp)
@@ -310,3 +348,5 @@ class NumpyMotionTracks:
         self.ids = self.ids[alive]
         self.last_seen = self.last_seen[alive]
         self.last_confirmed = self.last_confirmed[alive]
+        self.origins = self.origins[alive]
+        self.moved = self.moved[alive]

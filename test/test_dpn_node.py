@@ -269,6 +269,19 @@ def test_between_full_maps_the_changed_cells_go_out_as_updates(ros_context, upda
     assert np.array_equal(values, now) == updates
 
 
+@pytest.mark.parametrize('exclusive', [True, False])
+def test_track_rules_reach_the_navigators_tracks(ros_context, exclusive):
+    overrides = [Parameter('map_width', value=12.0), Parameter('map_height', value=12.0),
+                 Parameter('track_exclusive', value=exclusive),
+                 Parameter('track_still_distance', value=0.05)]
+    dpn = DpnNode(context=ros_context, parameter_overrides=overrides)
+    try:
+        assert dpn.navigator.grid.tracks.config.exclusive is exclusive
+        assert dpn.navigator.grid.tracks.config.still_distance == 0.05
+    finally:
+        dpn.destroy_node()
+
+
 @pytest.mark.parametrize('value, match', [
     ('abc', 'map_width must be a number'),
     (0, r'map_width = 0.0 is outside \[0.1'),

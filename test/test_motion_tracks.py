@@ -71,10 +71,14 @@ def test_object_walking_away_is_steady_without_tracks_and_mobile_with_them():
     assert grid.tracks.positions.shape == (1, 2)
 
 
-def test_object_that_stops_loses_its_track_after_the_confirm_time():
+@pytest.mark.parametrize('still_distance', [0.0, 0.08])
+def test_object_that_stops_loses_its_track_after_the_confirm_time(still_distance):
+    # It walked 0.5 m before it stopped: its track moved, so the still-object rule lets it
+    # stand on as the same moving object.
     def walk_then_stand(stamp):
         return walking_away(min(stamp, 1.0))
-    grid, labels = run(LabelRule(**DPN, track_confirm_time=2.0), walk_then_stand, 6.0)
+    grid, labels = run(LabelRule(**DPN, track_confirm_time=2.0,
+                                 track_still_distance=still_distance), walk_then_stand, 6.0)
     assert labels[20] == M                         # t = 2 s: followed, standing
     # Last confirmed once the places it left aged out of the history (1.5 s after it
     # stopped), dropped 2 s later: steady from t = 4.5 s on.
@@ -162,12 +166,81 @@ def test_following_is_off_at_zero_confirm_time():
 
 
 @pytest.mark.parametrize('name', ['compact_size', 'gate', 'confirm_within', 'reach',
-                                  'half_open_gate'])
+                                  'half_open_gate', 'still_distance', 'move_distance'])
 def test_bad_track_config_raises(name):
     with pytest.raises(ValueError, match=f'{name} must be finite'):
         TrackConfig(**{name: -1.0})
     with pytest.raises(ValueError, match='track_confirm_time must be finite'):
         LabelRule(track_confirm_time=math.inf)
+    with pytest.raises(ValueError, match='track_still_distance must be finite'):
+        LabelRule(**DPN, track_confirm_time=1.0, track_still_distance=math.nan)
+
+
+def post_and_passer(rule, grid_class=LabelGrid, seconds=10.0):
+    """
+    Scan a post (a 0.1 m disc at (4, 6)) that a disc of 0.3 m passes 0.8 m behind at 0.5 m/s.
+
+    Returns the grid and, after each scan, the labels of the post's and the passer's hit
+    cells.
+    """
+    grid = grid_class(width=12.0, height=12.0, rule=rule)
+    laser = (1.0, 6.0, 0.0)
+    post = (4.0, 6.0)
+    post_cell = grid.geometry.world_to_cell(post[0] - 0.1, post[1])
+    post_labels, passer_labels = [], []
+    for step in range(int(seconds * 10) + 1):
+        stamp = step / 10
+        passer = (4.8, 4.0 + 0.5 * stamp)
+        ranges = np.minimum(disc_scan(laser, passer, 0.3), disc_scan(laser, post, 0.1))
+        grid.update(laser, ranges, safety_radius=0.6, stamp=stamp, **SCAN)
+        post_labels.append(grid.labels[post_cell])
+        passer_labels.append(disc_labels(grid, passer, 0.3))
+    return grid, post_labels, passer_labels
+
+
+@pytest.mark.parametrize(('still_distance', 'post_mobile'), [(0.08, False), (0.0, True)])
+@pytest.mark.parametrize('exclusive', [False, True])
+def test_post_a_moving_object_passes_is_not_mobile_with_the_still_object_rule(
+        still_distance, post_mobile, exclusive):
+    # The places the passer left, within 1.2 m of the post and now seen empty, showed the
+    # post moving, and its track lived on 5 s after that; the post stands where it stood.
+    rule = LabelRule(**DPN, track_confirm_time=5.0, track_still_distance=still_distance,
+                     track_exclusive=exclusive)
+    _, post_labels, passer_labels = post_and_passer(rule)
+    assert set(post_labels) == ({S, M} if post_mobile else {S})
+    assert all(label == M for label in passer_labels[10:])
+
+
+def test_a_track_started_on_a_post_is_not_continued_by_it_once_it_stands_still():
+    tracks = MotionTracks(TrackConfig(confirm_within=5.0, still_distance=0.08))
+    post_x, post_y = np.array([3.0, 3.0, 3.0]), np.array([-0.05, 0.0, 0.05])
+    beams = np.array([10, 11, 12])
+    moving = np.array([True, True, True])
+    tracks.update(0.0, (0.0, 0.0), post_x, post_y, beams, 30, moving, 0.3)
+    assert tracks.ids.tolist() == [0] and tracks.moved.tolist() == [False]
+    followed = [tracks.update(0.1 * step, (0.0, 0.0), post_x, post_y, beams, 30, ~moving, 0.3)
+                for step in range(1, 11)]
+    # Continued until the centroid of 0.8 s ago (still_age) shows it standing where it stood.
+    assert [bool(out.all()) for out in followed] == [True] * 7 + [False] * 3
+    assert tracks.ids.tolist() == [0]
+    assert_array_equal(tracks.origins, [[3.0, 0.0]])
+
+
+@pytest.mark.parametrize('exclusive', [False, True])
+def test_exclusive_tracks_let_one_segment_per_scan_continue_a_track(exclusive):
+    tracks = MotionTracks(TrackConfig(confirm_within=5.0, exclusive=exclusive))
+    laser = (0.0, 0.0)
+    tracks.update(0.0, laser, np.full(3, 3.0), np.array([-0.05, 0.0, 0.05]),
+                  np.array([15, 16, 17]), 40, np.ones(3, dtype=bool), 0.3)
+    # Two compact free-standing segments 0.25 m either side of the track, no evidence: the
+    # first in beam order takes it; the second is 0.5 m from it then, within the gate.
+    hits_y = np.array([-0.3, -0.25, -0.2, 0.2, 0.25, 0.3])
+    followed = tracks.update(0.1, laser, np.full(6, 3.0), hits_y,
+                             np.array([10, 11, 12, 20, 21, 22]), 40, np.zeros(6, dtype=bool),
+                             0.3)
+    assert followed.tolist() == [True] * 3 + [not exclusive] * 3
+    assert tracks.hit_ids.tolist() == [0] * 3 + [-1 if exclusive else 0] * 3
+    assert_array_equal(tracks.positions, [[3.0, -0.25 if exclusive else 0.25]])
 
 
 def test_trail_out_of_view_goes_back_to_explored_once_its_object_is_seen_far_away():
@@ -222,8 +295,9 @@ def test_followed_object_partly_hidden_on_one_side_stays_mobile_within_the_tight
 
 
 def assert_same_tracks(fast, reference):
-    for name in ('positions', 'ids', 'last_seen', 'last_confirmed', 'hit_ids', 'hit_long',
-                 'hit_object', '_history_xy', '_history_stamp', '_next_id'):
+    for name in ('positions', 'ids', 'last_seen', 'last_confirmed', 'origins', 'moved',
+                 'hit_ids', 'hit_long', 'hit_object', '_history_xy', '_history_stamp',
+                 '_next_id'):
         assert_array_equal(getattr(fast, name), getattr(reference, name), err_msg=name)
 
 
@@ -236,10 +310,13 @@ def assert_same_grids(fast, reference):
 
 
 @pytest.mark.parametrize('seed', range(4))
-def test_compiled_tracks_equal_the_numpy_ones_on_hall_sequences(seed):
+@pytest.mark.parametrize('still_rules', [True, False])
+def test_compiled_tracks_equal_the_numpy_ones_on_hall_sequences(seed, still_rules):
     # A laser that stands still for ten scans at a time among boxes that walk; the numpy
-    # tracks (and trail marks) of commit 1d9ead7 are the oracle, after every scan.
-    rule = NavigatorConfig(width=1.0, height=1.0).label_rule()
+    # tracks (and trail marks) of commit 1d9ead7 are the oracle, after every scan. The
+    # shipped rule, and the one before still objects and exclusive tracks.
+    before = {} if still_rules else {'track_still_distance': 0.0, 'track_exclusive': False}
+    rule = NavigatorConfig(width=1.0, height=1.0, **before).label_rule()
     rng = np.random.default_rng(seed)
     static = hall(30.0, 10, rng)
     fast = LabelGrid(30.0, 30.0, 0.5, rule=rule)
@@ -266,12 +343,15 @@ def test_compiled_tracks_equal_the_numpy_ones_on_hall_sequences(seed):
 
 
 @pytest.mark.parametrize('half_open_gate', [0.35, 0.0])
-def test_compiled_tracks_equal_the_numpy_ones_on_a_walking_disc(half_open_gate):
+@pytest.mark.parametrize(('still_distance', 'exclusive'), [(0.0, False), (0.08, True)])
+def test_compiled_tracks_equal_the_numpy_ones_on_a_walking_disc(half_open_gate, still_distance,
+                                                                exclusive):
     rule = LabelRule(**DPN, track_confirm_time=2.0, mobile_expiry=5.0, trail_distance=1.2)
     grids = (LabelGrid(width=12.0, height=12.0, rule=rule),
              NumpyExtrasLabelGrid(width=12.0, height=12.0, rule=rule))
     for grid in grids:
-        grid.tracks.config = TrackConfig(confirm_within=2.0, half_open_gate=half_open_gate)
+        grid.tracks.config = TrackConfig(confirm_within=2.0, half_open_gate=half_open_gate,
+                                         still_distance=still_distance, exclusive=exclusive)
     laser = (1.0, 6.0, 0.0)
     for step in range(70):
         stamp = step / 10
@@ -281,3 +361,15 @@ def test_compiled_tracks_equal_the_numpy_ones_on_a_walking_disc(half_open_gate):
             grid.update(laser, ranges, safety_radius=0.6, stamp=stamp, **SCAN)
         assert_same_grids(*grids)
     assert grids[0].tracks._next_id >= 1
+
+
+@pytest.mark.parametrize('still_distance', [0.0, 0.08])
+@pytest.mark.parametrize('exclusive', [False, True])
+def test_compiled_tracks_equal_the_numpy_ones_on_a_post_and_its_passer(still_distance,
+                                                                       exclusive):
+    rule = LabelRule(**DPN, track_confirm_time=5.0, track_still_distance=still_distance,
+                     track_exclusive=exclusive, mobile_expiry=3.0, trail_distance=1.2)
+    fast = post_and_passer(rule, LabelGrid, 8.0)
+    reference = post_and_passer(rule, NumpyExtrasLabelGrid, 8.0)
+    assert_same_grids(fast[0], reference[0])
+    assert fast[1:] == reference[1:]

@@ -156,6 +156,18 @@ class LabelRule:
         free-standing segment next to where one stood a moment ago, now seen empty, is seen to
         move. A track nothing showed moving for this long is dropped. 0 turns it off. Needs
         ``moving_object_size`` > 0 and the scan's ``stamp``.
+    track_still_distance : float
+        Still objects [m]: a compact segment whose centroid lies within this distance of where
+        a compact free-standing segment stood 0.8-1.5 s ago stood still: the places left empty
+        near it (by a wanderer passing a post) do not show it moving, and it does not continue
+        a track that never moved 0.3 m from where it started. 0 turns it off. Does nothing
+        without ``track_confirm_time`` (a rule of the tracks; so that turning the tracks off
+        is one parameter).
+    track_exclusive : bool
+        Exclusive tracks: at most one scan segment continues a track per scan; a segment whose
+        nearest track another one took is not followed (with motion evidence of its own it
+        starts a track). False: the segments share it. Does nothing without
+        ``track_confirm_time``.
     trail_distance : float
         Trails [m]: a mobile cell last labelled by a followed object goes back to explored
         while out of view (f1 = f2 = 0) once the scan sees that object at least this far from
@@ -179,12 +191,15 @@ class LabelRule:
     segment_gap: float = 0.3
     mobile_expiry: float = 0.0
     track_confirm_time: float = 0.0
+    track_still_distance: float = 0.0
+    track_exclusive: bool = False
     trail_distance: float = 0.0
     object_memory: float = 0.0
 
     def __post_init__(self):
         for name in ('free_evidence_radius', 'moving_object_size', 'evidence_margin',
-                     'mobile_expiry', 'track_confirm_time', 'trail_distance', 'object_memory'):
+                     'mobile_expiry', 'track_confirm_time', 'track_still_distance',
+                     'trail_distance', 'object_memory'):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0.0):
                 raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
@@ -230,7 +245,9 @@ PAPER_RULE = LabelRule()
 def warm_up_label_update():
     """Compile (or load from the cache) the label kernels with one tiny scan, every rule part."""
     rule = LabelRule(free_evidence_radius=0.5, moving_object_size=0.5, mobile_expiry=1.0,
-                     track_confirm_time=1.0, trail_distance=1.0, object_memory=1.0)
+                     track_confirm_time=1.0, track_still_distance=0.1, track_exclusive=True,
+                     trail_distance=1.0,
+                     object_memory=1.0)
     grid = LabelGrid(2.0, 2.0, 0.5, rule=rule)
     grid.labels[0, 0] = CellLabel.MOBILE_OBSTACLE          # to expire at the second scan
     grid.last_hit[0, 0] = 0.0
@@ -391,7 +408,9 @@ class LabelGrid(ChangeTrackers):
         self._last_stamp = -math.inf
         self._trackers = []
         self.last_window = _EMPTY_WINDOW
-        self.tracks = MotionTracks(TrackConfig(confirm_within=rule.track_confirm_time))
+        self.tracks = MotionTracks(TrackConfig(confirm_within=rule.track_confirm_time,
+                                               still_distance=rule.track_still_distance,
+                                               exclusive=bool(rule.track_exclusive)))
         self.cell_track = (np.full(self.geometry.shape, -1, dtype=np.int64)
                            if rule.trail_distance > 0.0 else None)
         self._marked = np.zeros(0, dtype=np.int64)   # flat cells that may hold a track

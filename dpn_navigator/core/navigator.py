@@ -108,6 +108,12 @@ class NavigatorConfig:
     track_confirm_time : float
         Motion tracks [s]: a compact, free-standing scan segment near an object seen to move
         is that object while motion was seen within this long; see ``LabelRule``. 0: off.
+    track_still_distance : float
+        Still objects [m]: a compact segment this close to where a compact free-standing one
+        stood 0.8-1.5 s ago is not seen to move by the places left empty near it, nor
+        continues a track that never moved; see ``LabelRule``. 0: off.
+    track_exclusive : bool
+        Exclusive tracks: one scan segment per track and scan; see ``LabelRule``.
     trail_distance : float
         Trails [m]: out-of-view mobile cells whose object the scan sees at least this far away
         go back to explored; see ``LabelRule``. 0: off.
@@ -164,6 +170,8 @@ class NavigatorConfig:
     segment_gap: float = 0.3
     mobile_expiry: float = 3.0
     track_confirm_time: float = 5.0
+    track_still_distance: float = 0.08
+    track_exclusive: bool = True
     trail_distance: float = 1.2
     object_memory: float = 5.0
     robot_length: float = 0.99
@@ -203,6 +211,8 @@ class NavigatorConfig:
                          evidence_margin=self.evidence_margin, segment_gap=self.segment_gap,
                          mobile_expiry=self.mobile_expiry,
                          track_confirm_time=self.track_confirm_time,
+                         track_still_distance=self.track_still_distance,
+                         track_exclusive=self.track_exclusive,
                          trail_distance=self.trail_distance,
                          object_memory=self.object_memory)
 
