@@ -65,8 +65,6 @@ SPOT_HEADING_TOLERANCE = 0.05
 #: [1/s].
 SPOT_TURN_RATE = 0.6
 SPOT_HEADING_GAIN = 2.0
-#: Turn places tried in a row while the follower's turn stays blocked; then the robot waits.
-MAX_SPOTS = 3
 
 
 def sweep_hits(points, angle, length, width, margin):
@@ -288,7 +286,6 @@ class TurnSweep:
         self._now = None
         self._spot = None                     # the turn place, map frame [m]
         self._driving = False                 # heading for it, driving there
-        self._spell = 0                       # turn places tried since a turn went through
         self.held = 0
         self.spots = 0
         self.waits = 0
@@ -374,11 +371,11 @@ class TurnSweep:
 
         """
         if command.linear != 0.0 or command.angular == 0.0 or command.turn == 0.0:
-            self._spot, self._spell, self._driving = None, 0, False
+            self._spot, self._driving = None, False
             return command
         points = self._points(pose, obstacle)
         if not sweep_hits(points, command.turn, self.length, self.width, self.margin):
-            self._spot, self._spell, self._driving = None, 0, False
+            self._spot, self._driving = None, False
             return command
         self.held += 1
         if self._spot is not None:
@@ -387,8 +384,7 @@ class TurnSweep:
                 return step
             self._spot = None
         self._driving = False
-        if self._spell < MAX_SPOTS and self.spot_distance > 0.0:
-            self._spell += 1
+        if self.spot_distance > 0.0:
             spot = find_turn_place(points, command.turn, self.length, self.width, self.margin,
                                    self.spot_distance)
             if spot is not None:
