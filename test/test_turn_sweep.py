@@ -252,7 +252,7 @@ def test_a_wall_corner_behind_after_a_creep_holds_the_turn(turn):
 
 
 def near_wall():
-    """A robot heading 0.1 rad, 0.55 m above a long wall; it wants to turn left by 1.37 rad."""
+    """Place a robot heading 0.1 rad 0.55 m above a long wall; it wants to turn left 1.37 rad."""
     occupied = walled_room()
     add_box(occupied, 3.0, 5.0, 9.0, 5.45)
     return occupied, (6.0, 6.0, 0.1), 1.37
