@@ -311,3 +311,17 @@ def test_beside_a_wall_the_robot_turns_from_a_turn_place_untouched():
     assert reached and not touched
     assert sweep.spots >= 1 and sweep.waits == 0
     assert 0.0 < math.dist(end[:2], pose[:2]) <= 0.6 + 0.05
+
+
+def test_the_navigator_counts_old_hits_on_the_grids_obstacle_cells():
+    from dpn_navigator.core.cell_label import CellLabel
+    navigator = Navigator(NavigatorConfig(width=12.0, height=12.0))
+    assert navigator.turn_sweep is not None                    # on by default
+    assert Navigator(NavigatorConfig(width=12.0, height=12.0,
+                                     turn_sweep_memory=0.0)).turn_sweep is None
+    labels = navigator.grid.labels
+    rr, cc = navigator.grid.geometry.world_to_cell(np.array([3.2, 5.2]), np.array([4.1, 4.1]))
+    labels[rr[0], cc[0]] = CellLabel.STEADY_OBSTACLE
+    labels[rr[1], cc[1]] = CellLabel.MOBILE_OBSTACLE
+    points = np.array([[3.2, 4.1], [5.2, 4.1], [7.2, 4.1], [-1.0, 4.1]])
+    assert navigator._obstacle_at(points).tolist() == [True, True, False, False]
