@@ -69,12 +69,15 @@ FLOAT_PARAMETERS = {
                      True),
     'robot_width': (0.67, 'Robot footprint along y, centred on the base [m].', (0.01, 10.0),
                     True),
-    'turn_sweep_memory': (0.0, 'Turn sweep: a turn in place is tested against the laser hits '
-                          'of this long before, and replaced by a creep ahead or held when '
-                          'its corners would hit one [s]; 0: off (the default for now).',
-                          (0.0, 60.0), True),
+    'turn_sweep_memory': (2.0, 'Turn sweep: a turn in place is tested against the laser hits '
+                          'kept around the robot, and replaced by a move to a place where it '
+                          'is clear, or held, when its corners would hit one; a kept hit '
+                          'counts this long, then while the grid labels its cell an obstacle '
+                          '[s]; 0: off.', (0.0, 60.0), True),
     'turn_sweep_margin': (0.05, 'Clearance the turn sweep keeps from the laser hits [m].',
                           (0.0, 1.0), True),
+    'turn_sweep_spot_distance': (0.6, 'Farthest place the turn sweep moves the robot to for a '
+                                 'blocked turn [m]; 0: it waits.', (0.0, 5.0), True),
     'yield_corridor_width': (0.0, 'Head-on yield: a moving object coming head-on where the '
                              'route to it runs through a corridor narrower than this, wall to '
                              'wall, sends the robot to a passing place until it has passed [m]; '
@@ -200,6 +203,7 @@ def declare_parameters(node):
         robot_length=values['robot_length'], robot_width=values['robot_width'],
         turn_sweep_memory=values['turn_sweep_memory'],
         turn_sweep_margin=values['turn_sweep_margin'],
+        turn_sweep_spot_distance=values['turn_sweep_spot_distance'],
         yield_corridor_width=values['yield_corridor_width'],
         yield_trigger_distance=values['yield_trigger_distance'],
         yield_side_clearance=values['yield_side_clearance'],

@@ -70,11 +70,12 @@ def test_navigator_variants_are_valid_configs():
     dpn_yield = NavigatorConfig(width=10.0, height=10.0, **NAVIGATORS['dpn_yield'])
     assert dpn_yield.yield_config().enabled
     assert dpn_yield.label_rule() == NavigatorConfig(width=10.0, height=10.0).label_rule()
-    # The turn sweep: off in dpn and paper for now, on in dpn_sweep.
+    # The turn sweep: on in dpn, off in paper, dpn_no_sweep and the reference navigators.
     assert paper.turn_sweep_memory == 0.0
-    assert NavigatorConfig(width=10.0, height=10.0).turn_sweep_memory == 0.0
-    assert NavigatorConfig(width=10.0, height=10.0,
-                           **NAVIGATORS['dpn_sweep']).turn_sweep_memory > 0.0
+    assert NavigatorConfig(width=10.0, height=10.0).turn_sweep_memory > 0.0
+    for name in ('dpn_no_sweep', 'costmap', 'oracle'):
+        assert NavigatorConfig(width=10.0, height=10.0,
+                               **NAVIGATORS[name]).turn_sweep_memory == 0.0
 
 
 def test_the_nodes_paper_params_file_is_the_benchmarks_paper_navigator():
@@ -83,9 +84,8 @@ def test_the_nodes_paper_params_file_is_the_benchmarks_paper_navigator():
     assert paper == NAVIGATORS['paper']
     shipped = yaml.safe_load((config / 'dpn.yaml').read_text())['/**/dpn']['ros__parameters']
     assert set(paper) <= set(shipped)
-    # Each one is on in the dpn file, but the head-on yield state and the turn sweep, off by
-    # default for now.
-    off_for_now = ('yield_corridor_width', 'turn_sweep_memory')
+    # Each one is on in the dpn file, but the head-on yield state, off by default for now.
+    off_for_now = ('yield_corridor_width',)
     assert all(shipped[name] > 0.0 for name in paper if name not in off_for_now)
     assert all(shipped[name] == paper[name] == 0.0 for name in off_for_now)
 

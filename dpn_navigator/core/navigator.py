@@ -125,12 +125,15 @@ class NavigatorConfig:
         The robot's footprint, centred on the base frame's origin [m]; the Husky A200 with
         bumpers.
     turn_sweep_memory : float
-        Turn sweep [s]: a turn in place is tested against the laser hits of this long before,
-        and replaced by a creep ahead, or held, when the robot's corners would sweep into one;
-        see ``turn_sweep``. 0: off, the default for now (the follower's turn is sent as it
-        is); ``dpn-benchmark --navigator dpn_sweep`` runs it with 2 s.
+        Turn sweep [s]: a turn in place is tested against the laser hits kept around the robot,
+        and replaced by a move to a place where it is clear, or held, when the robot's corners
+        would sweep into one; a kept hit counts for this long, and after that while the grid
+        labels its cell an obstacle; see ``turn_sweep``. 0: off (the follower's turn is sent
+        as it is; the paper).
     turn_sweep_margin : float
         Clearance the turn sweep keeps from the kept hits [m].
+    turn_sweep_spot_distance : float
+        Farthest place the turn sweep moves the robot to for a blocked turn [m]; 0: it waits.
     yield_corridor_width : float
         Head-on yield [m]: a moving object coming head-on where the route between it and the
         robot runs through a corridor narrower than this sends the robot to a passing place
@@ -176,8 +179,9 @@ class NavigatorConfig:
     object_memory: float = 5.0
     robot_length: float = 0.99
     robot_width: float = 0.67
-    turn_sweep_memory: float = 0.0
+    turn_sweep_memory: float = 2.0
     turn_sweep_margin: float = 0.05
+    turn_sweep_spot_distance: float = 0.6
     yield_corridor_width: float = 0.0
     yield_trigger_distance: float = 8.0
     yield_side_clearance: float = 1.5
@@ -189,7 +193,7 @@ class NavigatorConfig:
     def __post_init__(self):
         for name in ('safety_radius', 'footprint_radius', 'no_path_retry_period',
                      'obstacle_proximity_cost', 'forget_obstacles_after', 'turn_sweep_memory',
-                     'turn_sweep_margin'):
+                     'turn_sweep_margin', 'turn_sweep_spot_distance'):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0.0):
                 raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
@@ -304,7 +308,7 @@ class Navigator:
         self._last_stamp = None
         self.turn_sweep = None if config.turn_sweep_memory == 0.0 else TurnSweep(
             config.turn_sweep_memory, config.robot_length, config.robot_width,
-            config.turn_sweep_margin)
+            config.turn_sweep_margin, spot_distance=config.turn_sweep_spot_distance)
         yield_config = config.yield_config()
         self._yield = (HeadOnYield(yield_config, self.grid.geometry, config.safety_radius,
                                    config.follower) if yield_config.enabled else None)
@@ -406,8 +410,10 @@ class Navigator:
         if self.turn_sweep is not None:
             points = scan_points(laser_pose, self._last_scan[1], angle_min, angle_increment,
                                  range_min, range_max)
-            self.turn_sweep.add_scan(stamp, pose[:2],
-                                     np.column_stack((points.hits_x, points.hits_y)))
+            self.turn_sweep.add_scan(
+                stamp, pose[:2], np.column_stack((points.hits_x, points.hits_y)),
+                view=(laser_pose, self._last_scan[1], angle_min, angle_increment, range_min,
+                      range_max))
 
     def decide(self, stamp, pose):
         """
@@ -454,7 +460,8 @@ class Navigator:
             if out is not None:
                 if self.turn_sweep is None:
                     return out
-                return replace(out, command=self.turn_sweep.check(out.command, pose))
+                return replace(out, command=self.turn_sweep.check(out.command, pose,
+                                                                  self._obstacle_at))
         replanned = False
         cause = ReplanCause.NONE
         if replan_flag or self._path_is_stale(pose):
@@ -481,7 +488,7 @@ class Navigator:
             self.reason = 'inside the goal tolerance'
             return NavigatorOutput(STOP, self.status, self.reason, replanned, cause)
         if self.turn_sweep is not None:
-            command = self.turn_sweep.check(command, pose)
+            command = self.turn_sweep.check(command, pose, self._obstacle_at)
         return NavigatorOutput(command, self.status, self.reason, replanned, cause)
 
     def _decide_yield(self, stamp, pose):
@@ -619,6 +626,15 @@ class Navigator:
         self.status = NavigatorStatus.NO_PATH
         self.reason = reason
         return True
+
+    def _obstacle_at(self, xy):
+        """Tell which map-frame points (N, 2) [m] lie on cells the grid holds as obstacles."""
+        geometry = self.grid.geometry
+        rr, cc = geometry.world_to_cell(xy[:, 0], xy[:, 1])
+        inside = geometry.contains_cell(rr, cc)
+        obstacle = np.zeros(xy.shape[0], dtype=bool)
+        obstacle[inside] = blocked_mask(self.grid.labels[rr[inside], cc[inside]])
+        return obstacle
 
     def _footprint(self, pose):
         """Return the window around the robot and its cells within ``footprint_radius``."""
