@@ -473,14 +473,9 @@ class HeadOnYield:
 
         Parameters
         ----------
-        stamp : float
-            [s]
-        pose : (float, float, float)
-            Robot base [m, m, rad].
-        labels : (H, W) ndarray of uint8
-            The grid's labels.
-        footprint : (slice, slice, ndarray of bool)
-            As for `start`.
+        stamp, pose, labels, footprint
+            As for `encounter` (time [s], robot base [m, m, rad], the grid's labels, the
+            robot's own cells).
 
         Returns
         -------
