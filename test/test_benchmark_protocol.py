@@ -70,10 +70,15 @@ def test_navigator_variants_are_valid_configs():
     dpn_yield = NavigatorConfig(width=10.0, height=10.0, **NAVIGATORS['dpn_yield'])
     assert dpn_yield.yield_config().enabled
     assert dpn_yield.label_rule() == NavigatorConfig(width=10.0, height=10.0).label_rule()
-    # The turn sweep: on in dpn, off in paper, dpn_no_sweep and the reference navigators.
-    assert paper.turn_sweep_memory == 0.0
-    assert NavigatorConfig(width=10.0, height=10.0).turn_sweep_memory > 0.0
-    for name in ('dpn_no_sweep', 'costmap', 'oracle'):
+    # The turn sweep: on in dpn and the reference navigators (dpn's follower), off in paper
+    # and dpn_no_sweep.
+    shipped = NavigatorConfig(width=10.0, height=10.0)
+    assert shipped.turn_sweep_memory > 0.0
+    for name in ('costmap', 'oracle'):
+        reference = NavigatorConfig(width=10.0, height=10.0, **NAVIGATORS[name])
+        assert reference.turn_sweep_memory == shipped.turn_sweep_memory
+        assert reference.turn_sweep_spot_distance == shipped.turn_sweep_spot_distance
+    for name in ('paper', 'dpn_no_sweep'):
         assert NavigatorConfig(width=10.0, height=10.0,
                                **NAVIGATORS[name]).turn_sweep_memory == 0.0
 

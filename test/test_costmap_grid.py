@@ -13,8 +13,9 @@ import subprocess
 import sys
 
 from dpn_navigator.core.cell_label import CellLabel, ScanInput
-from dpn_navigator.core.costmap_grid import (_clear_rays, bresenham_cells, CostmapConfig,
-                                             CostmapGrid, inflate, layer_geometry_for)
+from dpn_navigator.core.costmap_grid import (_clear_rays, any_in_blocks, bresenham_cells,
+                                             CostmapConfig, CostmapGrid, inflate,
+                                             layer_geometry_for)
 from dpn_navigator.core.grid_geometry import GridGeometry
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -355,3 +356,41 @@ def test_core_module_needs_no_ros():
     code = ('import sys; import dpn_navigator.core.costmap_grid; '
             "assert 'rclpy' not in sys.modules")
     subprocess.run([sys.executable, '-c', code], check=True)
+
+
+@settings(max_examples=200, deadline=None)
+@given(factor=st.integers(1, 6), rows=st.integers(1, 7), cols=st.integers(1, 7),
+       density=st.floats(0.0, 1.0), seed=st.integers(0, 2**32 - 1))
+def test_any_in_blocks_is_numpys_block_reduction(factor, rows, cols, density, seed):
+    mask = np.random.default_rng(seed).random((rows * factor, cols * factor)) < density
+    expected = mask.reshape(rows, factor, cols, factor).any(axis=(1, 3))
+    np.testing.assert_array_equal(any_in_blocks(mask, factor), expected)
+
+
+def test_any_in_blocks_refuses_a_mask_that_does_not_split():
+    with pytest.raises(ValueError, match='does not split'):
+        any_in_blocks(np.zeros((10, 9), dtype=bool), 2)
+    with pytest.raises(ValueError, match='does not split'):
+        any_in_blocks(np.zeros((10, 10), dtype=bool), 0)
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), scans=st.integers(1, 8), factor=st.sampled_from([1, 5]))
+def test_labels_reduce_the_whole_layer_after_windowed_updates(seed, scans, factor):
+    """Labels and ``lethal_labels`` equal a whole-layer reduction after every update."""
+    rng = np.random.default_rng(seed)
+    costmap = CostmapGrid(20.0, 15.0, 0.5, (-2.0, 1.0), CONFIG, layer_resolution=0.5 / factor)
+    rows, cols = costmap.geometry.shape
+    for _ in range(scans):
+        pose = (rng.uniform(-4.0, 20.0), rng.uniform(-1.0, 18.0), rng.uniform(-math.pi, math.pi))
+        ranges = rng.uniform(0.2, 30.0, 64)
+        ranges[rng.random(64) < 0.1] = np.inf
+        costmap.update(pose, ranges, -1.5, 0.05, 0.1, 30.0, 0.6)
+        lethal = costmap.lethal.reshape(rows, factor, cols, factor).any(axis=(1, 3))
+        free = costmap.known_free.reshape(rows, factor, cols, factor).any(axis=(1, 3))
+        blocked = inflate(costmap.lethal, costmap.layer_geometry, costmap.geometry, 0.6)
+        assert_array_equal(costmap.labels, np.where(blocked, CellLabel.STEADY_OBSTACLE, np.where(
+            free, CellLabel.EXPLORED, CellLabel.NON_EXPLORED)))
+        assert_array_equal(costmap.lethal_labels(), np.where(
+            lethal, CellLabel.STEADY_OBSTACLE, np.where(free, CellLabel.EXPLORED,
+                                                        CellLabel.NON_EXPLORED)))

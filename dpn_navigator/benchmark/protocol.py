@@ -23,13 +23,12 @@ import numpy as np
 #: obstacle proximity cost of A*, forgetting unseen obstacles when stuck, the label rules:
 #: conservative free space, object-level relabelling and ghost expiry, and the turn sweep).
 #: The two reference navigators (`MAP_MODELS`) plan on another map with dpn's planner and
-#: follower; they forget nothing (the costmap has no decay, the oracle
+#: follower, the turn sweep included; they forget nothing (the costmap has no decay, the oracle
 #: nothing to forget). ``dpn_yield`` is dpn with the head-on yield state on
 #: (``NavigatorConfig.yield_corridor_width``, off by default); paper names it off, so that it
 #: stays the paper's method whatever the default. ``dpn_no_sweep`` is dpn with the turn sweep
 #: off (``NavigatorConfig.turn_sweep_memory``, on by default), as shipped before 25 November;
-#: paper names it off too, and so do the two reference navigators, whose logged results came
-#: before it.
+#: paper names it off too.
 NAVIGATORS = {
     'dpn': {},
     'dpn_yield': {'yield_corridor_width': 2.5},
@@ -39,8 +38,8 @@ NAVIGATORS = {
               'track_confirm_time': 0.0, 'track_still_distance': 0.0, 'track_exclusive': False,
               'trail_distance': 0.0, 'object_memory': 0.0, 'turn_sweep_memory': 0.0,
               'yield_corridor_width': 0.0},
-    'costmap': {'forget_obstacles_after': 0.0, 'turn_sweep_memory': 0.0},
-    'oracle': {'forget_obstacles_after': 0.0, 'turn_sweep_memory': 0.0},
+    'costmap': {'forget_obstacles_after': 0.0},
+    'oracle': {'forget_obstacles_after': 0.0},
 }
 
 #: The map each ``--navigator`` plans on: ``labels`` (the paper's labelled grid,

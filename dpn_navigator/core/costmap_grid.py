@@ -256,6 +256,50 @@ def _clear_rays(start_rr, start_cc, end_rr, end_cc, max_cells, factor, lethal, k
                 error -= abs_a
 
 
+def any_in_blocks(layer_mask, factor):
+    """
+    Reduce a fine mask to a coarse grid: True where any of a coarse cell's fine cells is.
+
+    Parameters
+    ----------
+    layer_mask : (h, w) ndarray of bool
+        On the fine grid; ``h`` and ``w`` are whole multiples of ``factor``.
+    factor : int
+        Fine cells per coarse cell side, >= 1.
+
+    Returns
+    -------
+    cells : (h // factor, w // factor) ndarray of bool
+        ``layer_mask.reshape(h // factor, factor, w // factor, factor).any(axis=(1, 3))``,
+        computed in one compiled pass (numpy's reduction over two strided axes took about
+        1 ms per update of a 200 m x 200 m layer of 0.1 m cells).
+
+    Raises
+    ------
+    ValueError
+        If the mask is not 2-D or its sides are not whole multiples of ``factor``.
+
+    """
+    layer_mask = np.ascontiguousarray(layer_mask, dtype=bool)
+    factor = int(factor)
+    if layer_mask.ndim != 2 or factor < 1 or any(side % factor for side in layer_mask.shape):
+        raise ValueError(f'a mask of shape {layer_mask.shape} does not split into blocks of '
+                         f'{factor} x {factor} cells')
+    cells = np.zeros((layer_mask.shape[0] // factor, layer_mask.shape[1] // factor), dtype=bool)
+    _any_in_blocks(layer_mask, factor, cells)
+    return cells
+
+
+@kernel
+def _any_in_blocks(layer_mask, factor, cells):
+    """Set ``cells[i // factor, j // factor]`` wherever ``layer_mask[i, j]`` is True."""
+    for i in range(layer_mask.shape[0]):
+        row = i // factor
+        for j in range(layer_mask.shape[1]):
+            if layer_mask[i, j]:
+                cells[row, j // factor] = True
+
+
 def warm_up_costmap():
     """Compile (or load from the cache) the costmap's kernels with a tiny call."""
     layer = np.zeros((2, 2), dtype=bool)
@@ -263,6 +307,7 @@ def warm_up_costmap():
     _inflate(layer, 0.0, 0.0, 0.5, 0.0, 0.0, 0.5, 0.6, np.zeros((2, 2), dtype=bool))
     one = np.zeros(1, dtype=np.int64)
     _clear_rays(0, 0, one, one + 1, 1, 1, layer, layer.copy(), layer.copy())
+    _any_in_blocks(layer, 1, np.zeros((2, 2), dtype=bool))
 
 
 def layer_geometry_for(geometry, layer_resolution):
@@ -317,7 +362,8 @@ class CostmapGrid(ChangeTrackers):
         The obstacle layer's ``LETHAL_OBSTACLE`` cells, on ``layer_geometry``.
     known_free : (h, w) ndarray of bool
         Layer cells a ray has cleared and no point marked since (``FREE_SPACE``); the rest of
-        the non-lethal cells are ``NO_INFORMATION``.
+        the non-lethal cells are ``NO_INFORMATION``. Change these two only through `update`
+        and `reset`: they keep the planning-cell views that ``labels`` is built from.
     labels : (H, W) ndarray of uint8
         On ``geometry``: ``STEADY_OBSTACLE`` where the centre is within the inflation radius of
         a lethal cell's centre, else ``EXPLORED`` where a layer cell is known free, else
@@ -338,6 +384,8 @@ class CostmapGrid(ChangeTrackers):
         self.lethal = np.zeros(self.layer_geometry.shape, dtype=bool)
         self.known_free = np.zeros(self.layer_geometry.shape, dtype=bool)
         self.labels = np.full(self.geometry.shape, CellLabel.NON_EXPLORED, dtype=LABEL_DTYPE)
+        self._lethal_cells = np.zeros(self.geometry.shape, dtype=bool)
+        self._free_cells = np.zeros(self.geometry.shape, dtype=bool)
         self.last_window = _EMPTY_WINDOW
         self._trackers = []
 
@@ -389,11 +437,11 @@ class CostmapGrid(ChangeTrackers):
         marked_rr, marked_cc = marked_rr[on_grid], marked_cc[on_grid]
         self.lethal[marked_rr, marked_cc] = True
         self.known_free[marked_rr, marked_cc] = False
+        self._reduce_to_cells(pose, points_x, points_y)
         before = self.labels
         blocked = inflate(self.lethal, layer, self.geometry, safety_radius)
         self.labels = np.where(blocked, CellLabel.STEADY_OBSTACLE, np.where(
-            self._any_in_cell(self.known_free), CellLabel.EXPLORED,
-            CellLabel.NON_EXPLORED)).astype(LABEL_DTYPE)
+            self._free_cells, CellLabel.EXPLORED, CellLabel.NON_EXPLORED)).astype(LABEL_DTYPE)
         self._record_window(pose, points_x, points_y, cleared, marked_rr, marked_cc,
                             safety_radius)
         if path is None or not path.shape[0]:
@@ -401,11 +449,25 @@ class CostmapGrid(ChangeTrackers):
         return bool((~blocked_mask(before[path[:, 0], path[:, 1]])
                      & blocked[path[:, 0], path[:, 1]]).any())
 
-    def _any_in_cell(self, layer_mask):
-        """Reduce a layer mask to the planning grid: True where any of a cell's layer cells is."""
-        rows, cols = self.geometry.shape
+    def _reduce_to_cells(self, pose, points_x, points_y):
+        """
+        Bring the planning-cell views of ``lethal`` and ``known_free`` up to date.
+
+        An update changes layer cells only on its rays and at its points, all inside the box
+        of the sensor and the points, so only the planning cells of that box are reduced again.
+        """
+        rows, cols = self.geometry.cell_window(
+            min(pose[0], float(points_x.min(initial=pose[0]))),
+            max(pose[0], float(points_x.max(initial=pose[0]))),
+            min(pose[1], float(points_y.min(initial=pose[1]))),
+            max(pose[1], float(points_y.max(initial=pose[1]))))
         factor = self._factor
-        return layer_mask.reshape(rows, factor, cols, factor).any(axis=(1, 3))
+        layer_rows = slice(rows.start * factor, rows.stop * factor)
+        layer_cols = slice(cols.start * factor, cols.stop * factor)
+        self._lethal_cells[rows, cols] = any_in_blocks(self.lethal[layer_rows, layer_cols],
+                                                       factor)
+        self._free_cells[rows, cols] = any_in_blocks(self.known_free[layer_rows, layer_cols],
+                                                     factor)
 
     def _points(self, pose, ranges, angle_min, angle_increment, range_min, range_max):
         """Project the scan as ``laser_geometry`` does; return x, y [m] and distance [m]."""
@@ -475,9 +537,8 @@ class CostmapGrid(ChangeTrackers):
             ``EXPLORED`` where one is known free, else ``NON_EXPLORED``.
 
         """
-        return np.where(self._any_in_cell(self.lethal), CellLabel.STEADY_OBSTACLE, np.where(
-            self._any_in_cell(self.known_free), CellLabel.EXPLORED,
-            CellLabel.NON_EXPLORED)).astype(LABEL_DTYPE)
+        return np.where(self._lethal_cells, CellLabel.STEADY_OBSTACLE, np.where(
+            self._free_cells, CellLabel.EXPLORED, CellLabel.NON_EXPLORED)).astype(LABEL_DTYPE)
 
     def blocked(self):
         """Cells planning avoids: the inflated lethal cells, ``(H, W)`` bool."""
@@ -487,6 +548,8 @@ class CostmapGrid(ChangeTrackers):
         """Forget everything (Nav2's ``ClearEntireCostmap``)."""
         self.lethal.fill(False)
         self.known_free.fill(False)
+        self._lethal_cells.fill(False)
+        self._free_cells.fill(False)
         self.labels.fill(CellLabel.NON_EXPLORED)
         self.last_window = _EMPTY_WINDOW
         self.labels_changed()
