@@ -3,8 +3,9 @@
 import json
 
 from dpn_navigator.benchmark.compare_report import (common_episodes, compare_markdown,
-                                                    load_runs, main, ratio_matrix,
-                                                    save_compare_figure)
+                                                    load_runs, main, paired_outcomes,
+                                                    ratio_matrix, save_compare_figure,
+                                                    sign_test)
 from dpn_navigator.benchmark.episode_log import EpisodeLog
 import numpy as np
 import pytest
@@ -45,7 +46,9 @@ def test_compare_markdown_tables_and_shortfalls():
     assert '| oracle | 100.0 | 50.0 | 75.0 | 2 | 0 | 0 |' in text
     assert '| 3 back_and_forth | 50 | 50 |' in text and '| 15 maze | 75 | 100 |' in text
     assert 'Overall dpn / oracle: 0.833.' in text
-    assert '| 3 back_and_forth | 1.00 | - |' in text and '| 15 maze | 1.00 | 0.50 |' in text
+    assert '| 3 back_and_forth | 1.00 | - | 1.00 |' in text
+    assert '| 15 maze | 1.00 | 0.50 | 0.75 |' in text
+    assert '| oracle | 0 / 0 | 0 / 1 | **0 / 1** | 1 |' in text
     assert '| 15 maze | 5 | 50 | 100 | no_path |' in text
     assert 'Nowhere.' in compare_markdown(rows, threshold=0.4)
     # Without the oracle there is no ratio section.
@@ -90,3 +93,19 @@ def test_bad_folders_are_refused(tmp_path, capsys):
         load_runs([tmp_path / 'nothing'])
     with pytest.raises(ValueError, match='no episodes'):
         save_compare_figure(tmp_path / 'x.png', {'dpn': []})
+
+
+def test_paired_outcomes_count_the_episodes_only_one_navigator_won():
+    rows = runs()
+    assert paired_outcomes(rows['dpn'], rows['oracle']) == {0: (0, 0), 5: (0, 1)}
+    assert paired_outcomes(rows['oracle'], rows['dpn']) == {0: (0, 0), 5: (1, 0)}
+    # An episode the other did not run is not compared.
+    extra = rows['dpn'] + [make_row('maze', 15, wanderers=5, seed=7, failure='timeout')]
+    assert paired_outcomes(extra, rows['oracle']) == {0: (0, 0), 5: (0, 1)}
+
+
+@pytest.mark.parametrize('won, lost, p', [(0, 0, 1.0), (1, 0, 1.0), (5, 0, 0.0625),
+                                          (0, 5, 0.0625), (9, 1, 0.021484375),
+                                          (3, 3, 1.0), (10, 0, 2.0 / 1024)])
+def test_sign_test_is_the_exact_binomial_tail(won, lost, p):
+    assert sign_test(won, lost) == pytest.approx(p)

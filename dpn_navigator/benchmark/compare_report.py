@@ -7,7 +7,8 @@ in their ``run.json``)::
     python -m dpn_navigator.benchmark.compare_report out/dpn out/costmap out/oracle --out out/cmp
 
 It writes ``compare.md`` (success per navigator and wanderer count with failures by reason,
-success per map, ``subject / reference`` per map and wanderer count, and the pairs where the
+success per map, the subject against every other navigator episode by episode with an exact
+sign test, ``subject / reference`` per map and wanderer count, and the pairs where the
 subject falls below ``--threshold`` of the reference) and ``compare.png``. Only the episodes
 every folder holds are compared (same maps, tasks, wanderer counts and seeds, so the same
 wanderers); the report says how many that is.
@@ -115,6 +116,49 @@ def ratio_matrix(subject_rows, reference_rows):
     return ratios, counts, maps
 
 
+def paired_outcomes(subject_rows, other_rows):
+    """
+    Count the episodes one navigator succeeded in and the other did not, per wanderer count.
+
+    Parameters
+    ----------
+    subject_rows, other_rows : list of dict
+        Rows of the same episodes (`common_episodes`); rows whose key the other lacks are
+        ignored.
+
+    Returns
+    -------
+    outcomes : dict
+        ``{wanderers: (won, lost)}``: episodes only the subject succeeded in, and episodes
+        only the other did, for every wanderer count of the subject's rows.
+
+    """
+    other = {row_key(row): row['success'] for row in other_rows}
+    outcomes = {}
+    for row in subject_rows:
+        won, lost = outcomes.get(row['wanderers'], (0, 0))
+        key = row_key(row)
+        if key in other and row['success'] != other[key]:
+            won, lost = (won + 1, lost) if row['success'] else (won, lost + 1)
+        outcomes[row['wanderers']] = (won, lost)
+    return dict(sorted(outcomes.items()))
+
+
+def sign_test(won, lost):
+    """
+    Return the exact two-sided sign-test p-value of ``won`` against ``lost`` (McNemar's exact).
+
+    Of the episodes that two navigators end differently, each is as likely to go either way
+    when the navigators are equally good; the p-value is the probability of a split at least
+    this uneven under that hypothesis. 1.0 when no episode differs.
+    """
+    total = won + lost
+    if total == 0:
+        return 1.0
+    tail = sum(math.comb(total, k) for k in range(min(won, lost) + 1))
+    return min(1.0, 2.0 * tail / 2.0 ** total)
+
+
 def compare_markdown(rows_by_navigator, subject='dpn', reference='oracle',
                      threshold=DEFAULT_THRESHOLD, dropped=0):
     """
@@ -160,10 +204,31 @@ def compare_markdown(rows_by_navigator, subject='dpn', reference='oracle',
         cells = [f'{100.0 * success_rate([r for r in rows_by_navigator[name] if r["map"] == map_name]):.0f}'  # noqa: E501
                  for name in names]
         lines.append(f'| {label} | ' + ' | '.join(cells) + ' |')
+    if subject in rows_by_navigator and len(names) > 1:
+        lines += _paired_lines(rows_by_navigator, subject, counts)
     if subject in rows_by_navigator and reference in rows_by_navigator:
         lines += _ratio_lines(rows_by_navigator[subject], rows_by_navigator[reference],
                               subject, reference, threshold)
     return '\n'.join(lines) + '\n'
+
+
+def _paired_lines(rows_by_navigator, subject, counts):
+    """Return the episode-by-episode table of ``subject`` against the others as Markdown."""
+    lines = ['', f'## {subject} against each navigator, episode by episode', '',
+             f'won / lost: episodes only {subject} succeeded in / only the other did. p: exact '
+             'two-sided sign test on those episodes (small p: the difference is not chance).',
+             '', '| against | ' + ' | '.join(str(count) for count in counts) + ' | all | p |',
+             '|---|' + '---:|' * (len(counts) + 2)]
+    for name, rows in rows_by_navigator.items():
+        if name == subject:
+            continue
+        outcomes = paired_outcomes(rows_by_navigator[subject], rows)
+        won = sum(pair[0] for pair in outcomes.values())
+        lost = sum(pair[1] for pair in outcomes.values())
+        cells = ['{} / {}'.format(*outcomes.get(count, (0, 0))) for count in counts]
+        lines.append(f'| {name} | ' + ' | '.join(cells)
+                     + f' | **{won} / {lost}** | {sign_test(won, lost):.2g} |')
+    return lines
 
 
 def _ratio_lines(subject_rows, reference_rows, subject, reference, threshold):
@@ -174,13 +239,17 @@ def _ratio_lines(subject_rows, reference_rows, subject, reference, threshold):
     overall = success_rate(subject_rows) / success_rate(reference_rows)
     lines = ['', f'## {subject} / {reference} success per map and wanderer count', '',
              f'Overall {subject} / {reference}: {overall:.3f}. "-": {reference} never '
-             'succeeded there.', '',
-             '| map | ' + ' | '.join(str(count) for count in counts) + ' |',
-             '|---|' + '---:|' * len(counts)]
-    for j, (_, _, label) in enumerate(maps):
+             'succeeded there. all: every wanderer count of the map pooled.', '',
+             '| map | ' + ' | '.join(str(count) for count in counts) + ' | all |',
+             '|---|' + '---:|' * (len(counts) + 1)]
+    for j, (name, _, label) in enumerate(maps):
+        possible = success_rate([row for row in reference_rows if row['map'] == name])
+        pooled = (success_rate([row for row in subject_rows if row['map'] == name]) / possible
+                  if possible > 0.0 else math.nan)
         lines.append(f'| {label} | ' + ' | '.join(
             '-' if np.isnan(ratios[i, j]) else f'{ratios[i, j]:.2f}'
-            for i in range(len(counts))) + ' |')
+            for i in range(len(counts))) + (' | -' if np.isnan(pooled) else f' | {pooled:.2f}')
+            + ' |')
     short = [(maps[j], counts[i]) for i, j in zip(*np.nonzero(ratios < threshold))]
     lines += ['', f'## Where {subject} is below {100.0 * threshold:.0f} % of {reference}', '']
     if not short:
@@ -241,8 +310,7 @@ def save_compare_figure(path, rows_by_navigator, subject='dpn', reference='oracl
         ratios, counts, ratio_maps = ratio_matrix(rows_by_navigator[subject],
                                                   rows_by_navigator[reference])
         heat = axes[1, 0]
-        colours_map = pyplot.get_cmap('RdYlGn').copy()
-        colours_map.set_bad('#d9d9d9')
+        colours_map = pyplot.get_cmap('RdYlGn').with_extremes(bad='#d9d9d9')
         image = heat.imshow(np.ma.masked_invalid(ratios), aspect='auto', cmap=colours_map,
                             vmin=0.5, vmax=1.0, interpolation='nearest')
         for i in range(len(counts)):
