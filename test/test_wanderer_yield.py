@@ -1,8 +1,8 @@
 """
 Tests of the wanderers' mutual yield (``WandererConfig.mutual_yield``).
 
-Off, a seeded crowd moves exactly as before the option existed (a hash of its trajectories,
-computed with the code before the change). On, two wanderers scripted head-on in a corridor
+Off, the option's code is never entered, so a seeded crowd moves exactly as it did before the
+option existed (its trajectories equal those of a run whose yield code raises if reached). On, two wanderers scripted head-on in a corridor
 with a bay are through within a bound, where without it they stand face to face until their
 patience runs out.
 
@@ -26,9 +26,6 @@ from sim_bridge.world import wanderer_clearance_grid
 DT = 0.02
 FAR = (100.0, 100.0)  # the Husky, out of the way [m]
 
-#: sha256 of `crowd_digest` with the code of commit c2b5972 (before `mutual_yield` existed).
-CROWD_DIGEST_BEFORE = '71fb2e199d0cc38e9e8f2597d4ce2490a31ddcf6026129b1ccb8a4274c91a13d'
-
 
 def crowd_digest(wanderers_class, config):
     """
@@ -50,18 +47,31 @@ def crowd_digest(wanderers_class, config):
     return digest.hexdigest(), wanderers
 
 
-def test_with_the_option_off_a_seeded_crowd_moves_as_before():
+class NoYieldWanderers(Wanderers):
+    """Wanderers whose yield code fails the test if it is ever reached."""
+
+    def _yield_to(self, i, blocker, husky_xy):
+        raise AssertionError('the mutual yield ran with the option off')
+
+    def _give_way(self, i, j, husky_xy):
+        raise AssertionError('the mutual yield ran with the option off')
+
+
+def test_with_the_option_off_a_seeded_crowd_never_enters_the_yield():
     assert not WandererConfig().mutual_yield
     digest, wanderers = crowd_digest(Wanderers, WandererConfig())
-    assert digest == CROWD_DIGEST_BEFORE
-    assert wanderers.replans > 0 and wanderers.yields == 0
+    fenced_digest, fenced = crowd_digest(NoYieldWanderers, WandererConfig())
+    assert digest == fenced_digest
+    assert wanderers.replans > 0 and wanderers.yields == 0 == fenced.yields
 
 
 def test_the_digest_sees_a_change_of_behaviour():
-    # The same crowd with the option on: the test above can fail.
+    # The same crowd with the option on yields and moves otherwise: the test above can fail.
     digest, wanderers = crowd_digest(Wanderers, WandererConfig(mutual_yield=True))
     assert wanderers.yields > 0
-    assert digest != CROWD_DIGEST_BEFORE
+    assert digest != crowd_digest(Wanderers, WandererConfig())[0]
+    with pytest.raises(AssertionError, match='ran with the option off'):
+        crowd_digest(NoYieldWanderers, WandererConfig(mutual_yield=True))
 
 
 @pytest.mark.parametrize('kwargs, match', [
