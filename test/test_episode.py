@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 from sim_bridge.scenario import load_scenario
 from sim_bridge.tasks import Task
+from sim_bridge.wanderers import WandererConfig
 
 N, E, S, M = (CellLabel.NON_EXPLORED, CellLabel.EXPLORED, CellLabel.STEADY_OBSTACLE,
               CellLabel.MOBILE_OBSTACLE)
@@ -57,6 +58,14 @@ def test_an_episode_succeeds_and_repeats_exactly(back_and_forth):
     assert setup.shortest_path == shortest_path_length(back_and_forth, back_and_forth.tasks[1])
     assert first == run_episode(back_and_forth, 1, wanderers=2, seed=3, setup=setup)
     assert not setup.wanderer_grid.clear.flags.writeable
+
+
+def test_the_wanderer_config_reaches_the_world(back_and_forth):
+    # The setup's grid is for the default clearance: the world refuses it for another one.
+    setup = task_setup(back_and_forth, 0)
+    with pytest.raises(ValueError, match='clearance of .* the wanderers keep 1.0 m'):
+        run_episode(back_and_forth, 0, wanderers=1, seed=0, time_limit=1.0, setup=setup,
+                    wanderer_config=WandererConfig(clearance=1.0))
 
 
 def test_running_out_of_time_is_a_timeout(back_and_forth):

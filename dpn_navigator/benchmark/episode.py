@@ -18,6 +18,7 @@ Episode rules:
 
 """
 
+import dataclasses
 from dataclasses import dataclass, field
 import math
 import time
@@ -282,7 +283,7 @@ def build_map(map_model, navigator_config, scenario, wanderer_radius, range_max)
 
 def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
                 time_limit=None, recorder=None, navigator_options=None, detection=True,
-                setup=None, map_model='labels'):
+                setup=None, map_model='labels', wanderer_config=None):
     """
     Run one episode in lockstep and measure it.
 
@@ -315,6 +316,9 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
     map_model : str
         The map the navigator plans on (`build_map`); the oracle's map reads the wanderers'
         true positions before every step and has no detection measures.
+    wanderer_config : sim_bridge.wanderers.WandererConfig, optional
+        The wanderers' behaviour (default: ``WorldConfig``'s); its ``clearance`` must be the
+        default one when ``setup`` holds a prebuilt wanderer grid.
 
     Returns
     -------
@@ -336,7 +340,10 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
     if time_limit is None:
         time_limit = 30.0 + 3.0 * shortest / navigator_config.follower.max_linear_speed
     travelled = 0.0
-    with World(scenario, WorldConfig(n_wanderers=wanderers, seed=seed), start=task.start,
+    world_config = WorldConfig(n_wanderers=wanderers, seed=seed)
+    if wanderer_config is not None:
+        world_config = dataclasses.replace(world_config, wanderer=wanderer_config)
+    with World(scenario, world_config, start=task.start,
                wanderer_grid=setup.wanderer_grid) as world:
         scan = world.scan()
         grid = build_map(map_model, navigator_config, scenario, world.wanderer_radius,
