@@ -2,9 +2,9 @@
 Tests of the wanderers' mutual yield (``WandererConfig.mutual_yield``).
 
 Off, the option's code is never entered, so a seeded crowd moves exactly as it did before the
-option existed (its trajectories equal those of a run whose yield code raises if reached). On, two wanderers scripted head-on in a corridor
-with a bay are through within a bound, where without it they stand face to face until their
-patience runs out.
+option existed (its trajectories equal those of a run whose yield code raises if reached).
+On, two wanderers scripted head-on in a corridor with a bay are through within a bound, where
+without it they stand face to face until their patience runs out.
 
 """
 
