@@ -152,10 +152,24 @@ def test_edge_bands_and_discs_equal_a_test_of_every_cell(resolution):
     span = np.array([n_cols, n_rows]) * resolution
     radius = 0.6
     bound = label_kernel.squared_bound(radius)
-    for _ in range(150):
-        # Edges of every length, from a tenth of a cell to across the window.
+    for case in range(300):
+        # Edges of every length, from a tenth of a cell to across the window; every third
+        # along an axis, every third with both ends on a quarter-cell lattice (so that cell
+        # centres fall exactly on a band's sides and ends).
         a = low + rng.uniform(-0.2, 1.2, 2) * span
         b = a + rng.normal(0.0, 1.0, 2) * resolution * rng.choice([0.1, 1.0, 10.0])
+        if case % 3 == 1:
+            axis = (case // 3) % 2
+            b[axis] = a[axis]
+        elif case % 3 == 2:
+            origin = np.array([x0, y0])
+            quarter = resolution / 4
+            a = origin + np.round((a - origin) / quarter) * quarter
+            b = origin + np.round((b - origin) / quarter) * quarter
+            if case % 2:
+                b[case % 4 // 2] = a[case % 4 // 2]
+            if np.array_equal(a, b):
+                continue
         xs, ys = np.array([a[0], b[0]]), np.array([a[1], b[1]])
         band = np.zeros((n_rows, n_cols), dtype=bool)
         label_kernel._mark_edge_bands(band, row0, col0, x0, y0, resolution, xs, ys, radius)

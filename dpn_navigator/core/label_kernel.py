@@ -37,6 +37,13 @@ for _label in CellLabel:
     for _scan_input in ScanInput:
         _TRANSITION_BY_CODE[(_label << 2) | _scan_input] = TRANSITION[_label, _scan_input]
 
+# The update writes f2 cells as explored and leaves cells without input alone, under every
+# rule, without looking the table up: the paper's FSM says so for every label.
+if not ((TRANSITION[:, ScanInput.INSIDE] == CellLabel.EXPLORED).all()
+        and (TRANSITION[:, ScanInput.NONE] == np.arange(len(CellLabel))).all()):
+    raise ImportError('label_kernel expects f2 cells to become explored and cells without '
+                      'input to keep their label (cell_label.TRANSITION)')
+
 _NON_EXPLORED = int(CellLabel.NON_EXPLORED)
 _EXPLORED = int(CellLabel.EXPLORED)
 _STEADY = int(CellLabel.STEADY_OBSTACLE)
@@ -125,6 +132,43 @@ def _disc_rows(py, radius, row0, n_rows, y0, resolution):
 
 
 @kernel
+def _disc_spans(px, py, radius, bound, row0, n_rows, col0, n_cols, x0, y0, resolution, spans):
+    """
+    Find the window cells within ``radius`` of ``(px, py)``, one run of columns per row.
+
+    ``spans[i - first_row]`` becomes the half-open columns ``(first, end)`` of window row
+    ``i`` whose centre passes ``dx * dx + dy * dy <= bound`` (maybe empty); returns
+    ``(first_row, end_row)``. ``spans`` needs ``n_rows`` rows.
+
+    The rows at and above ``py`` have ``dy >= 0`` growing row by row, those below ``dy < 0``
+    shrinking, and the expression is monotone in ``dy * dy`` (rounding included): so a row's
+    run lies within that of its neighbour nearer to ``py``, and is found by shrinking that one.
+    Only the row nearest ``py`` on each side is searched from the square root.
+    """
+    first_row, end_row = _disc_rows(py, radius, row0, n_rows, y0, resolution)
+    split = min(max(_count_below(row0, n_rows, y0, resolution, py), first_row), end_row)
+    for step in (1, -1):
+        first = 0
+        end = -1                                    # -1: no run found on this side yet
+        i = split if step == 1 else split - 1
+        while first_row <= i < end_row:
+            dy = (y0 + (float(row0 + i) + 0.5) * resolution) - py
+            dy2 = dy * dy
+            if end < 0:
+                if dy2 > bound:
+                    first = end = 0
+                else:
+                    half = math.sqrt(bound - dy2)
+                    first = _box_first(col0, n_cols, x0, resolution, px - half)
+                    end = _box_end(col0, n_cols, x0, resolution, px + half)
+            first, end = _disc_span(first, end, col0, x0, resolution, px, dy2, bound)
+            spans[i - first_row, 0] = first
+            spans[i - first_row, 1] = end
+            i += step
+    return first_row, end_row
+
+
+@kernel
 def _mark_discs(mark, value, xs, ys, count, selected, row0, col0, x0, y0, resolution, radius,
                 bound, extent):
     """
@@ -136,21 +180,15 @@ def _mark_discs(mark, value, xs, ys, count, selected, row0, col0, x0, y0, resolu
     ``extent[i]`` is widened to hold the columns marked in row ``i``.
     """
     n_rows, n_cols = mark.shape
+    spans = np.empty((n_rows, 2), dtype=np.int64)
     for k in range(count):
         if selected.shape[0] and not selected[k]:
             continue
-        px = xs[k]
-        py = ys[k]
-        first_row, end_row = _disc_rows(py, radius, row0, n_rows, y0, resolution)
+        first_row, end_row = _disc_spans(xs[k], ys[k], radius, bound, row0, n_rows, col0,
+                                         n_cols, x0, y0, resolution, spans)
         for i in range(first_row, end_row):
-            dy = (y0 + (float(row0 + i) + 0.5) * resolution) - py
-            dy2 = dy * dy
-            if dy2 > bound:
-                continue
-            half = math.sqrt(bound - dy2)
-            first, end = _disc_span(_box_first(col0, n_cols, x0, resolution, px - half),
-                                    _box_end(col0, n_cols, x0, resolution, px + half),
-                                    col0, x0, resolution, px, dy2, bound)
+            first = spans[i - first_row, 0]
+            end = spans[i - first_row, 1]
             if first >= end:
                 continue
             mark[i, first:end] = value
@@ -233,25 +271,35 @@ def _mark_edge_bands(mark, row0, col0, x0, y0, resolution, vertices_x, vertices_
         first_row = _count_below(row0, n_rows, y0, resolution, min(ya, ya + ey) - reach)
         end_row = min(_count_below(row0, n_rows, y0, resolution, max(ya, ya + ey) + reach) + 1,
                       n_rows)
-        # An edge shorter than a cell is searched over one box of columns; a longer one, row
-        # by row over the columns near the part of it within reach of the row.
-        short = length < resolution
         edge_first_col = _box_first(col0, n_cols, x0, resolution, min(xa, xa + ex) - reach)
         edge_end_col = _box_end(col0, n_cols, x0, resolution, max(xa, xa + ex) + reach)
+        # Half a cell more than the rounding of the band's ends below can move them.
+        slack = 0.5 * resolution
         for i in range(first_row, end_row):
             cy = y0 + (float(row0 + i) + 0.5) * resolution
-            first_col = edge_first_col
-            end_col = edge_end_col
-            if not short and ey != 0.0:
-                # The part of the edge within reach of the row in y: a + t e, t_lo <= t <= t_hi.
-                t_1 = (cy - reach - ya) / ey
-                t_2 = (cy + reach - ya) / ey
-                t_lo = min(max(min(t_1, t_2), 0.0), 1.0)
-                t_hi = min(max(max(t_1, t_2), 0.0), 1.0)
-                x_1 = xa + t_lo * ex
-                x_2 = xa + t_hi * ex
-                first_col = _box_first(col0, n_cols, x0, resolution, min(x_1, x_2) - reach)
-                end_col = _box_end(col0, n_cols, x0, resolution, max(x_1, x_2) + reach)
+            # The band's columns in this row, solved for cx - xa from 0 <= dot <= length2 and
+            # |cross| <= radius * length (when the edge's direction has a component along x,
+            # resp. y; otherwise that condition does not depend on cx).
+            low = -math.inf
+            high = math.inf
+            along = (cy - ya) * ey
+            if ex != 0.0:
+                u_1 = -along / ex
+                u_2 = (length2 - along) / ex
+                low = max(low, min(u_1, u_2))
+                high = min(high, max(u_1, u_2))
+            if ey != 0.0:
+                across = (cy - ya) * ex
+                v_1 = (across - radius * length) / ey
+                v_2 = (across + radius * length) / ey
+                low = max(low, min(v_1, v_2))
+                high = min(high, max(v_1, v_2))
+            if high + slack < low - slack:
+                continue
+            first_col = max(edge_first_col,
+                            _box_first(col0, n_cols, x0, resolution, xa + low - slack))
+            end_col = min(edge_end_col,
+                          _box_end(col0, n_cols, x0, resolution, xa + high + slack))
             # The band's cells in a row are contiguous (dot and cross are monotone along the
             # row): shrink the candidates to them from both ends, then mark them all.
             while first_col < end_col and not _in_band(
@@ -309,20 +357,12 @@ def _hit_evidence(seen_free, hits_x, hits_y, x0, y0, resolution, radius, bound):
     rows, cols = seen_free.shape
     count = hits_x.shape[0]
     evidence = np.zeros(count, dtype=np.bool_)
+    spans = np.empty((rows, 2), dtype=np.int64)
     for k in range(count):
-        px = hits_x[k]
-        py = hits_y[k]
-        first_row, end_row = _disc_rows(py, radius, 0, rows, y0, resolution)
+        first_row, end_row = _disc_spans(hits_x[k], hits_y[k], radius, bound, 0, rows, 0, cols,
+                                         x0, y0, resolution, spans)
         for i in range(first_row, end_row):
-            dy = (y0 + (float(i) + 0.5) * resolution) - py
-            dy2 = dy * dy
-            if dy2 > bound:
-                continue
-            half = math.sqrt(bound - dy2)
-            first, end = _disc_span(_box_first(0, cols, x0, resolution, px - half),
-                                    _box_end(0, cols, x0, resolution, px + half),
-                                    0, x0, resolution, px, dy2, bound)
-            for j in range(first, end):
+            for j in range(spans[i - first_row, 0], spans[i - first_row, 1]):
                 if seen_free[i, j]:
                     evidence[k] = True
                     break
@@ -437,16 +477,18 @@ def _update_window(labels, seen_free, last_hit, listed, row0, col0, cell_input, 
     """
     n_rows, n_cols = cell_input.shape
     grid_cols = labels.shape[1]
-    # extent[i]: the columns [first, end) of row i that the scan touches (f1 or f2).
+    # extent[i]: the columns [first, end) of row i that f2 filled; hit_extent[i] those of
+    # its f1 cells (which may lie within the first).
     extent = np.empty((n_rows, 2), dtype=np.int64)
     extent[:, 0] = n_cols
     extent[:, 1] = 0
+    hit_extent = extent.copy()
     cell_input[...] = _NONE
     _fill_inside(cell_input, row0, col0, x0, y0, resolution, vertices_x, vertices_y, extent)
     no_selection = np.zeros(0, dtype=np.bool_)
     no_extent = np.zeros((0, 2), dtype=np.int64)
     _mark_discs(cell_input, _HIT, hits_x, hits_y, hits_x.shape[0], no_selection, row0, col0,
-                x0, y0, resolution, safety_radius, safety_bound, extent)
+                x0, y0, resolution, safety_radius, safety_bound, hit_extent)
     near_moving = np.zeros((0, 0), dtype=np.bool_)      # read only with objects_on
     if objects_on:
         if moving_known:
@@ -482,42 +524,53 @@ def _update_window(labels, seen_free, last_hit, listed, row0, col0, cell_input, 
     for k in range(path.shape[0]):
         path_before[k] = labels[path[k, 0], path[k, 1]]
     new_count = 0
-    if not (free_on or expiry_on):
-        # The paper's rule: the FSM table alone, branch-free along each row's touched run.
-        for i in range(n_rows):
-            window = labels[row0 + i, col0 + extent[i, 0]:col0 + extent[i, 1]]
-            inputs = cell_input[i, extent[i, 0]:extent[i, 1]]
-            for j in range(window.shape[0]):
-                window[j] = _TRANSITION_BY_CODE[(window[j] << 2) | inputs[j]]
-    for i in range(n_rows if free_on or expiry_on else 0):
-        for j in range(extent[i, 0], extent[i, 1]):
-            scan = cell_input[i, j]
-            if scan == _NONE:
+    for i in range(n_rows):
+        row = row0 + i
+        # f2 (INSIDE) cells: explored under every rule; surely seen free when the rule keeps
+        # that and no edge band or vertex disc marked them. Written without branches, so that
+        # the loop runs on vectors; f1 (HIT) and no-input cells are written back unchanged.
+        first = extent[i, 0]
+        end = extent[i, 1]
+        if first < end:
+            row_labels = labels[row, col0 + first:col0 + end]
+            row_input = cell_input[i, first:end]
+            for j in range(end - first):
+                row_labels[j] = _EXPLORED if row_input[j] == _INSIDE else row_labels[j]
+            if free_on:
+                row_free = seen_free[row, col0 + first:col0 + end]
+                row_not_free = not_free[i, first:end]
+                for j in range(end - first):
+                    row_free[j] = row_free[j] | ((row_input[j] == _INSIDE)
+                                                 & (not row_not_free[j]))
+        # f1 (HIT) cells, which no cell above changed.
+        if not (free_on or expiry_on):
+            # The paper's rule: the FSM table alone.
+            for j in range(hit_extent[i, 0], hit_extent[i, 1]):
+                if cell_input[i, j] == _HIT:
+                    col = col0 + j
+                    labels[row, col] = _TRANSITION_BY_CODE[(labels[row, col] << 2) | _HIT]
+            continue
+        for j in range(hit_extent[i, 0], hit_extent[i, 1]):
+            if cell_input[i, j] != _HIT:
                 continue
-            row = row0 + i
             col = col0 + j
             old = labels[row, col]
-            if scan == _INSIDE:
-                new = _EXPLORED
-                if free_on and not not_free[i, j]:
-                    seen_free[row, col] = True
+            if old == _NON_EXPLORED:
+                new = _STEADY
+            elif old == _EXPLORED:
+                new = _MOBILE
             else:
-                if old == _NON_EXPLORED:
-                    new = _STEADY
-                elif old == _EXPLORED:
-                    new = _MOBILE
-                else:
-                    new = old
-                if objects_on:
-                    new = _MOBILE if near_moving[i, j] else _STEADY
-                elif free_on and old == _EXPLORED and not seen_free[row, col]:
-                    new = _STEADY
-                if expiry_on:
-                    last_hit[row, col] = stamp
-                    if new == _MOBILE and not listed[row, col]:
-                        listed[row, col] = True
-                        new_mobile[new_count] = row * grid_cols + col
-                        new_count += 1
+                new = old
+            if objects_on:
+                new = _MOBILE if near_moving[i, j] else _STEADY
+            elif free_on and old == _EXPLORED and not seen_free[row, col]:
+                new = _STEADY
+            if expiry_on:
+                last_hit[row, col] = stamp
+                if new == _MOBILE and not listed[row, col]:
+                    listed[row, col] = True
+                    new_mobile[new_count] = row * grid_cols + col
+                    new_count += 1
             labels[row, col] = new
     replan = False
     for k in range(path.shape[0]):
