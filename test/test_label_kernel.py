@@ -179,8 +179,64 @@ def test_edge_bands_and_discs_equal_a_test_of_every_cell(resolution):
         cross = (cx - a[0]) * ey - (cy - a[1]) * ex
         want = (dot >= 0.0) & (dot <= length2) & (np.abs(cross) / np.sqrt(length2) <= radius)
         assert_array_equal(band, want)
+        # What the update marks for its free evidence: the band less some cells within the
+        # radius of the ends (their discs are marked besides), never any other cell.
+        uncovered = np.zeros((n_rows, n_cols), dtype=bool)
+        label_kernel._mark_uncovered_edge_bands(uncovered, row0, col0, x0, y0, resolution, xs,
+                                                ys, radius)
+        near_ends = np.zeros((n_rows, n_cols), dtype=bool)
+        for end_x, end_y in ((a[0], a[1]), (b[0], b[1])):
+            dx, dy = cx - end_x, cy - end_y
+            near_ends |= dx * dx + dy * dy <= bound
+        assert not (uncovered & ~want).any()
+        assert not (want & ~near_ends & ~uncovered).any()
         disc = np.zeros((n_rows, n_cols), dtype=bool)
         label_kernel._mark_discs(disc, True, xs, ys, 1, np.zeros(0, dtype=bool), row0, col0,
                                  x0, y0, resolution, radius, bound, np.zeros((0, 2), np.int64))
         dx, dy = a[0] - cx, a[1] - cy
         assert_array_equal(disc, np.sqrt(dx * dx + dy * dy) <= radius)
+
+
+@pytest.mark.parametrize('resolution', [0.05, 0.5])
+def test_uncovered_bands_of_short_edges_hold_every_band_cell_beyond_the_ends(resolution):
+    # Edges no longer than the radius are searched only along two thin strips beside them:
+    # many such edges, so that cell centres fall in those strips, some exactly on a band side.
+    from dpn_navigator.core import label_kernel
+    rng = np.random.default_rng(11)
+    n_rows, n_cols, row0, col0 = 30, 30, 2, 5
+    x0, y0 = 0.35, -0.8
+    cx = x0 + (np.arange(col0, col0 + n_cols) + 0.5) * resolution
+    cy = y0 + (np.arange(row0, row0 + n_rows) + 0.5) * resolution
+    cx, cy = np.meshgrid(cx, cy)
+    centre = np.array([x0 + (col0 + n_cols / 2) * resolution,
+                       y0 + (row0 + n_rows / 2) * resolution])
+    strips = 0
+    for case in range(4000):
+        radius = float(rng.choice([0.6, 0.45, 1.1]))
+        bound = label_kernel.squared_bound(radius)
+        a = centre + rng.uniform(-0.6, 0.6, 2) * n_rows * resolution
+        angle = rng.uniform(0.0, 2.0 * np.pi) if case % 4 else rng.integers(8) * np.pi / 4
+        length = radius * rng.uniform(0.01, 1.0)
+        b = a + length * np.array([np.cos(angle), np.sin(angle)])
+        if case % 2:
+            a = np.round(a / resolution * 8) * resolution / 8
+            b = np.round(b / resolution * 8) * resolution / 8
+        if np.array_equal(a, b):
+            continue
+        ex, ey = b[0] - a[0], b[1] - a[1]
+        length2 = ex * ex + ey * ey
+        dot = (cx - a[0]) * ex + (cy - a[1]) * ey
+        cross = (cx - a[0]) * ey - (cy - a[1]) * ex
+        band = (dot >= 0.0) & (dot <= length2) & (np.abs(cross) / np.sqrt(length2) <= radius)
+        near_ends = np.zeros_like(band)
+        for end_x, end_y in (a, b):
+            dx, dy = cx - end_x, cy - end_y
+            near_ends |= dx * dx + dy * dy <= bound
+        marked = np.zeros((n_rows, n_cols), dtype=bool)
+        label_kernel._mark_uncovered_edge_bands(marked, row0, col0, x0, y0, resolution,
+                                                np.array([a[0], b[0]]), np.array([a[1], b[1]]),
+                                                radius)
+        assert not (marked & ~band).any()
+        assert not (band & ~near_ends & ~marked).any()
+        strips += int((band & ~near_ends).any())
+    assert strips > 100                 # the strips held cells often enough to be tested

@@ -254,29 +254,23 @@ def _fill_inside(cell_input, row0, col0, x0, y0, resolution, vertices_x, vertice
 
 
 @kernel
-def _mark_edge_bands(mark, row0, col0, x0, y0, resolution, vertices_x, vertices_y, radius):
-    """Set ``mark`` on the window's cells within ``radius`` of some polygon edge."""
-    n_rows, n_cols = mark.shape
-    for a in range(vertices_x.shape[0] - 1):
-        xa = vertices_x[a]
-        ya = vertices_y[a]
-        reach = radius + _BOX_SLACK * (1.0 + 1e-6 * abs(ya))
-        ex = vertices_x[a + 1] - xa
-        ey = vertices_y[a + 1] - ya
-        length2 = ex * ex + ey * ey
-        if not length2 > 0.0:
-            continue
-        length = math.sqrt(length2)
-        # Rows with centres in [y_low - reach, y_high + reach] (the + 1: one equal to it).
-        first_row = _count_below(row0, n_rows, y0, resolution, min(ya, ya + ey) - reach)
-        end_row = min(_count_below(row0, n_rows, y0, resolution, max(ya, ya + ey) + reach) + 1,
-                      n_rows)
-        edge_first_col = _box_first(col0, n_cols, x0, resolution, min(xa, xa + ex) - reach)
-        edge_end_col = _box_end(col0, n_cols, x0, resolution, max(xa, xa + ex) + reach)
-        # Half a cell more than the rounding of the band's ends below can move them.
-        slack = 0.5 * resolution
-        for i in range(first_row, end_row):
-            cy = y0 + (float(row0 + i) + 0.5) * resolution
+def _mark_band_rows(mark, row0, col0, x0, y0, resolution, xa, ya, ex, ey, length2, length,
+                    radius, first_row, end_row, box_first_col, box_end_col, narrow):
+    """
+    Mark the band cells of edge ``a + t e`` in window rows and columns of a box.
+
+    Sets ``mark`` on the cells of rows ``[first_row, end_row)`` and columns
+    ``[box_first_col, box_end_col)`` whose centre lies in the band. With ``narrow``, each
+    row's columns are first narrowed to those near the band (worth it when the box is wide).
+    """
+    n_cols = mark.shape[1]
+    # Half a cell more than the rounding of the band's ends below can move them.
+    slack = 0.5 * resolution
+    for i in range(first_row, end_row):
+        cy = y0 + (float(row0 + i) + 0.5) * resolution
+        first_col = box_first_col
+        end_col = box_end_col
+        if narrow:
             # The band's columns in this row, solved for cx - xa from 0 <= dot <= length2 and
             # |cross| <= radius * length (when the edge's direction has a component along x,
             # resp. y; otherwise that condition does not depend on cx).
@@ -296,21 +290,108 @@ def _mark_edge_bands(mark, row0, col0, x0, y0, resolution, vertices_x, vertices_
                 high = min(high, max(v_1, v_2))
             if high + slack < low - slack:
                 continue
-            first_col = max(edge_first_col,
+            first_col = max(first_col,
                             _box_first(col0, n_cols, x0, resolution, xa + low - slack))
-            end_col = min(edge_end_col,
-                          _box_end(col0, n_cols, x0, resolution, xa + high + slack))
-            # The band's cells in a row are contiguous (dot and cross are monotone along the
-            # row): shrink the candidates to them from both ends, then mark them all.
-            while first_col < end_col and not _in_band(
-                    x0 + (float(col0 + first_col) + 0.5) * resolution, cy, xa, ya, ex, ey,
-                    length2, length, radius):
-                first_col += 1
-            while end_col > first_col and not _in_band(
-                    x0 + (float(col0 + end_col - 1) + 0.5) * resolution, cy, xa, ya, ex, ey,
-                    length2, length, radius):
-                end_col -= 1
-            mark[i, first_col:end_col] = True
+            end_col = min(end_col, _box_end(col0, n_cols, x0, resolution, xa + high + slack))
+        # The band's cells in a row are contiguous (dot and cross are monotone along the
+        # row): shrink the candidates to them from both ends, then mark them all.
+        while first_col < end_col and not _in_band(
+                x0 + (float(col0 + first_col) + 0.5) * resolution, cy, xa, ya, ex, ey,
+                length2, length, radius):
+            first_col += 1
+        while end_col > first_col and not _in_band(
+                x0 + (float(col0 + end_col - 1) + 0.5) * resolution, cy, xa, ya, ex, ey,
+                length2, length, radius):
+            end_col -= 1
+        mark[i, first_col:end_col] = True
+
+
+@kernel
+def _mark_edge_band(mark, row0, col0, x0, y0, resolution, xa, ya, ex, ey, length2, length,
+                    radius):
+    """Set ``mark`` on the window's cells within ``radius`` of edge ``a + t e``."""
+    n_rows, n_cols = mark.shape
+    reach = radius + _BOX_SLACK * (1.0 + 1e-6 * abs(ya))
+    # Rows with centres in [y_low - reach, y_high + reach] (the + 1: one equal to it).
+    first_row = _count_below(row0, n_rows, y0, resolution, min(ya, ya + ey) - reach)
+    end_row = min(_count_below(row0, n_rows, y0, resolution, max(ya, ya + ey) + reach) + 1,
+                  n_rows)
+    _mark_band_rows(mark, row0, col0, x0, y0, resolution, xa, ya, ex, ey, length2, length,
+                    radius, first_row, end_row,
+                    _box_first(col0, n_cols, x0, resolution, min(xa, xa + ex) - reach),
+                    _box_end(col0, n_cols, x0, resolution, max(xa, xa + ex) + reach), True)
+
+
+@kernel
+def _mark_edge_bands(mark, row0, col0, x0, y0, resolution, vertices_x, vertices_y, radius):
+    """Set ``mark`` on the window's cells within ``radius`` of some polygon edge."""
+    for a in range(vertices_x.shape[0] - 1):
+        xa = vertices_x[a]
+        ya = vertices_y[a]
+        ex = vertices_x[a + 1] - xa
+        ey = vertices_y[a + 1] - ya
+        length2 = ex * ex + ey * ey
+        if length2 > 0.0:
+            _mark_edge_band(mark, row0, col0, x0, y0, resolution, xa, ya, ex, ey, length2,
+                            math.sqrt(length2), radius)
+
+
+#: How far [m] below the radius a point's distance from an edge's end may lie and still fail
+#: the disc test of the radius: far above the rounding of the test.
+_COVER_SLACK = 1e-6
+
+
+@kernel
+def _mark_uncovered_edge_bands(mark, row0, col0, x0, y0, resolution, vertices_x, vertices_y,
+                               radius):
+    """
+    Mark the band cells of `_mark_edge_bands` that are not within ``radius`` of an edge's end.
+
+    Sets ``mark`` on every such cell and on no cell outside the bands (some band cells near
+    the ends may be marked too). For the update's free evidence, where every vertex's disc of
+    ``radius`` is marked (or, around a hit, made f1) besides: a band cell within it needs no
+    mark of its own. A point of the band of an edge of length ``L`` that is farther than
+    ``radius`` from both ends is at least ``sqrt(radius**2 - L**2 / 4)`` from the edge's
+    line; for an edge no longer than ``radius`` these points lie in two thin strips along
+    the edge, and only the strips' boxes are searched.
+    """
+    n_rows, n_cols = mark.shape
+    for a in range(vertices_x.shape[0] - 1):
+        xa = vertices_x[a]
+        ya = vertices_y[a]
+        ex = vertices_x[a + 1] - xa
+        ey = vertices_y[a + 1] - ya
+        length2 = ex * ex + ey * ey
+        if not length2 > 0.0:
+            continue
+        length = math.sqrt(length2)
+        if length > radius:
+            _mark_edge_band(mark, row0, col0, x0, y0, resolution, xa, ya, ex, ey, length2,
+                            length, radius)
+            continue
+        slack = _COVER_SLACK * (1.0 + 1e-6 * (abs(xa) + abs(ya)))
+        inner = radius - slack
+        offset_low = math.sqrt(max(inner * inner - 0.25 * length2, 0.0)) - slack
+        offset_high = radius + slack
+        # Unit vectors along the edge and across it.
+        ux = ex / length
+        uy = ey / length
+        for side in (1.0, -1.0):
+            x_low = y_low = math.inf
+            x_high = y_high = -math.inf
+            for t in (-slack, length + slack):
+                for offset in (offset_low, offset_high):
+                    px = xa + t * ux - side * offset * uy
+                    py = ya + t * uy + side * offset * ux
+                    x_low = min(x_low, px)
+                    x_high = max(x_high, px)
+                    y_low = min(y_low, py)
+                    y_high = max(y_high, py)
+            _mark_band_rows(mark, row0, col0, x0, y0, resolution, xa, ya, ex, ey, length2,
+                            length, radius, _box_first(row0, n_rows, y0, resolution, y_low),
+                            _box_end(row0, n_rows, y0, resolution, y_high),
+                            _box_first(col0, n_cols, x0, resolution, x_low),
+                            _box_end(col0, n_cols, x0, resolution, x_high), False)
 
 
 @kernel
@@ -517,8 +598,9 @@ def _update_window(labels, seen_free, last_hit, listed, row0, col0, cell_input, 
                 not_hit[hit_beams[k] + 1] = False
         _mark_discs(not_free, True, vertices_x, vertices_y, vertices_x.shape[0] - 1, not_hit,
                     row0, col0, x0, y0, resolution, free_radius, free_bound, no_extent)
-        _mark_edge_bands(not_free, row0, col0, x0, y0, resolution, vertices_x, vertices_y,
-                         free_radius)
+        # Every vertex's disc of free_radius is marked or f1: the bands need only the rest.
+        _mark_uncovered_edge_bands(not_free, row0, col0, x0, y0, resolution, vertices_x,
+                                   vertices_y, free_radius)
     # The path's labels before the update, for the replan flag.
     path_before = np.empty(path.shape[0], dtype=np.uint8)
     for k in range(path.shape[0]):

@@ -202,11 +202,11 @@ def _memory_update(labels, seen_free, last_hit, anchored, listed, cells, count, 
             continue
         i = row - row0
         j = col - col0
-        out_of_view = not (0 <= i < n_rows and 0 <= j < n_cols) or cell_input[i, j] == _NONE
-        centre_x = x0 + (float(col) + 0.5) * resolution
-        centre_y = y0 + (float(row) + 0.5) * resolution
-        far = math.hypot(centre_x - laser_x, centre_y - laser_y) > keep_within
-        if out_of_view and far and stamp - last_hit[row, col] >= memory:
+        # The conditions in the order of their cost; each is free of side effects.
+        if (stamp - last_hit[row, col] >= memory
+                and (not (0 <= i < n_rows and 0 <= j < n_cols) or cell_input[i, j] == _NONE)
+                and math.hypot(x0 + (float(col) + 0.5) * resolution - laser_x,
+                               y0 + (float(row) + 0.5) * resolution - laser_y) > keep_within):
             labels[row, col] = _EXPLORED if seen_free[row, col] else _NON_EXPLORED
             listed[row, col] = False
             forgotten += 1
