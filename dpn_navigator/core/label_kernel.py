@@ -132,6 +132,22 @@ def _disc_rows(py, radius, row0, n_rows, y0, resolution):
 
 
 @kernel
+def _disc_row_span(px, dy2, bound, col0, n_cols, x0, resolution):
+    """
+    Return the half-open window columns ``(first, end)`` of a disc's run in one row.
+
+    ``dy2`` is the row's ``dy * dy``: the columns whose centre passes ``dx*dx + dy2 <= bound``
+    (maybe none).
+    """
+    if dy2 > bound:
+        return 0, 0
+    half = math.sqrt(bound - dy2)
+    return _disc_span(_box_first(col0, n_cols, x0, resolution, px - half),
+                      _box_end(col0, n_cols, x0, resolution, px + half),
+                      col0, x0, resolution, px, dy2, bound)
+
+
+@kernel
 def _disc_spans(px, py, radius, bound, row0, n_rows, col0, n_cols, x0, y0, resolution, spans):
     """
     Find the window cells within ``radius`` of ``(px, py)``, one run of columns per row.
@@ -155,17 +171,18 @@ def _disc_spans(px, py, radius, bound, row0, n_rows, col0, n_cols, x0, y0, resol
             dy = (y0 + (float(row0 + i) + 0.5) * resolution) - py
             dy2 = dy * dy
             if end < 0:
-                if dy2 > bound:
-                    first = end = 0
-                else:
-                    half = math.sqrt(bound - dy2)
-                    first = _box_first(col0, n_cols, x0, resolution, px - half)
-                    end = _box_end(col0, n_cols, x0, resolution, px + half)
-            first, end = _disc_span(first, end, col0, x0, resolution, px, dy2, bound)
+                first, end = _disc_row_span(px, dy2, bound, col0, n_cols, x0, resolution)
+            else:
+                first, end = _disc_span(first, end, col0, x0, resolution, px, dy2, bound)
             spans[i - first_row, 0] = first
             spans[i - first_row, 1] = end
             i += step
     return first_row, end_row
+
+
+#: Discs of a radius up to this many cells are searched row by row (`_disc_row_span`), larger
+#: ones by `_disc_spans`.
+_ROW_BY_ROW_CELLS = 3.0
 
 
 @kernel
@@ -180,15 +197,25 @@ def _mark_discs(mark, value, xs, ys, count, selected, row0, col0, x0, y0, resolu
     ``extent[i]`` is widened to hold the columns marked in row ``i``.
     """
     n_rows, n_cols = mark.shape
-    spans = np.empty((n_rows, 2), dtype=np.int64)
+    row_by_row = radius <= _ROW_BY_ROW_CELLS * resolution
+    spans = np.empty((0 if row_by_row else n_rows, 2), dtype=np.int64)
     for k in range(count):
         if selected.shape[0] and not selected[k]:
             continue
-        first_row, end_row = _disc_spans(xs[k], ys[k], radius, bound, row0, n_rows, col0,
-                                         n_cols, x0, y0, resolution, spans)
+        px = xs[k]
+        py = ys[k]
+        if row_by_row:
+            first_row, end_row = _disc_rows(py, radius, row0, n_rows, y0, resolution)
+        else:
+            first_row, end_row = _disc_spans(px, py, radius, bound, row0, n_rows, col0, n_cols,
+                                             x0, y0, resolution, spans)
         for i in range(first_row, end_row):
-            first = spans[i - first_row, 0]
-            end = spans[i - first_row, 1]
+            if row_by_row:
+                dy = (y0 + (float(row0 + i) + 0.5) * resolution) - py
+                first, end = _disc_row_span(px, dy * dy, bound, col0, n_cols, x0, resolution)
+            else:
+                first = spans[i - first_row, 0]
+                end = spans[i - first_row, 1]
             if first >= end:
                 continue
             mark[i, first:end] = value
@@ -316,10 +343,10 @@ def _mark_edge_band(mark, row0, col0, x0, y0, resolution, xa, ya, ex, ey, length
     first_row = _count_below(row0, n_rows, y0, resolution, min(ya, ya + ey) - reach)
     end_row = min(_count_below(row0, n_rows, y0, resolution, max(ya, ya + ey) + reach) + 1,
                   n_rows)
+    first_col = _box_first(col0, n_cols, x0, resolution, min(xa, xa + ex) - reach)
+    end_col = _box_end(col0, n_cols, x0, resolution, max(xa, xa + ex) + reach)
     _mark_band_rows(mark, row0, col0, x0, y0, resolution, xa, ya, ex, ey, length2, length,
-                    radius, first_row, end_row,
-                    _box_first(col0, n_cols, x0, resolution, min(xa, xa + ex) - reach),
-                    _box_end(col0, n_cols, x0, resolution, max(xa, xa + ex) + reach), True)
+                    radius, first_row, end_row, first_col, end_col, end_col - first_col > 8)
 
 
 @kernel
@@ -353,7 +380,9 @@ def _mark_uncovered_edge_bands(mark, row0, col0, x0, y0, resolution, vertices_x,
     mark of its own. A point of the band of an edge of length ``L`` that is farther than
     ``radius`` from both ends is at least ``sqrt(radius**2 - L**2 / 4)`` from the edge's
     line; for an edge no longer than ``radius`` these points lie in two thin strips along
-    the edge, and only the strips' boxes are searched.
+    the edge, and only the cells whose centre lies in a strip's box are tested. (The boxes
+    hold the strips with ``_COVER_SLACK`` to spare, so a centre on a box's side is no band
+    cell beyond the ends.)
     """
     n_rows, n_cols = mark.shape
     for a in range(vertices_x.shape[0] - 1):
@@ -387,11 +416,16 @@ def _mark_uncovered_edge_bands(mark, row0, col0, x0, y0, resolution, vertices_x,
                     x_high = max(x_high, px)
                     y_low = min(y_low, py)
                     y_high = max(y_high, py)
-            _mark_band_rows(mark, row0, col0, x0, y0, resolution, xa, ya, ex, ey, length2,
-                            length, radius, _box_first(row0, n_rows, y0, resolution, y_low),
-                            _box_end(row0, n_rows, y0, resolution, y_high),
-                            _box_first(col0, n_cols, x0, resolution, x_low),
-                            _box_end(col0, n_cols, x0, resolution, x_high), False)
+            # The cells whose centre lies in the strip's box (often none: a strip is thin).
+            first_row = _count_below(row0, n_rows, y0, resolution, y_low)
+            end_row = _count_below(row0, n_rows, y0, resolution, y_high)
+            if first_row == end_row:
+                continue
+            first_col = _count_below(col0, n_cols, x0, resolution, x_low)
+            end_col = _count_below(col0, n_cols, x0, resolution, x_high)
+            if first_col < end_col:
+                _mark_band_rows(mark, row0, col0, x0, y0, resolution, xa, ya, ex, ey, length2,
+                                length, radius, first_row, end_row, first_col, end_col, False)
 
 
 @kernel
@@ -438,12 +472,24 @@ def _hit_evidence(seen_free, hits_x, hits_y, x0, y0, resolution, radius, bound):
     rows, cols = seen_free.shape
     count = hits_x.shape[0]
     evidence = np.zeros(count, dtype=np.bool_)
-    spans = np.empty((rows, 2), dtype=np.int64)
+    row_by_row = radius <= _ROW_BY_ROW_CELLS * resolution
+    spans = np.empty((0 if row_by_row else rows, 2), dtype=np.int64)
     for k in range(count):
-        first_row, end_row = _disc_spans(hits_x[k], hits_y[k], radius, bound, 0, rows, 0, cols,
-                                         x0, y0, resolution, spans)
+        px = hits_x[k]
+        py = hits_y[k]
+        if row_by_row:
+            first_row, end_row = _disc_rows(py, radius, 0, rows, y0, resolution)
+        else:
+            first_row, end_row = _disc_spans(px, py, radius, bound, 0, rows, 0, cols, x0, y0,
+                                             resolution, spans)
         for i in range(first_row, end_row):
-            for j in range(spans[i - first_row, 0], spans[i - first_row, 1]):
+            if row_by_row:
+                dy = (y0 + (float(i) + 0.5) * resolution) - py
+                first, end = _disc_row_span(px, dy * dy, bound, 0, cols, x0, resolution)
+            else:
+                first = spans[i - first_row, 0]
+                end = spans[i - first_row, 1]
+            for j in range(first, end):
                 if seen_free[i, j]:
                     evidence[k] = True
                     break
