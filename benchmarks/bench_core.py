@@ -27,8 +27,10 @@ Run with ``make bench`` or ``python benchmarks/bench_core.py [--quick] [--only P
 
 import argparse
 import dataclasses
+import importlib
 import math
 import os
+import shutil
 import statistics
 import subprocess
 import sys
@@ -480,6 +482,82 @@ def bench_updates(rng, repeats):
     print()
 
 
+def import_old_core(tree):
+    """
+    Import the core of another source tree of the package, beside this one.
+
+    The tree's ``dpn_navigator`` is copied into a temporary directory as ``dpn_old_tree``
+    (the core imports its own modules relatively) and imported from there.
+
+    Returns
+    -------
+    module
+        The old tree's ``dpn_navigator.core.label_grid``.
+
+    """
+    source = os.path.join(tree, 'dpn_navigator')
+    if not os.path.isdir(os.path.join(source, 'core')):
+        raise SystemExit(f'--old-tree: no dpn_navigator/core in {tree!r}')
+    copy = tempfile.mkdtemp(prefix='dpn_old_tree_')
+    shutil.copytree(source, os.path.join(copy, 'dpn_old_tree'),
+                    ignore=shutil.ignore_patterns('__pycache__', 'kernel_cache'))
+    sys.path.insert(0, copy)
+    return importlib.import_module('dpn_old_tree.core.label_grid')
+
+
+def bench_against_tree(tree, rng, repeats):
+    """
+    Print ``LabelGrid.update`` of this tree against that of ``tree``, interleaved, same scans.
+
+    Hall scans (20 poses, each grid warmed up with all of them first); the order of the two
+    alternates; labels and the rule's state compared after every update.
+    """
+    old_grid = import_old_core(tree)
+    default = NavigatorConfig(width=1.0, height=1.0).label_rule()
+    rules = (('paper', PAPER_RULE),
+             ('dpn without tracks, trails, object memory',
+              dataclasses.replace(default, track_confirm_time=0.0, trail_distance=0.0,
+                                  object_memory=0.0)),
+             ('dpn (the default)', default))
+    print(f'| LabelGrid.update, hall scans, against {tree} | rule | old tree [ms] '
+          '| this tree [ms] | ratio | same arrays |')
+    print('|---|---|---|---|---|---|')
+    for cells, resolution, runs in ((200, 0.5, repeats), (2000, 0.05, max(10, repeats // 5))):
+        size = cells * resolution
+        poses, scans = hall_scans(cells, resolution, 'hall', rng)
+        for rule_name, rule in rules:
+            old_rule = old_grid.LabelRule(**dataclasses.asdict(rule))
+            grids = (LabelGrid(size, size, resolution, rule=rule),
+                     old_grid.LabelGrid(size, size, resolution, rule=old_rule))
+
+            def updater(grid):
+                def one_update(k):
+                    grid.update(poses[k % len(poses)], scans[k % len(poses)], ANGLE_MIN,
+                                ANGLE_INCREMENT, RANGE_MIN, RANGE_MAX, SAFETY_RADIUS,
+                                stamp=0.1 * k)
+                return one_update
+
+            for k in range(len(poses)):
+                for grid in grids:
+                    updater(grid)(k)
+            same = True
+            times = [[], []]
+            for k in range(runs):
+                order = (0, 1) if k % 2 else (1, 0)
+                for index in order:
+                    start = time.process_time()
+                    updater(grids[index])(k)
+                    times[index].append(time.process_time() - start)
+                for name in ('labels', 'seen_free', 'last_hit'):
+                    if getattr(grids[0], name) is not None:
+                        same &= bool(np.array_equal(getattr(grids[0], name),
+                                                       getattr(grids[1], name)))
+            new_ms, old_ms = (1e3 * statistics.median(spent) for spent in times)
+            print(f'| {cells}x{cells} cells at {resolution} m | {rule_name} | {old_ms:.3f} '
+                  f'| {new_ms:.3f} | {old_ms / new_ms:.2f}x | {"yes" if same else "NO"} |')
+    print()
+
+
 def bench_node_parts(rng, repeats):
     """Print the tables of a replan's setup and of a published map, new against old."""
     for title, same_what, bench in (
@@ -538,11 +616,21 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[1])
     parser.add_argument('--quick', action='store_true', help='fewer repetitions')
     parser.add_argument('--seed', type=int, default=1)
-    parser.add_argument('--only', choices=('start', 'rule', 'update', 'node', 'astar'),
+    parser.add_argument('--only', choices=('start', 'rule', 'update', 'node', 'astar', 'tree'),
                         help='run one part: kernel start times, the parts of the dpn rule, '
                              'LabelGrid.update, the masks and map of the node, or astar')
+    parser.add_argument('--old-tree', metavar='DIR',
+                        help='also time LabelGrid.update against the package in this source '
+                             'tree (such as a git worktree of an earlier commit), in the '
+                             'same run; alone with --only tree')
     args = parser.parse_args(argv)
+    if args.only == 'tree' and not args.old_tree:
+        parser.error('--only tree needs --old-tree DIR')
     rng = np.random.default_rng(args.seed)
+    if args.old_tree:
+        bench_against_tree(args.old_tree, rng, 40 if args.quick else 300)
+        if args.only == 'tree':
+            return
     if args.only in (None, 'start'):
         bench_start()
     if args.only in (None, 'rule'):
