@@ -551,7 +551,7 @@ def bench_against_tree(tree, rng, repeats):
                 for name in ('labels', 'seen_free', 'last_hit'):
                     if getattr(grids[0], name) is not None:
                         same &= bool(np.array_equal(getattr(grids[0], name),
-                                                       getattr(grids[1], name)))
+                                                    getattr(grids[1], name)))
             new_ms, old_ms = (1e3 * statistics.median(spent) for spent in times)
             print(f'| {cells}x{cells} cells at {resolution} m | {rule_name} | {old_ms:.3f} '
                   f'| {new_ms:.3f} | {old_ms / new_ms:.2f}x | {"yes" if same else "NO"} |')
