@@ -416,7 +416,11 @@ def _mark_uncovered_edge_bands(mark, row0, col0, x0, y0, resolution, vertices_x,
                     x_high = max(x_high, px)
                     y_low = min(y_low, py)
                     y_high = max(y_high, py)
-            # The cells whose centre lies in the strip's box (often none: a strip is thin).
+            # The cells whose centre lies in the strip's box (often none: a strip is thin; a
+            # box clear of every row's centre by far more than rounding is passed over).
+            low_index = (y_low - y0) / resolution - 0.5
+            if math.floor((y_high - y0) / resolution - 0.5 + 1e-6) < math.ceil(low_index - 1e-6):
+                continue
             first_row = _count_below(row0, n_rows, y0, resolution, y_low)
             end_row = _count_below(row0, n_rows, y0, resolution, y_high)
             if first_row == end_row:
