@@ -1,0 +1,51 @@
+"""
+The numpy parts of the ``dpn`` node that compiled or incremental code replaced, kept as twins.
+
+``NumpyOccupancyGridBuffer`` is ``OccupancyGridBuffer`` of commit 60fa892: every update
+converts the whole box the grid's change tracker gives (``np.take``) and compares it with the
+values sent before. `numpy_node` swaps these parts into a ``DpnNode``, so a test can run it
+beside the node as it is on the same scans and compare what the two publish.
+
+"""
+
+from array import array
+
+from dpn_navigator.conversions import occupancy_values, OccupancyGridBuffer
+from map_msgs.msg import OccupancyGridUpdate
+import numpy as np
+
+
+class NumpyOccupancyGridBuffer(OccupancyGridBuffer):
+    """``OccupancyGridBuffer`` converting and comparing whole boxes with numpy."""
+
+    def __init__(self, shape, mobile_value):
+        super().__init__(shape, mobile_value)
+        self._values = occupancy_values(mobile_value)
+
+    def refresh(self, labels, rows, cols):
+        self._grid_values[rows, cols] = np.take(self._values, labels[rows, cols])
+
+    def update_message(self, labels, rows, cols, stamp, frame_id='map'):
+        fresh = np.take(self._values, labels[rows, cols])
+        changed = fresh != self._grid_values[rows, cols]
+        changed_rows = np.flatnonzero(changed.any(axis=1))
+        if changed_rows.size == 0:
+            return None
+        changed_cols = np.flatnonzero(changed.any(axis=0))
+        self._grid_values[rows, cols] = fresh
+        row_lo, row_hi = rows.start + changed_rows[0], rows.start + changed_rows[-1] + 1
+        col_lo, col_hi = cols.start + changed_cols[0], cols.start + changed_cols[-1] + 1
+        msg = OccupancyGridUpdate()
+        msg.header.stamp = stamp
+        msg.header.frame_id = frame_id
+        msg.x, msg.y = int(col_lo), int(row_lo)
+        msg.width, msg.height = int(col_hi - col_lo), int(row_hi - row_lo)
+        msg.data = array('b', self._grid_values[row_lo:row_hi, col_lo:col_hi].tobytes())
+        return msg
+
+
+def numpy_node(node):
+    """Swap the numpy twins into a freshly built ``DpnNode`` (before its first scan)."""
+    node.map_buffer = NumpyOccupancyGridBuffer(node.navigator.grid.geometry.shape,
+                                               node.params.map_mobile_value)
+    return node
