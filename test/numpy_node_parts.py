@@ -3,14 +3,18 @@ The numpy parts of the ``dpn`` node that compiled or incremental code replaced, 
 
 ``NumpyOccupancyGridBuffer`` is ``OccupancyGridBuffer`` of commit 60fa892: every update
 converts the whole box the grid's change tracker gives (``np.take``) and compares it with the
-values sent before. `numpy_node` swaps these parts into a ``DpnNode``, so a test can run it
-beside the node as it is on the same scans and compare what the two publish.
+values sent before. ``NumpyPlanningMasks`` is ``PlanningMasks`` of that commit: every plan
+recomputes ``blocked`` over the box changed since the last plan and the cost one cell wider.
+`numpy_node` swaps these parts into a ``DpnNode``, so a test can run it beside the node as it
+is on the same scans and compare what the two publish.
 
 """
 
 from array import array
 
 from dpn_navigator.conversions import occupancy_values, OccupancyGridBuffer
+from dpn_navigator.core.cell_label import blocked_mask
+from dpn_navigator.core.planning_masks import _grown, PlanningMasks
 from map_msgs.msg import OccupancyGridUpdate
 import numpy as np
 
@@ -46,6 +50,20 @@ class NumpyOccupancyGridBuffer(OccupancyGridBuffer):
 
 def numpy_node(node):
     """Swap the numpy twins into a freshly built ``DpnNode`` (before its first scan)."""
-    node.map_buffer = NumpyOccupancyGridBuffer(node.navigator.grid.geometry.shape,
+    navigator = node.navigator
+    node.map_buffer = NumpyOccupancyGridBuffer(navigator.grid.geometry.shape,
                                                node.params.map_mobile_value)
+    navigator._masks = NumpyPlanningMasks(navigator.grid, navigator.config.obstacle_proximity_cost)
     return node
+
+
+class NumpyPlanningMasks(PlanningMasks):
+    """``PlanningMasks`` refreshing the whole changed box with numpy, as in commit 60fa892."""
+
+    def refresh(self):
+        rows, cols, whole = self._changes.take()
+        if rows.start == rows.stop or cols.start == cols.stop:
+            return
+        self.blocked[rows, cols] = blocked_mask(self._grid.labels[rows, cols])
+        if self.cost is not None:
+            self._recost(*_grown(rows, cols, self.blocked.shape))
