@@ -5,6 +5,8 @@ The numpy parts of the ``dpn`` node that compiled or incremental code replaced, 
 converts the whole box the grid's change tracker gives (``np.take``) and compares it with the
 values sent before. ``NumpyPlanningMasks`` is ``PlanningMasks`` of that commit: every plan
 recomputes ``blocked`` over the box changed since the last plan and the cost one cell wider.
+`eager_observe` is ``Navigator.observe`` of that commit: the turn sweep takes a scan's hits at
+once, before the node publishes the map.
 `numpy_node` swaps these parts into a ``DpnNode``, so a test can run it beside the node as it
 is on the same scans and compare what the two publish.
 
@@ -15,6 +17,8 @@ from array import array
 from dpn_navigator.conversions import occupancy_values, OccupancyGridBuffer
 from dpn_navigator.core.cell_label import blocked_mask
 from dpn_navigator.core.planning_masks import _grown, PlanningMasks
+from dpn_navigator.core.pose2d import compose
+from dpn_navigator.core.scan_polygon import check_pose, scan_points
 from map_msgs.msg import OccupancyGridUpdate
 import numpy as np
 
@@ -54,6 +58,7 @@ def numpy_node(node):
     node.map_buffer = NumpyOccupancyGridBuffer(navigator.grid.geometry.shape,
                                                node.params.map_mobile_value)
     navigator._masks = NumpyPlanningMasks(navigator.grid, navigator.config.obstacle_proximity_cost)
+    navigator.observe = lambda *args, **kwargs: eager_observe(navigator, *args, **kwargs)
     return node
 
 
@@ -67,3 +72,23 @@ class NumpyPlanningMasks(PlanningMasks):
         self.blocked[rows, cols] = blocked_mask(self._grid.labels[rows, cols])
         if self.cost is not None:
             self._recost(*_grown(rows, cols, self.blocked.shape))
+
+
+def eager_observe(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
+                  angle_max=None, stamp=None):
+    """Fold one scan into ``self`` (a ``Navigator``) and its turn sweep at once."""
+    pose = check_pose(pose)
+    laser_pose = compose(pose, self.config.laser_offset)
+    replan = self.grid.update(laser_pose, ranges, angle_min, angle_increment, range_min,
+                              range_max, self.config.safety_radius, path=self.path,
+                              angle_max=angle_max, stamp=stamp)
+    self._replan_requested |= replan
+    self._last_scan = (laser_pose, np.array(ranges, dtype=np.float64), angle_min,
+                       angle_increment, range_min, range_max, angle_max, stamp)
+    if self.turn_sweep is not None:
+        points = scan_points(laser_pose, self._last_scan[1], angle_min, angle_increment,
+                             range_min, range_max)
+        self.turn_sweep.add_scan(
+            stamp, pose[:2], np.column_stack((points.hits_x, points.hits_y)),
+            view=(laser_pose, self._last_scan[1], angle_min, angle_increment, range_min,
+                  range_max))

@@ -7,7 +7,7 @@ boxes, the laser standing for ten scans at a time) by calling their callbacks, o
 advances 0.1 s a scan. Every message each publishes is compared field by field, each float by
 its bits (the serialized bytes themselves differ in their uninitialised padding): the map and
 its updates, the plan, the markers, the commands, the pose in use and the status (less its
-timings).
+timings); and the hits the turn sweep keeps.
 """
 
 from array import array
@@ -16,6 +16,7 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from dpn_navigator.conversions import make_laser_scan, pose_to_odometry, seconds_to_time
 from dpn_navigator.dpn_node import DpnNode
 import numpy as np
+from numpy.testing import assert_array_equal
 from numpy_node_parts import numpy_node
 import pytest
 from rclpy.parameter import Parameter
@@ -105,6 +106,8 @@ def test_node_publishes_the_bytes_of_its_numpy_twin(ros_context, published, reso
                 node.on_odom(pose_to_odometry(pose, (0.0, 0.0), stamp))
                 node.on_scan(make_laser_scan(ranges, ANGLE_MIN, ANGLE_INCREMENT, RANGE_MIN,
                                              RANGE_MAX, stamp))
+            # What the turn sweep holds after a scan (these scenes seldom make it intervene).
+            assert_array_equal(*(node.navigator.turn_sweep.kept for node in nodes))
         sent = [[(kind, data) for publisher, kind, data in published
                  if publisher in list(node.publishers) and kind != 'ParameterEvent']
                 for node in nodes]
