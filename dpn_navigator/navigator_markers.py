@@ -148,7 +148,8 @@ class NavigatorMarkers:
         -------
         markers : MarkerArray
         plan : nav_msgs.msg.Path
-            The same messages as `navigator_markers` gives, stamped ``stamp``.
+            The same messages as `navigator_markers` gives, stamped ``stamp``. They are
+            rewritten by the next call (the plan's poses are reused): publish them at once.
 
         """
         self._last_time = now
@@ -158,7 +159,7 @@ class NavigatorMarkers:
             path = np.zeros((0, 2)) if path_xy is None else path_xy
             self._planned = line_strip_marker(path, 'planned_path', 0, RED, 0.1, stamp,
                                               frame_id=self.frame_id)
-            self._plan = points_to_path(path, stamp, self.frame_id)
+            self._plan = points_to_path(path, stamp, self.frame_id, reuse=self._plan)
         self._refresh_trail(trail, stamp)
         if goal != self._goal:
             self._goal = goal

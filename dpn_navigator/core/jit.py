@@ -166,10 +166,14 @@ def warm_up():
     from .astar_search import warm_up_astar
     from .costmap_grid import warm_up_costmap
     from .label_grid import warm_up_label_update
+    from .map_values import warm_up_map_values
+    from .planning_masks import warm_up_planning_masks
     started = time.perf_counter()
     warm_up_astar()
     warm_up_label_update()
     warm_up_costmap()
+    warm_up_map_values()
+    warm_up_planning_masks()
     return time.perf_counter() - started
 
 

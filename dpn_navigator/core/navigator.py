@@ -305,6 +305,7 @@ class Navigator:
         self._no_path_since = None
         self._spell_forgets = 0
         self._last_scan = None
+        self._unswept_pose = None                # robot pose of a scan the turn sweep lacks
         self._last_stamp = None
         self.turn_sweep = None if config.turn_sweep_memory == 0.0 else TurnSweep(
             config.turn_sweep_memory, config.robot_length, config.robot_width,
@@ -384,7 +385,9 @@ class Navigator:
         """
         Fold one scan into the map; the next ``decide`` replans if the scan asks for it.
 
-        Split from ``decide`` so that a caller can publish the map before planning.
+        Split from ``decide`` so that a caller can publish the map before planning. The turn
+        sweep takes the scan's hits at the next ``decide`` (or ``observe``), for the same
+        reason; it only reads them there.
 
         Parameters
         ----------
@@ -404,16 +407,24 @@ class Navigator:
         replan = self.grid.update(laser_pose, ranges, angle_min, angle_increment, range_min,
                                   range_max, self.config.safety_radius, path=self.path,
                                   angle_max=angle_max, stamp=stamp)
+        self._sweep_last_scan()
         self._replan_requested |= replan
         self._last_scan = (laser_pose, np.array(ranges, dtype=np.float64), angle_min,
                            angle_increment, range_min, range_max, angle_max, stamp)
-        if self.turn_sweep is not None:
-            points = scan_points(laser_pose, self._last_scan[1], angle_min, angle_increment,
-                                 range_min, range_max)
-            self.turn_sweep.add_scan(
-                stamp, pose[:2], np.column_stack((points.hits_x, points.hits_y)),
-                view=(laser_pose, self._last_scan[1], angle_min, angle_increment, range_min,
-                      range_max))
+        self._unswept_pose = pose if self.turn_sweep is not None else None
+
+    def _sweep_last_scan(self):
+        """Give the turn sweep the hits of the last scan observed, once."""
+        if self._unswept_pose is None:
+            return
+        laser_pose, ranges, angle_min, angle_increment, range_min, range_max, _, stamp = \
+            self._last_scan
+        points = scan_points(laser_pose, ranges, angle_min, angle_increment, range_min,
+                             range_max)
+        self.turn_sweep.add_scan(
+            stamp, self._unswept_pose[:2], np.column_stack((points.hits_x, points.hits_y)),
+            view=(laser_pose, ranges, angle_min, angle_increment, range_min, range_max))
+        self._unswept_pose = None
 
     def decide(self, stamp, pose):
         """
@@ -432,6 +443,7 @@ class Navigator:
 
         """
         pose = check_pose(pose)
+        self._sweep_last_scan()
         self._follow_clock(stamp)
         replan, self._replan_requested = self._replan_requested, False
         return self._decide(stamp, pose, replan)

@@ -3,17 +3,19 @@ What A* plans on: the blocked cells and the extra cost of cells beside obstacles
 
 The navigator plans on ``blocked = labels >= STEADY_OBSTACLE`` with the robot's footprint
 cleared, and, with an obstacle proximity cost, on ``cost * touches_blocked(blocked)``. Both are
-kept here as state and refreshed only inside the box of cells the grid changed since the last
-plan (a ``ChangeTracker``), widened by one cell for the cost. The footprint is cleared in place
-for one search and restored after it. A plan therefore costs the changed cells and the search,
-not the grid.
+kept here as state: ``blocked`` is refreshed inside the box of cells the grid changed since the
+last plan (a ``ChangeTracker``) by a compiled pass that also lists the cells whose ``blocked``
+flipped, and the cost only on those and their neighbours (a cost depends on its cell's 8
+neighbours alone). The footprint is cleared in place for one search and restored after
+it. A plan therefore costs a pass over the changed cells and the search, not the grid.
 
 """
 
 import numpy as np
 
 from .astar_search import astar_checked
-from .cell_label import blocked_mask
+from .cell_label import CellLabel, LABEL_DTYPE
+from .jit import kernel
 
 
 def touches_blocked(blocked):
@@ -69,6 +71,153 @@ def touches_blocked_in(blocked, rows, cols):
     return near & ~padded[1:-1, 1:-1]
 
 
+#: Cells of a row compared at once before any is looked at alone.
+_CHUNK = 64
+
+
+@kernel
+def _refresh_blocked(labels, blocked, row_lo, row_hi, col_lo, col_hi, first_blocked, flipped):
+    """
+    Set ``blocked[rows, cols]`` to ``labels >= first_blocked``; list the cells that flipped.
+
+    Each ``_CHUNK`` cells of a row are first compared at once (a vectorised pass); ``flipped``
+    (int64) is grown as needed.
+    Returns the flat indices of the flipped cells and their count.
+    """
+    n_cols = labels.shape[1]
+    count = 0
+    for r in range(row_lo, row_hi):
+        label_row = labels[r, col_lo:col_hi]
+        blocked_row = blocked[r, col_lo:col_hi]
+        for start in range(0, label_row.shape[0], _CHUNK):
+            stop = min(start + _CHUNK, label_row.shape[0])
+            differ = False
+            for c in range(start, stop):
+                differ |= (label_row[c] >= first_blocked) != blocked_row[c]
+            if not differ:
+                continue
+            for c in range(start, stop):
+                now_blocked = label_row[c] >= first_blocked
+                if now_blocked != blocked_row[c]:
+                    blocked_row[c] = now_blocked
+                    if count == flipped.shape[0]:
+                        grown = np.empty(2 * count + 16, dtype=np.int64)
+                        grown[:count] = flipped[:count]
+                        flipped = grown
+                    flipped[count] = r * n_cols + col_lo + c
+                    count += 1
+    return flipped, count
+
+
+@kernel
+def _recost_around(blocked, cost, cells, proximity_cost):
+    """
+    Recompute ``cost`` on the cells of ``cells`` (flat indices) and their 8 neighbours.
+
+    A cell costs ``proximity_cost`` when it is free and a neighbour is blocked, else 0.
+    Returns the change in the number of cells with a cost.
+    """
+    n_rows, n_cols = blocked.shape
+    change = 0
+    for cell in cells:
+        row, col = cell // n_cols, cell % n_cols
+        for r in range(max(row - 1, 0), min(row + 2, n_rows)):
+            for c in range(max(col - 1, 0), min(col + 2, n_cols)):
+                touching = False
+                if not blocked[r, c]:
+                    for rr in range(max(r - 1, 0), min(r + 2, n_rows)):
+                        for cc in range(max(c - 1, 0), min(c + 2, n_cols)):
+                            touching |= blocked[rr, cc]
+                value = proximity_cost if touching else 0.0
+                if value != cost[r, c]:
+                    change += (value != 0.0) - (cost[r, c] != 0.0)
+                    cost[r, c] = value
+    return change
+
+
+def refresh_blocked(labels, blocked, rows, cols):
+    """
+    Bring ``blocked[rows, cols]`` up to ``blocked_mask(labels[rows, cols])``, in place.
+
+    Parameters
+    ----------
+    labels : (H, W) ndarray of uint8
+        Cell labels.
+    blocked : (H, W) ndarray of bool, C-contiguous
+        The mask to refresh.
+    rows, cols : slice
+        The window to refresh, inside the grid (may be empty).
+
+    Returns
+    -------
+    flipped : (N,) ndarray of int64
+        Flat indices (``row * W + col``) of the cells whose ``blocked`` flipped, row by row.
+
+    Raises
+    ------
+    ValueError
+        When ``labels`` and ``blocked`` differ in shape, or ``blocked`` is not a C-contiguous
+        bool array.
+
+    """
+    labels = np.asarray(labels)
+    if labels.shape != blocked.shape:
+        raise ValueError(f'labels of shape {labels.shape} for a mask of {blocked.shape}')
+    if blocked.dtype != np.bool_ or not blocked.flags.c_contiguous:
+        raise ValueError('blocked must be a C-contiguous ndarray of bool')
+    labels = np.ascontiguousarray(labels, dtype=LABEL_DTYPE)
+    row_lo, row_hi, _ = rows.indices(labels.shape[0])
+    col_lo, col_hi, _ = cols.indices(labels.shape[1])
+    if row_hi <= row_lo or col_hi <= col_lo:
+        return np.zeros(0, dtype=np.int64)
+    flipped, count = _refresh_blocked(labels, blocked, row_lo, row_hi, col_lo, col_hi,
+                                      LABEL_DTYPE(CellLabel.STEADY_OBSTACLE),
+                                      np.empty(256, dtype=np.int64))
+    return flipped[:count]
+
+
+def recost_around(blocked, cost, cells, proximity_cost):
+    """
+    Recompute the proximity cost on ``cells`` and their 8 neighbours, in place.
+
+    Parameters
+    ----------
+    blocked : (H, W) ndarray of bool
+        Cells A* may not enter.
+    cost : (H, W) ndarray of float64
+        ``proximity_cost * touches_blocked(blocked)`` except around ``cells``; all of it after.
+    cells : (N,) array_like of int
+        Flat indices of the cells whose ``blocked`` changed.
+    proximity_cost : float
+        Cost of a free cell with a blocked neighbour, > 0.
+
+    Returns
+    -------
+    change : int
+        How many more cells of ``cost`` are nonzero than before.
+
+    Raises
+    ------
+    ValueError
+        When the arrays differ in shape or dtype from the above, or a cell is off the grid.
+
+    """
+    if blocked.shape != cost.shape or blocked.dtype != np.bool_ or cost.dtype != np.float64:
+        raise ValueError('blocked (bool) and cost (float64) must be arrays of one shape')
+    cells = np.ascontiguousarray(cells, dtype=np.int64)
+    if cells.size and not (0 <= cells.min() and cells.max() < blocked.size):
+        raise ValueError(f'cells must be flat indices into a grid of {blocked.shape}')
+    return int(_recost_around(blocked, cost, cells, float(proximity_cost)))
+
+
+def warm_up_planning_masks():
+    """Compile (or load) the kernels with a tiny call."""
+    blocked = np.zeros((2, 2), dtype=bool)
+    flipped = refresh_blocked(np.full((2, 2), CellLabel.STEADY_OBSTACLE, dtype=LABEL_DTYPE),
+                              blocked, slice(0, 1), slice(0, 2))
+    recost_around(blocked, np.zeros((2, 2)), flipped, 1.0)
+
+
 def _grown(rows, cols, shape):
     """Widen the window ``(rows, cols)`` by one cell on every side, clipped to ``shape``."""
     return (slice(max(rows.start - 1, 0), min(rows.stop + 1, shape[0])),
@@ -108,12 +257,11 @@ class PlanningMasks:
 
     def refresh(self):
         """Bring the masks up to date with the grid's labels, inside the changed box only."""
-        rows, cols, whole = self._changes.take()
-        if rows.start == rows.stop or cols.start == cols.stop:
-            return
-        self.blocked[rows, cols] = blocked_mask(self._grid.labels[rows, cols])
-        if self.cost is not None:
-            self._recost(*_grown(rows, cols, self.blocked.shape))
+        rows, cols, _ = self._changes.take()
+        flipped = refresh_blocked(self._grid.labels, self.blocked, rows, cols)
+        if self.cost is not None and flipped.size:
+            self._costly += recost_around(self.blocked, self.cost, flipped,
+                                          self._proximity_cost)
 
     def _recost(self, rows, cols):
         """Recompute ``cost[rows, cols]`` from ``blocked``."""
