@@ -124,6 +124,9 @@ OTHER_PARAMETERS = {
     'base_frame': ('base_link', 'Frame of the robot base: header of TwistStamped commands.'),
     'cmd_vel_stamped': (False, 'Send geometry_msgs/TwistStamped on cmd_vel instead of Twist '
                         "(Jazzy's diff_drive_controller takes TwistStamped)."),
+    'object_min_hits': (3, 'Thin things: a free-standing laser segment of fewer hits shows no '
+                        'motion and is not followed (a post thinner than the beam spacing '
+                        'slips between the beams) [hits], 0 to 640; 0: off (the paper).'),
     'track_exclusive': (True, 'Exclusive motion tracks: at most one scan segment continues a '
                         'track per scan (false: the paper has no tracks; before, a post next '
                         'to a wanderer shared its track).'),
@@ -136,7 +139,9 @@ OTHER_PARAMETERS = {
 MOBILE_VALUE_RANGE = (1, 100)
 #: The parameters of ``OTHER_PARAMETERS`` that go to the navigator's configuration, not to
 #: ``DpnParameters``.
-NAVIGATOR_SWITCHES = ('track_exclusive',)
+NAVIGATOR_SWITCHES = ('track_exclusive', 'object_min_hits')
+#: Allowed ``object_min_hits`` (at most one segment of every beam of a 640-beam scan).
+MIN_HITS_RANGE = (0, 640)
 
 
 @dataclass(frozen=True)
@@ -180,6 +185,9 @@ def declare_parameters(node):
         if name == 'map_mobile_value':
             descriptor.integer_range = [IntegerRange(
                 from_value=MOBILE_VALUE_RANGE[0], to_value=MOBILE_VALUE_RANGE[1], step=1)]
+        if name == 'object_min_hits':
+            descriptor.integer_range = [IntegerRange(
+                from_value=MIN_HITS_RANGE[0], to_value=MIN_HITS_RANGE[1], step=1)]
         values[name] = node.declare_parameter(name, default, descriptor).value
     follower = FollowerConfig(
         max_linear_speed=values['max_linear_speed'],
@@ -195,6 +203,7 @@ def declare_parameters(node):
         free_evidence_radius=values['free_evidence_radius'],
         moving_object_size=values['moving_object_size'],
         evidence_margin=values['evidence_margin'], segment_gap=values['segment_gap'],
+        object_min_hits=values['object_min_hits'],
         mobile_expiry=values['mobile_expiry'],
         track_confirm_time=values['track_confirm_time'],
         track_still_distance=values['track_still_distance'],

@@ -191,8 +191,12 @@ def literal_surely_free(cx, cy, vertices, hits, safety_radius, radius):
     return True
 
 
-def literal_moving_hits(hits, beams, evidence, segment_gap, object_size):
-    """Mark hits that have a hit with evidence in their segment within object_size of arc."""
+def literal_moving_hits(hits, beams, evidence, segment_gap, object_size, min_hits=0):
+    """
+    Mark hits that have a hit with evidence in their segment within object_size of arc.
+
+    Evidence counts only in a segment of at least ``min_hits`` hits.
+    """
     count = len(hits)
     segment = [0] * count
     arc = [0.0] * count
@@ -203,7 +207,9 @@ def literal_moving_hits(hits, beams, evidence, segment_gap, object_size):
         cut = step > segment_gap or beams[k] != beams[k - 1] + 1
         segment[k] = segment[k - 1] + (1 if cut else 0)
         arc[k] = arc[k - 1] + step
-    return [any(evidence[j] and segment[j] == segment[k] and abs(arc[k] - arc[j]) <= object_size
+    size = [segment.count(segment[k]) for k in range(count)]
+    return [any(evidence[j] and size[j] >= min_hits and segment[j] == segment[k]
+                and abs(arc[k] - arc[j]) <= object_size
                 for j in range(count)) for k in range(count)]
 
 
@@ -235,7 +241,7 @@ def literal_update_with_rule(labels, seen_free, last_hit, origin, resolution, po
                     max(rule.free_evidence_radius - rule.evidence_margin, 0.0))
                 for i in range(rows) for j in range(cols)))
         moving = literal_moving_hits(hits, beams, evidence, rule.segment_gap,
-                                     rule.moving_object_size)
+                                     rule.moving_object_size, rule.object_min_hits)
     moving_hits = [h for h, m in zip(hits, moving) if m]
     if rule.mobile_expiry > 0.0:
         if stamp < last_stamp:

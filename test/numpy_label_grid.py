@@ -246,7 +246,8 @@ class NumpyLabelGrid(NumpyExtrasLabelGrid):
                          points.hits_y[candidates], evidence_radius, return_hits=True),
                 seen_free, candidates.shape[0])
         moving = moving_object_hits(points.hits_x, points.hits_y, points.hit_beams, evidence,
-                                    self.rule.segment_gap, self.rule.moving_object_size)
+                                    self.rule.segment_gap, self.rule.moving_object_size,
+                                    self.rule.object_min_hits)
         if self.rule.track_confirm_time > 0.0:
             moving |= self.tracks.update(
                 float(self._stamp), (points.vertices_x[0], points.vertices_y[0]),

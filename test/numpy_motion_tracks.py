@@ -230,15 +230,17 @@ class NumpyMotionTracks:
         # Segments with motion evidence: the centroid of their moving hits.
         moving_count = np.bincount(segment[moving], minlength=segments)
         evidence = moving_count > 0
+        # Segments of fewer than min_hits hits are not followed (TrackConfig.min_hits).
+        enough = stop - first >= self.config.min_hits
         if evidence.any():
             mx = np.bincount(segment[moving], weights=hits_x[moving], minlength=segments)
             my = np.bincount(segment[moving], weights=hits_y[moving], minlength=segments)
-            for s in np.flatnonzero(evidence):
+            for s in np.flatnonzero(evidence & enough):
                 track = self._continue(np.array([mx[s], my[s]]) / moving_count[s], stamp,
                                        confirmed=True)
                 own = slice(first[s], stop[s])
                 self.hit_ids[own][moving[own]] = self.ids[track]
-        compact = small & (open_sides == 2)
+        compact = small & (open_sides == 2) & enough
         still = self._still(stamp, centroid_x, centroid_y, small & ~evidence)
         self.hit_long = ~small[segment]
         self.hit_object = (small & (stop - first >= OBJECT_MIN_HITS))[segment]

@@ -265,9 +265,11 @@ def test_last_window_holds_the_updates_window_and_fsm_input():
 RULES = {
     'free_evidence': LabelRule(free_evidence_radius=0.5),
     'objects': LabelRule(free_evidence_radius=0.5, moving_object_size=0.7, segment_gap=0.6),
+    'thin': LabelRule(free_evidence_radius=0.5, moving_object_size=0.7, segment_gap=0.6,
+                      object_min_hits=3),
     'expiry': LabelRule(mobile_expiry=1.0),
     'all': LabelRule(free_evidence_radius=0.75, moving_object_size=1.0, segment_gap=1.1,
-                     mobile_expiry=0.5),
+                     object_min_hits=2, mobile_expiry=0.5),
 }
 
 

@@ -86,6 +86,57 @@ def test_object_that_stops_loses_its_track_after_the_confirm_time(still_distance
     assert grid.tracks.positions.shape == (0, 2)
 
 
+def flickering_post(rule, seconds=3.0):
+    """
+    Scan a post 4 cm wide 5 m away; return the grid, and per scan its hits and cell label.
+
+    The beams are 1 degree apart and the laser's heading alternates by half a beam, so one
+    beam hits the post in every other scan and none in the others.
+    """
+    grid = LabelGrid(width=12.0, height=12.0, rule=rule)
+    post = (6.0, 6.0)
+    rr, cc = grid.geometry.world_to_cell(np.array([post[0] - 0.02]), np.array([post[1]]))
+    hits, labels = [], []
+    for step in range(int(seconds * 10) + 1):
+        laser = (1.0, 6.0, 0.0 if step % 2 else 0.5 * SCAN['angle_increment'])
+        ranges = disc_scan(laser, post, radius=0.02)
+        grid.update(laser, ranges, safety_radius=0.6, stamp=step / 10, **SCAN)
+        hits.append(int(np.isfinite(ranges).sum()))
+        labels.append(grid.labels[rr[0], cc[0]])
+    return grid, hits, labels
+
+
+@pytest.mark.parametrize('min_hits', [0, 1, 2, 3])
+def test_post_thinner_than_the_beam_spacing_is_mobile_only_without_the_thin_thing_rule(
+        min_hits):
+    # Missed in every other scan, the post's cell is surely seen free in the scans that miss
+    # it, and its next hit lands there: evidence of motion. With object_min_hits 2 or more,
+    # a one-hit segment shows none and is not followed, so the post stays steady.
+    rule = NavigatorConfig(width=1.0, height=1.0, object_min_hits=min_hits).label_rule()
+    grid, hits, labels = flickering_post(rule)
+    assert hits[0::2] == [0] * len(hits[0::2]) and hits[1::2] == [1] * len(hits[1::2])
+    seen = set(labels[1::2])
+    if min_hits <= 1:
+        assert M in seen and grid.tracks._next_id >= 1
+    else:
+        assert seen == {S} and grid.tracks._next_id == 0
+
+
+def test_thin_thing_rule_keeps_a_walking_object_mobile():
+    # A P3-AT-sized disc walking away spans six beams: followed as without the rule.
+    rule = NavigatorConfig(width=1.0, height=1.0, object_min_hits=3).label_rule()
+    _, labels = run(rule, walking_away, 2.0)
+    assert all(label == M for label in labels[-10:])
+
+
+def test_object_min_hits_must_be_a_whole_number():
+    for bad in (-1, 2.5, True, math.nan):
+        with pytest.raises(ValueError, match='object_min_hits'):
+            LabelRule(object_min_hits=bad)
+        with pytest.raises(ValueError, match='min_hits'):
+            TrackConfig(min_hits=bad)
+
+
 def test_pillar_passed_by_a_moving_laser_is_never_mobile():
     grid = LabelGrid(width=12.0, height=12.0, rule=LabelRule(**DPN, track_confirm_time=5.0))
     for step in range(41):
@@ -315,7 +366,8 @@ def test_compiled_tracks_equal_the_numpy_ones_on_hall_sequences(seed, still_rule
     # A laser that stands still for ten scans at a time among boxes that walk; the numpy
     # tracks (and trail marks) of commit 1d9ead7 are the oracle, after every scan. The
     # shipped rule, and the one before still objects and exclusive tracks.
-    before = {} if still_rules else {'track_still_distance': 0.0, 'track_exclusive': False}
+    before = {} if still_rules else {'track_still_distance': 0.0, 'track_exclusive': False,
+                                     'object_min_hits': 0}
     rule = NavigatorConfig(width=1.0, height=1.0, **before).label_rule()
     rng = np.random.default_rng(seed)
     static = hall(30.0, 10, rng)

@@ -145,6 +145,16 @@ class LabelRule:
         surely-free disc may reach that far into a wall.
     segment_gap : float
         Consecutive hits farther apart than this start a new scan segment [m].
+    object_min_hits : int
+        Thin things [hits]: a scan segment of fewer hits than this is no object that can be
+        seen to move. Its hits show no motion (``moving_object_hits``); the motion tracks
+        neither start nor continue a track with it when it stands free, nor remember where
+        it stood (``TrackConfig.min_hits``; a partly hidden one may still continue a track,
+        its hits say nothing of its width). A thing
+        narrower than about two beam spacings at its range (a post or a speck of a wall 20 m
+        away, where the beams are 0.1 m apart) is hit in one scan and slips between the beams
+        in the next, so the space it stands in is seen empty and its next hit looks like
+        motion. 0 or 1 turns it off. Does nothing without ``moving_object_size``.
     mobile_expiry : float
         Ghost expiry [s]. A mobile obstacle cell that no hit has been within the safety radius
         of for this long, and that the latest scan does not see (f1 = f2 = 0), goes back to
@@ -189,6 +199,7 @@ class LabelRule:
     moving_object_size: float = 0.0
     evidence_margin: float = 0.15
     segment_gap: float = 0.3
+    object_min_hits: int = 0
     mobile_expiry: float = 0.0
     track_confirm_time: float = 0.0
     track_still_distance: float = 0.0
@@ -203,6 +214,11 @@ class LabelRule:
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0.0):
                 raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
+        if (isinstance(self.object_min_hits, bool)
+                or not isinstance(self.object_min_hits, (int, np.integer))
+                or self.object_min_hits < 0):
+            raise ValueError('object_min_hits must be an integer >= 0, got '
+                             f'{self.object_min_hits!r}')
         if not (math.isfinite(self.segment_gap) and self.segment_gap > 0.0):
             raise ValueError(f'segment_gap must be positive, got {self.segment_gap!r} m')
         if self.trail_distance > 0.0 and self.track_confirm_time == 0.0:
@@ -227,7 +243,7 @@ class LabelRule:
         -------
         tuple
             ``(free_on, free_radius, free_bound, objects_on, evidence_radius,
-            evidence_bound, segment_gap, object_size, expiry_on)``, the bounds being
+            evidence_bound, segment_gap, object_size, min_hits, expiry_on)``, the bounds being
             ``squared_radius_bound`` of the radius before them.
 
         """
@@ -235,7 +251,7 @@ class LabelRule:
         return (self.free_evidence_radius > 0.0, self.free_evidence_radius,
                 squared_bound(self.free_evidence_radius), self.moving_object_size > 0.0,
                 evidence_radius, squared_bound(evidence_radius), self.segment_gap,
-                self.moving_object_size, self.mobile_expiry > 0.0)
+                self.moving_object_size, int(self.object_min_hits), self.mobile_expiry > 0.0)
 
 
 #: The paper's rule: f1, f2 and the FSM table, nothing else.
@@ -410,6 +426,7 @@ class LabelGrid(ChangeTrackers):
         self.last_window = _EMPTY_WINDOW
         self.tracks = MotionTracks(TrackConfig(confirm_within=rule.track_confirm_time,
                                                still_distance=rule.track_still_distance,
+                                               min_hits=int(rule.object_min_hits),
                                                exclusive=bool(rule.track_exclusive)))
         self.cell_track = (np.full(self.geometry.shape, -1, dtype=np.int64)
                            if rule.trail_distance > 0.0 else None)

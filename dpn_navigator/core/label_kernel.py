@@ -441,7 +441,7 @@ def _in_band(cx, cy, xa, ya, ex, ey, length2, length, radius):
 
 
 @kernel
-def _moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_size):
+def _moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_size, min_hits):
     """``moving_objects.moving_object_hits`` as a loop, with the same arithmetic."""
     count = hits_x.shape[0]
     moving = np.zeros(count, dtype=np.bool_)
@@ -454,6 +454,15 @@ def _moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_size):
         cut = step > segment_gap or hit_beams[k] - hit_beams[k - 1] != 1
         segment[k] = segment[k - 1] + (1 if cut else 0)
         arc[k] = arc[k - 1] + step
+    # Evidence counts only in segments of at least min_hits hits.
+    if min_hits > 1 and count > 0:
+        evidence = evidence.copy()
+        start = 0
+        for k in range(1, count + 1):
+            if k == count or segment[k] != segment[k - 1]:
+                if k - start < min_hits:
+                    evidence[start:k] = False
+                start = k
     # The nearest hit with evidence at or before each hit, then at or after it.
     last = -1
     for k in range(count):
@@ -550,8 +559,8 @@ def _window_bound(low, origin, resolution, margin, count):
 def _update_window(labels, seen_free, last_hit, listed, row0, col0, cell_input, x0, y0,
                    resolution, vertices_x, vertices_y, hits_x, hits_y, hit_beams,
                    safety_radius, safety_bound, free_on, free_radius, free_bound, objects_on,
-                   evidence_radius, evidence_bound, segment_gap, object_size, expiry_on,
-                   stamp, path, new_mobile, extra_moving, moving_known):
+                   evidence_radius, evidence_bound, segment_gap, object_size, min_hits,
+                   expiry_on, stamp, path, new_mobile, extra_moving, moving_known):
     """
     Fold one scan into the window ``labels[row0:row0 + n_rows, col0:col0 + n_cols]``.
 
@@ -586,6 +595,8 @@ def _update_window(labels, seen_free, last_hit, listed, row0, col0, cell_input, 
         The free-evidence and motion-evidence radii [m] and their squared bounds.
     segment_gap, object_size : float
         As in ``LabelRule`` [m].
+    min_hits : int
+        ``LabelRule.object_min_hits``: evidence counts only in segments of this many hits.
     stamp : float
         The scan's time [s]; read with ``expiry_on``.
     path : (N, 2) ndarray of int64
@@ -628,7 +639,7 @@ def _update_window(labels, seen_free, last_hit, listed, row0, col0, cell_input, 
             evidence = _hit_evidence(seen_free, hits_x, hits_y, x0, y0, resolution,
                                      evidence_radius, evidence_bound)
             moving = _moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap,
-                                  object_size)
+                                  object_size, min_hits)
         if not moving_known and extra_moving.shape[0] == moving.shape[0]:
             for k in range(moving.shape[0]):
                 if extra_moving[k]:
@@ -759,8 +770,8 @@ def _expire_listed(labels, last_hit, listed, cells, count, stamp, mobile_expiry,
 def _scan_update(labels, seen_free, last_hit, listed, ranges, x, y, yaw, angle_min,
                  angle_increment, range_min, range_max, x0, y0, resolution, reach,
                  safety_radius, safety_bound, free_on, free_radius, free_bound, objects_on,
-                 evidence_radius, evidence_bound, segment_gap, object_size, expiry_on, stamp,
-                 path, extra_moving):
+                 evidence_radius, evidence_bound, segment_gap, object_size, min_hits, expiry_on,
+                 stamp, path, extra_moving):
     """
     Find the scan's points, then run `_points_update` with them.
 
@@ -772,14 +783,14 @@ def _scan_update(labels, seen_free, last_hit, listed, ranges, x, y, yaw, angle_m
         labels, seen_free, last_hit, listed, vertices_x, vertices_y, hits_x, hits_y,
         hit_beams, x0, y0, resolution, reach, safety_radius, safety_bound, free_on,
         free_radius, free_bound, objects_on, evidence_radius, evidence_bound, segment_gap,
-        object_size, expiry_on, stamp, path, extra_moving, False)
+        object_size, min_hits, expiry_on, stamp, path, extra_moving, False)
 
 
 @kernel
 def _points_update(labels, seen_free, last_hit, listed, vertices_x, vertices_y, hits_x,
                    hits_y, hit_beams, x0, y0, resolution, reach, safety_radius, safety_bound,
                    free_on, free_radius, free_bound, objects_on, evidence_radius,
-                   evidence_bound, segment_gap, object_size, expiry_on, stamp, path,
+                   evidence_bound, segment_gap, object_size, min_hits, expiry_on, stamp, path,
                    extra_moving, moving_known):
     """
     Find the scan's window from its points, then run `_update_window` over it.
@@ -804,7 +815,7 @@ def _points_update(labels, seen_free, last_hit, listed, vertices_x, vertices_y, 
         labels, seen_free, last_hit, listed, row0, col0, cell_input, x0, y0, resolution,
         vertices_x, vertices_y, hits_x, hits_y, hit_beams, safety_radius, safety_bound,
         free_on, free_radius, free_bound, objects_on, evidence_radius, evidence_bound,
-        segment_gap, object_size, expiry_on, stamp, path, new_mobile, extra_moving,
+        segment_gap, object_size, min_hits, expiry_on, stamp, path, new_mobile, extra_moving,
         moving_known)
     return replan, row0, row_end, col0, col_end, cell_input, new_mobile[:new_count].copy()
 
@@ -835,7 +846,7 @@ def scan_update(labels, seen_free, last_hit, listed, geometry, pose, ranges, ang
         f1's ``r`` [m].
     rule_arguments : tuple
         ``LabelRule.kernel_arguments()``: ``(free_on, free_radius, free_bound, objects_on,
-        evidence_radius, evidence_bound, segment_gap, object_size, expiry_on)``.
+        evidence_radius, evidence_bound, segment_gap, object_size, min_hits, expiry_on)``.
     stamp : float
         The scan's time [s] (any float when the expiry is off).
     path : (N, 2) ndarray of int64
@@ -911,13 +922,14 @@ def scan_hits(seen_free, geometry, pose, ranges, angle_min, angle_increment, ran
         np.ascontiguousarray(ranges), pose[0], pose[1], pose[2], float(angle_min),
         float(angle_increment), float(range_min), float(range_max))
     (_, _, _, objects_on, evidence_radius, evidence_bound, segment_gap, object_size,
-     _) = rule_arguments
+     min_hits, _) = rule_arguments
     moving = np.zeros(hits_x.shape[0], dtype=bool)
     if objects_on:
         x0, y0 = geometry.origin
         evidence = _hit_evidence(seen_free, hits_x, hits_y, x0, y0, geometry.resolution,
                                  evidence_radius, evidence_bound)
-        moving = _moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_size)
+        moving = _moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_size,
+                              min_hits)
     return vertices_x, vertices_y, hits_x, hits_y, hit_beams, moving
 
 

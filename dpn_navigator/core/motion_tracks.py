@@ -92,6 +92,13 @@ class TrackConfig:
         started has moved [m]. Continuations alone do not count: where a cluster of static
         objects breaks into segments differently from scan to scan, a track jumps between
         them.
+    min_hits : int
+        A free-standing segment of fewer hits is no object (``LabelRule.object_min_hits``):
+        it starts and continues no track, and its centroid is not remembered as a place an
+        object stood; motion evidence in it counts for nothing. 0 or 1: off. A thing thinner
+        than about two beam spacings slips between the beams from one scan to the next, so
+        the place it stood is seen empty. A segment with one open end (partly hidden) still
+        continues a track within ``half_open_gate``: its hits say nothing of its width.
     exclusive : bool
         One segment per track and scan: a segment whose nearest track within the gate another
         segment of the scan continued already does not continue it (with motion evidence, or
@@ -114,6 +121,7 @@ class TrackConfig:
     still_distance: float = 0.0
     still_age: float = 0.8
     move_distance: float = 0.3
+    min_hits: int = 0
     exclusive: bool = False
 
     def __post_init__(self):
@@ -123,6 +131,9 @@ class TrackConfig:
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0.0):
                 raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
+        if isinstance(self.min_hits, bool) or not isinstance(self.min_hits, (int, np.integer)) \
+                or self.min_hits < 0:
+            raise ValueError(f'min_hits must be an integer >= 0, got {self.min_hits!r}')
 
 
 class MotionTracks:
@@ -238,8 +249,8 @@ class MotionTracks:
             float(config.confirm_within), vacated_on, float(config.history),
             float(config.min_age), float(config.reach), float(config.free_margin),
             float(config.half_open_gate), float(config.still_distance),
-            float(config.still_age), float(config.move_distance), bool(config.exclusive),
-            np.ascontiguousarray(beam_reach, np.float64))
+            float(config.still_age), float(config.move_distance), int(config.min_hits),
+            bool(config.exclusive), np.ascontiguousarray(beam_reach, np.float64))
         return followed
 
 
@@ -331,8 +342,7 @@ def _track_update(positions, ids, last_seen, last_confirmed, origins, moved, nex
                   hits_x, hits_y, hit_beams, beam_count, moving, segment_gap, compact_size,
                   gate, lost_after, confirm_within, vacated_on, history, min_age, reach,
                   free_margin, half_open_gate, still_distance, still_age, move_distance,
-                  exclusive,
-                  beam_reach):
+                  min_hits, exclusive, beam_reach):
     """
     `MotionTracks.update` after its time check, as one pass over the scan's segments.
 
@@ -425,7 +435,7 @@ def _track_update(positions, ids, last_seen, last_confirmed, origins, moved, nex
             open_sides[s] += hit_beams[stop - 1] < beam_count - 1
     # Segments with motion evidence start or confirm a track at their moving hits' centroid.
     for s in range(segments):
-        if moving_count[s] == 0:
+        if moving_count[s] == 0 or first[s + 1] - first[s] < min_hits:
             continue
         track, tracks, next_id = _continue(
             positions, ids, last_seen, last_confirmed, origins, moved, claimed, exclusive,
@@ -443,7 +453,8 @@ def _track_update(positions, ids, last_seen, last_confirmed, origins, moved, nex
     candidate = np.zeros(segments, dtype=np.bool_)
     vacated = np.zeros(segments, dtype=np.bool_)
     for s in range(segments):
-        candidate[s] = small[s] and open_sides[s] == 2 and moving_count[s] == 0
+        candidate[s] = (small[s] and open_sides[s] == 2 and moving_count[s] == 0
+                        and first[s + 1] - first[s] >= min_hits)
     # Compact segments standing where a compact free-standing one stood a while ago: still.
     still = np.zeros(segments, dtype=np.bool_)
     if still_distance > 0.0:
@@ -498,8 +509,11 @@ def _track_update(positions, ids, last_seen, last_confirmed, origins, moved, nex
     kept = 0
     for h in range(history_stamp.shape[0]):
         kept += stamp - history_stamp[h] <= history
+    remembered = np.zeros(segments, dtype=np.bool_)
     for s in range(segments):
-        kept += small[s] and open_sides[s] == 2
+        remembered[s] = (small[s] and open_sides[s] == 2
+                         and first[s + 1] - first[s] >= min_hits)
+        kept += remembered[s]
     new_xy = np.empty((kept, 2))
     new_stamp = np.empty(kept)
     kept = 0
@@ -509,7 +523,7 @@ def _track_update(positions, ids, last_seen, last_confirmed, origins, moved, nex
             new_stamp[kept] = history_stamp[h]
             kept += 1
     for s in range(segments):
-        if small[s] and open_sides[s] == 2:
+        if remembered[s]:
             new_xy[kept, 0] = centroid_x[s]
             new_xy[kept, 1] = centroid_y[s]
             new_stamp[kept] = stamp

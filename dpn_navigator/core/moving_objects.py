@@ -45,7 +45,8 @@ def scan_segments(hits_x, hits_y, hit_beams, segment_gap):
     return segment[:hits_x.shape[0]], arc[:hits_x.shape[0]]
 
 
-def moving_object_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_size):
+def moving_object_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_size,
+                       min_hits=0):
     """
     Tell which hits belong to an object seen to move.
 
@@ -61,6 +62,9 @@ def moving_object_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_
         Largest distance between consecutive hits of one object [m].
     object_size : float
         Largest distance along the segment from a hit with evidence [m].
+    min_hits : int
+        Evidence counts only in segments of at least this many hits
+        (``LabelRule.object_min_hits``); 0 or 1: in every segment.
 
     Returns
     -------
@@ -72,6 +76,8 @@ def moving_object_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_
     if count == 0 or not evidence.any():
         return np.zeros(count, dtype=bool)
     segment, arc = scan_segments(hits_x, hits_y, hit_beams, segment_gap)
+    if min_hits > 1:
+        evidence = evidence & (np.bincount(segment)[segment] >= min_hits)
     index = np.arange(count)
     # The nearest hit with evidence before and after each hit (-1 / count when none).
     before = np.maximum.accumulate(np.where(evidence, index, -1))

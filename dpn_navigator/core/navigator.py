@@ -102,6 +102,10 @@ class NavigatorConfig:
         seen free [m]; see ``LabelRule``.
     segment_gap : float
         Consecutive hits farther apart than this belong to different objects [m].
+    object_min_hits : int
+        Thin things [hits]: a scan segment of fewer hits shows no motion and is not followed
+        (a post thinner than the beam spacing slips between the beams); see ``LabelRule``.
+        0: off.
     mobile_expiry : float
         Ghost expiry [s]: mobile cells unconfirmed by any hit for this long and out of view go
         back to explored; see ``LabelRule``. 0: off.
@@ -171,6 +175,7 @@ class NavigatorConfig:
     moving_object_size: float = 0.7
     evidence_margin: float = 0.15
     segment_gap: float = 0.3
+    object_min_hits: int = 3
     mobile_expiry: float = 3.0
     track_confirm_time: float = 5.0
     track_still_distance: float = 0.08
@@ -213,6 +218,7 @@ class NavigatorConfig:
         return LabelRule(free_evidence_radius=self.free_evidence_radius,
                          moving_object_size=self.moving_object_size,
                          evidence_margin=self.evidence_margin, segment_gap=self.segment_gap,
+                         object_min_hits=self.object_min_hits,
                          mobile_expiry=self.mobile_expiry,
                          track_confirm_time=self.track_confirm_time,
                          track_still_distance=self.track_still_distance,
