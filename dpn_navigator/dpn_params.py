@@ -126,7 +126,7 @@ OTHER_PARAMETERS = {
                         "(Jazzy's diff_drive_controller takes TwistStamped)."),
     'object_min_hits': (3, 'Thin things: a free-standing laser segment of fewer hits shows no '
                         'motion and is not followed (a post thinner than the beam spacing '
-                        'slips between the beams) [hits], 0 to 640; 0: off (the paper).'),
+                        'slips between the beams) [hits]; 0: off (the paper).'),
     'track_exclusive': (True, 'Exclusive motion tracks: at most one scan segment continues a '
                         'track per scan (false: the paper has no tracks; before, a post next '
                         'to a wanderer shared its track).'),
@@ -140,8 +140,8 @@ MOBILE_VALUE_RANGE = (1, 100)
 #: The parameters of ``OTHER_PARAMETERS`` that go to the navigator's configuration, not to
 #: ``DpnParameters``.
 NAVIGATOR_SWITCHES = ('track_exclusive', 'object_min_hits')
-#: Allowed ``object_min_hits`` (at most one segment of every beam of a 640-beam scan).
-MIN_HITS_RANGE = (0, 640)
+#: Allowed ``object_min_hits`` (as ``max_beams``: no more hits than beams).
+MIN_HITS_RANGE = (0, 1_000_000)
 
 
 @dataclass(frozen=True)

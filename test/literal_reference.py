@@ -191,11 +191,14 @@ def literal_surely_free(cx, cy, vertices, hits, safety_radius, radius):
     return True
 
 
-def literal_moving_hits(hits, beams, evidence, segment_gap, object_size, min_hits=0):
+def literal_moving_hits(hits, beams, evidence, segment_gap, object_size, min_hits=0,
+                        laser=(0.0, 0.0), beam_count=0):
     """
     Mark hits that have a hit with evidence in their segment within object_size of arc.
 
-    Evidence counts only in a segment of at least ``min_hits`` hits.
+    Evidence counts for nothing in a free-standing segment of fewer than ``min_hits`` hits:
+    both its ends open, the beam just outside each returning nothing (and existing) or a hit
+    farther from ``laser`` than the end.
     """
     count = len(hits)
     segment = [0] * count
@@ -207,8 +210,23 @@ def literal_moving_hits(hits, beams, evidence, segment_gap, object_size, min_hit
         cut = step > segment_gap or beams[k] != beams[k - 1] + 1
         segment[k] = segment[k - 1] + (1 if cut else 0)
         arc[k] = arc[k - 1] + step
-    size = [segment.count(segment[k]) for k in range(count)]
-    return [any(evidence[j] and size[j] >= min_hits and segment[j] == segment[k]
+
+    def distance(k):
+        return math.hypot(hits[k][0] - laser[0], hits[k][1] - laser[1])
+
+    def end_open(end, outside, edge_beam):
+        if 0 <= outside < count and beams[outside] == beams[end] + (outside - end):
+            return distance(outside) > distance(end)
+        return beams[end] != edge_beam
+
+    def counts(j):
+        members = [k for k in range(count) if segment[k] == segment[j]]
+        if len(members) >= min_hits:
+            return True
+        first, last = members[0], members[-1]
+        return not (end_open(first, first - 1, 0) and end_open(last, last + 1, beam_count - 1))
+
+    return [any(evidence[j] and counts(j) and segment[j] == segment[k]
                 and abs(arc[k] - arc[j]) <= object_size
                 for j in range(count)) for k in range(count)]
 
@@ -241,7 +259,8 @@ def literal_update_with_rule(labels, seen_free, last_hit, origin, resolution, po
                     max(rule.free_evidence_radius - rule.evidence_margin, 0.0))
                 for i in range(rows) for j in range(cols)))
         moving = literal_moving_hits(hits, beams, evidence, rule.segment_gap,
-                                     rule.moving_object_size, rule.object_min_hits)
+                                     rule.moving_object_size, rule.object_min_hits,
+                                     vertices[0], len(ranges))
     moving_hits = [h for h, m in zip(hits, moving) if m]
     if rule.mobile_expiry > 0.0:
         if stamp < last_stamp:

@@ -247,7 +247,9 @@ class NumpyLabelGrid(NumpyExtrasLabelGrid):
                 seen_free, candidates.shape[0])
         moving = moving_object_hits(points.hits_x, points.hits_y, points.hit_beams, evidence,
                                     self.rule.segment_gap, self.rule.moving_object_size,
-                                    self.rule.object_min_hits)
+                                    self.rule.object_min_hits,
+                                    (points.vertices_x[0], points.vertices_y[0]),
+                                    points.vertices_x.shape[0] - 2)
         if self.rule.track_confirm_time > 0.0:
             moving |= self.tracks.update(
                 float(self._stamp), (points.vertices_x[0], points.vertices_y[0]),

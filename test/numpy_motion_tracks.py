@@ -235,7 +235,7 @@ class NumpyMotionTracks:
         if evidence.any():
             mx = np.bincount(segment[moving], weights=hits_x[moving], minlength=segments)
             my = np.bincount(segment[moving], weights=hits_y[moving], minlength=segments)
-            for s in np.flatnonzero(evidence & enough):
+            for s in np.flatnonzero(evidence & (enough | (open_sides != 2))):
                 track = self._continue(np.array([mx[s], my[s]]) / moving_count[s], stamp,
                                        confirmed=True)
                 own = slice(first[s], stop[s])

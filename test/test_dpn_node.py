@@ -273,11 +273,14 @@ def test_between_full_maps_the_changed_cells_go_out_as_updates(ros_context, upda
 def test_track_rules_reach_the_navigators_tracks(ros_context, exclusive):
     overrides = [Parameter('map_width', value=12.0), Parameter('map_height', value=12.0),
                  Parameter('track_exclusive', value=exclusive),
-                 Parameter('track_still_distance', value=0.05)]
+                 Parameter('track_still_distance', value=0.05),
+                 Parameter('object_min_hits', value=4)]
     dpn = DpnNode(context=ros_context, parameter_overrides=overrides)
     try:
         assert dpn.navigator.grid.tracks.config.exclusive is exclusive
         assert dpn.navigator.grid.tracks.config.still_distance == 0.05
+        assert dpn.navigator.grid.tracks.config.min_hits == 4
+        assert dpn.navigator.grid.rule.object_min_hits == 4
     finally:
         dpn.destroy_node()
 

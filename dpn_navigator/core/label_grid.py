@@ -146,11 +146,12 @@ class LabelRule:
     segment_gap : float
         Consecutive hits farther apart than this start a new scan segment [m].
     object_min_hits : int
-        Thin things [hits]: a scan segment of fewer hits than this is no object that can be
-        seen to move. Its hits show no motion (``moving_object_hits``); the motion tracks
-        neither start nor continue a track with it when it stands free, nor remember where
-        it stood (``TrackConfig.min_hits``; a partly hidden one may still continue a track,
-        its hits say nothing of its width). A thing
+        Thin things [hits]: a free-standing scan segment (both ends open: the beams just
+        outside it return farther or nothing) of fewer hits than this is no object that can
+        be seen to move. Its hits show no motion (``moving_object_hits``), and the motion
+        tracks neither start nor continue a track with it nor remember where it stood
+        (``TrackConfig.min_hits``). A partly hidden segment is not concerned: its hits say
+        nothing of its width. A thing
         narrower than about two beam spacings at its range (a post or a speck of a wall 20 m
         away, where the beams are 0.1 m apart) is hit in one scan and slips between the beams
         in the next, so the space it stands in is seen empty and its next hit looks like

@@ -441,7 +441,8 @@ def _in_band(cx, cy, xa, ya, ex, ey, length2, length, radius):
 
 
 @kernel
-def _moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_size, min_hits):
+def _moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_size, min_hits,
+                 laser_x, laser_y, beam_count):
     """``moving_objects.moving_object_hits`` as a loop, with the same arithmetic."""
     count = hits_x.shape[0]
     moving = np.zeros(count, dtype=np.bool_)
@@ -454,13 +455,14 @@ def _moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_size, 
         cut = step > segment_gap or hit_beams[k] - hit_beams[k - 1] != 1
         segment[k] = segment[k - 1] + (1 if cut else 0)
         arc[k] = arc[k - 1] + step
-    # Evidence counts only in segments of at least min_hits hits.
+    # Evidence counts for nothing in a free-standing segment of fewer than min_hits hits.
     if min_hits > 1 and count > 0:
         evidence = evidence.copy()
         start = 0
         for k in range(1, count + 1):
             if k == count or segment[k] != segment[k - 1]:
-                if k - start < min_hits:
+                if k - start < min_hits and _free_standing(
+                        hits_x, hits_y, hit_beams, start, k, laser_x, laser_y, beam_count):
                     evidence[start:k] = False
                 start = k
     # The nearest hit with evidence at or before each hit, then at or after it.
@@ -477,6 +479,30 @@ def _moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_size, 
         if last >= 0 and segment[last] == segment[k] and arc[last] - arc[k] <= object_size:
             moving[k] = True
     return moving
+
+
+@kernel
+def _free_standing(hits_x, hits_y, hit_beams, start, stop, laser_x, laser_y, beam_count):
+    """
+    Tell whether the segment of hits ``start:stop`` stands free: both its ends are open.
+
+    An end is open when the beam just outside it exists and returns nothing, or a hit farther
+    from the laser than the end (``motion_tracks``' open sides, the same arithmetic).
+    """
+    count = hits_x.shape[0]
+    distance_first = math.hypot(hits_x[start] - laser_x, hits_y[start] - laser_y)
+    distance_last = math.hypot(hits_x[stop - 1] - laser_x, hits_y[stop - 1] - laser_y)
+    if start > 0 and hit_beams[start - 1] == hit_beams[start] - 1:
+        open_before = math.hypot(hits_x[start - 1] - laser_x,
+                                 hits_y[start - 1] - laser_y) > distance_first
+    else:
+        open_before = hit_beams[start] > 0
+    if stop < count and hit_beams[stop] == hit_beams[stop - 1] + 1:
+        open_after = math.hypot(hits_x[stop] - laser_x,
+                                hits_y[stop] - laser_y) > distance_last
+    else:
+        open_after = hit_beams[stop - 1] < beam_count - 1
+    return open_before and open_after
 
 
 @kernel
@@ -596,7 +622,8 @@ def _update_window(labels, seen_free, last_hit, listed, row0, col0, cell_input, 
     segment_gap, object_size : float
         As in ``LabelRule`` [m].
     min_hits : int
-        ``LabelRule.object_min_hits``: evidence counts only in segments of this many hits.
+        ``LabelRule.object_min_hits``: evidence counts for nothing in a free-standing segment
+        of fewer hits.
     stamp : float
         The scan's time [s]; read with ``expiry_on``.
     path : (N, 2) ndarray of int64
@@ -639,7 +666,8 @@ def _update_window(labels, seen_free, last_hit, listed, row0, col0, cell_input, 
             evidence = _hit_evidence(seen_free, hits_x, hits_y, x0, y0, resolution,
                                      evidence_radius, evidence_bound)
             moving = _moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap,
-                                  object_size, min_hits)
+                                  object_size, min_hits, vertices_x[0], vertices_y[0],
+                                  vertices_x.shape[0] - 2)
         if not moving_known and extra_moving.shape[0] == moving.shape[0]:
             for k in range(moving.shape[0]):
                 if extra_moving[k]:
@@ -929,7 +957,7 @@ def scan_hits(seen_free, geometry, pose, ranges, angle_min, angle_increment, ran
         evidence = _hit_evidence(seen_free, hits_x, hits_y, x0, y0, geometry.resolution,
                                  evidence_radius, evidence_bound)
         moving = _moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_size,
-                              min_hits)
+                              min_hits, vertices_x[0], vertices_y[0], ranges.shape[0])
     return vertices_x, vertices_y, hits_x, hits_y, hit_beams, moving
 
 

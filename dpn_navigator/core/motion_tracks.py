@@ -95,10 +95,11 @@ class TrackConfig:
     min_hits : int
         A free-standing segment of fewer hits is no object (``LabelRule.object_min_hits``):
         it starts and continues no track, and its centroid is not remembered as a place an
-        object stood; motion evidence in it counts for nothing. 0 or 1: off. A thing thinner
+        object stood; motion evidence in it counts for nothing (its moving hits, if any, start
+        or confirm no track). 0 or 1: off. A thing thinner
         than about two beam spacings slips between the beams from one scan to the next, so
-        the place it stood is seen empty. A segment with one open end (partly hidden) still
-        continues a track within ``half_open_gate``: its hits say nothing of its width.
+        the place it stood is seen empty. A segment with an end closed (partly hidden) is
+        not concerned: its hits say nothing of its width.
     exclusive : bool
         One segment per track and scan: a segment whose nearest track within the gate another
         segment of the scan continued already does not continue it (with motion evidence, or
@@ -435,7 +436,8 @@ def _track_update(positions, ids, last_seen, last_confirmed, origins, moved, nex
             open_sides[s] += hit_beams[stop - 1] < beam_count - 1
     # Segments with motion evidence start or confirm a track at their moving hits' centroid.
     for s in range(segments):
-        if moving_count[s] == 0 or first[s + 1] - first[s] < min_hits:
+        if moving_count[s] == 0 or (open_sides[s] == 2
+                                    and first[s + 1] - first[s] < min_hits):
             continue
         track, tracks, next_id = _continue(
             positions, ids, last_seen, last_confirmed, origins, moved, claimed, exclusive,

@@ -45,8 +45,49 @@ def scan_segments(hits_x, hits_y, hit_beams, segment_gap):
     return segment[:hits_x.shape[0]], arc[:hits_x.shape[0]]
 
 
+def free_standing_segments(laser_xy, hits_x, hits_y, hit_beams, beam_count, segment):
+    """
+    Tell which scan segments stand free: both ends open.
+
+    An end is open when the beam just outside it exists and returns nothing, or a hit farther
+    from the laser than the end: the segment stands in front of what is around it.
+
+    Parameters
+    ----------
+    laser_xy : (float, float)
+        Laser position [m].
+    hits_x, hits_y : (K,) ndarray of float64
+        Hit points in beam order [m], K >= 1.
+    hit_beams : (K,) ndarray of int64
+        Beam index of each hit, increasing.
+    beam_count : int
+        Beams in the scan.
+    segment : (K,) ndarray of int64
+        Segment id of each hit (`scan_segments`).
+
+    Returns
+    -------
+    free : (S,) ndarray of bool
+        Per segment.
+
+    """
+    count = segment.shape[0]
+    first = np.concatenate(([0], np.flatnonzero(np.diff(segment)) + 1))
+    last = np.concatenate((first[1:] - 1, [count - 1]))
+    distance = np.hypot(hits_x - laser_xy[0], hits_y - laser_xy[1])
+    before = np.maximum(first - 1, 0)
+    after = np.minimum(last + 1, count - 1)
+    before_is_hit = (first > 0) & (hit_beams[before] == hit_beams[first] - 1)
+    after_is_hit = (last + 1 < count) & (hit_beams[after] == hit_beams[last] + 1)
+    open_before = np.where(before_is_hit, distance[before] > distance[first],
+                           hit_beams[first] > 0)
+    open_after = np.where(after_is_hit, distance[after] > distance[last],
+                          hit_beams[last] < beam_count - 1)
+    return open_before & open_after
+
+
 def moving_object_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_size,
-                       min_hits=0):
+                       min_hits=0, laser_xy=(0.0, 0.0), beam_count=0):
     """
     Tell which hits belong to an object seen to move.
 
@@ -63,8 +104,12 @@ def moving_object_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_
     object_size : float
         Largest distance along the segment from a hit with evidence [m].
     min_hits : int
-        Evidence counts only in segments of at least this many hits
-        (``LabelRule.object_min_hits``); 0 or 1: in every segment.
+        Evidence counts for nothing in a free-standing segment (`free_standing_segments`) of
+        fewer hits (``LabelRule.object_min_hits``); 0 or 1: in every segment.
+    laser_xy : (float, float)
+        Laser position [m]; read when ``min_hits`` > 1.
+    beam_count : int
+        Beams in the scan; read when ``min_hits`` > 1.
 
     Returns
     -------
@@ -77,7 +122,10 @@ def moving_object_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_
         return np.zeros(count, dtype=bool)
     segment, arc = scan_segments(hits_x, hits_y, hit_beams, segment_gap)
     if min_hits > 1:
-        evidence = evidence & (np.bincount(segment)[segment] >= min_hits)
+        thin = ((np.bincount(segment) < min_hits)
+                & free_standing_segments(laser_xy, hits_x, hits_y, hit_beams, beam_count,
+                                         segment))
+        evidence = evidence & ~thin[segment]
     index = np.arange(count)
     # The nearest hit with evidence before and after each hit (-1 / count when none).
     before = np.maximum.accumulate(np.where(evidence, index, -1))
