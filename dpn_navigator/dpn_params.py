@@ -49,6 +49,13 @@ FLOAT_PARAMETERS = {
                         'this of a cell surely seen free [m].', (0.0, 5.0), True),
     'segment_gap': (0.3, 'Consecutive laser hits farther apart than this are different '
                     'objects [m].', (0.01, 10.0), True),
+    'fine_evidence_resolution': (0.1, 'Fine free evidence: a hit also shows motion when its '
+                                 'cell of a grid this fine was once surely seen free with '
+                                 'fine_evidence_radius [m]; 0: off (the paper).', (0.0, 5.0),
+                                 True),
+    'fine_evidence_radius': (0.2, 'Fine free evidence: a fine cell is surely free when its '
+                             'disc of this radius lay inside one scan polygon [m]; 0: off.',
+                             (0.0, 5.0), True),
     'mobile_expiry': (3.0, 'Mobile cells no hit confirmed for this long and out of view go '
                       'back to explored [s]; 0: never (the paper).', (0.0, 3600.0), True),
     'track_confirm_time': (5.0, 'Motion tracks: a compact free-standing segment near a moving '
@@ -204,6 +211,8 @@ def declare_parameters(node):
         moving_object_size=values['moving_object_size'],
         evidence_margin=values['evidence_margin'], segment_gap=values['segment_gap'],
         object_min_hits=values['object_min_hits'],
+        fine_evidence_resolution=values['fine_evidence_resolution'],
+        fine_evidence_radius=values['fine_evidence_radius'],
         mobile_expiry=values['mobile_expiry'],
         track_confirm_time=values['track_confirm_time'],
         track_still_distance=values['track_still_distance'],

@@ -233,11 +233,13 @@ def literal_moving_hits(hits, beams, evidence, segment_gap, object_size, min_hit
 
 def literal_update_with_rule(labels, seen_free, last_hit, origin, resolution, pose, ranges,
                              angle_min, angle_increment, range_min, range_max, safety_radius,
-                             rule, stamp, last_stamp, path=None):
+                             rule, stamp, last_stamp, path=None, fine_seen_free=None):
     """
     Apply the dpn label rule to every cell, in place; return (replan, new last_stamp).
 
-    ``seen_free`` (bool) and ``last_hit`` (float) are updated in place when their rule is on.
+    ``seen_free`` (bool) and ``last_hit`` (float) are updated in place when their rule is on,
+    and so is ``fine_seen_free`` (bool, the fine grid's cells of
+    ``rule.fine_evidence_resolution`` from ``origin``) with the fine free evidence.
     """
     vertices, hits = literal_scan_points(
         pose, ranges, angle_min, angle_increment, range_min, range_max)
@@ -258,6 +260,14 @@ def literal_update_with_rule(labels, seen_free, last_hit, origin, resolution, po
                     *centre(i, j), [(hx, hy)],
                     max(rule.free_evidence_radius - rule.evidence_margin, 0.0))
                 for i in range(rows) for j in range(cols)))
+        if rule.fine_evidence_radius > 0.0:
+            # Fine free evidence: the hit's fine cell once surely seen free.
+            fine = rule.fine_evidence_resolution
+            for k, (hx, hy) in enumerate(hits):
+                i, j = math.floor((hy - y0) / fine), math.floor((hx - x0) / fine)
+                if (0 <= i < fine_seen_free.shape[0] and 0 <= j < fine_seen_free.shape[1]
+                        and fine_seen_free[i, j]):
+                    evidence[k] = True
         moving = literal_moving_hits(hits, beams, evidence, rule.segment_gap,
                                      rule.moving_object_size, rule.object_min_hits,
                                      vertices[0], len(ranges))
@@ -296,4 +306,12 @@ def literal_update_with_rule(labels, seen_free, last_hit, origin, resolution, po
                 replan = True
     for i, j in newly_seen:
         seen_free[i, j] = True
+    if rule.fine_evidence_radius > 0.0:
+        fine = rule.fine_evidence_resolution
+        radius = rule.fine_evidence_radius
+        for i in range(fine_seen_free.shape[0]):
+            for j in range(fine_seen_free.shape[1]):
+                if literal_surely_free(x0 + (j + 0.5) * fine, y0 + (i + 0.5) * fine, vertices,
+                                       hits, radius, radius):
+                    fine_seen_free[i, j] = True
     return replan, last_stamp

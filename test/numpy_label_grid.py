@@ -15,6 +15,7 @@ numpy around it: the oracle of their compiled versions.
 
 from dpn_navigator.core.cell_label import blocked_mask, CellLabel, LABEL_DTYPE, ScanInput
 from dpn_navigator.core.cell_label import TRANSITION
+from dpn_navigator.core.fine_evidence import FineEvidence
 from dpn_navigator.core.free_evidence import surely_free
 from dpn_navigator.core.label_grid import LabelGrid
 from dpn_navigator.core.moving_objects import moving_object_hits
@@ -60,6 +61,11 @@ class NumpyExtrasLabelGrid(LabelGrid):
         self.tracks = NumpyMotionTracks(self.tracks.config)
         if self.object_memory is not None:
             self.object_memory = NumpyObjectMemory(self.geometry, self.rule.object_memory)
+        if self.fine_evidence is not None:
+            # The fine evidence kept by the numpy update below.
+            self.fine_evidence = FineEvidence(self.geometry, self.rule.fine_evidence_resolution,
+                                              self.rule.fine_evidence_radius,
+                                              grid_type=NumpyLabelGrid)
 
     def _follow(self, *args):
         """Follow the objects; the label kernel then finds the scan's points itself again."""
@@ -159,6 +165,14 @@ class NumpyLabelGrid(NumpyExtrasLabelGrid):
         points = scan_points(pose, ranges, angle_min, angle_increment, range_min, range_max)
         self._scan_fan = (pose[2] + angle_min, angle_increment)
         self._stamp = stamp
+        self._fine_moving = None
+        if self.fine_evidence is not None:
+            # Read before this scan goes into the fine evidence.
+            self._fine_moving = self.fine_evidence.moving_hits(
+                (points.vertices_x, points.vertices_y, points.hits_x, points.hits_y,
+                 points.hit_beams), self.rule)
+            self.fine_evidence.update(pose, ranges, angle_min, angle_increment, range_min,
+                                      range_max)
         # Every cell within r of a hit (f1), or within the evidence radius of one.
         reach = max(safety_radius, self.rule.free_evidence_radius)
         rows, cols = self.geometry.cell_window(
@@ -250,6 +264,8 @@ class NumpyLabelGrid(NumpyExtrasLabelGrid):
                                     self.rule.object_min_hits,
                                     (points.vertices_x[0], points.vertices_y[0]),
                                     points.vertices_x.shape[0] - 2)
+        if self._fine_moving is not None:
+            moving |= self._fine_moving
         if self.rule.track_confirm_time > 0.0:
             moving |= self.tracks.update(
                 float(self._stamp), (points.vertices_x[0], points.vertices_y[0]),

@@ -274,13 +274,17 @@ def test_track_rules_reach_the_navigators_tracks(ros_context, exclusive):
     overrides = [Parameter('map_width', value=12.0), Parameter('map_height', value=12.0),
                  Parameter('track_exclusive', value=exclusive),
                  Parameter('track_still_distance', value=0.05),
-                 Parameter('object_min_hits', value=4)]
+                 Parameter('object_min_hits', value=4),
+                 Parameter('fine_evidence_resolution', value=0.05),
+                 Parameter('fine_evidence_radius', value=0.25)]
     dpn = DpnNode(context=ros_context, parameter_overrides=overrides)
     try:
         assert dpn.navigator.grid.tracks.config.exclusive is exclusive
         assert dpn.navigator.grid.tracks.config.still_distance == 0.05
         assert dpn.navigator.grid.tracks.config.min_hits == 4
         assert dpn.navigator.grid.rule.object_min_hits == 4
+        fine = dpn.navigator.grid.fine_evidence
+        assert fine.grid.geometry.resolution == 0.05 and fine.radius == 0.25
     finally:
         dpn.destroy_node()
 

@@ -1,5 +1,6 @@
 """Tests of the labelled occupancy grid: f1, f2, the FSM and the replan flag."""
 
+import dataclasses
 import math
 
 from dpn_navigator.core.cell_label import CellLabel, OCCUPANCY_VALUE, TRANSITION
@@ -267,6 +268,9 @@ RULES = {
     'objects': LabelRule(free_evidence_radius=0.5, moving_object_size=0.7, segment_gap=0.6),
     'thin': LabelRule(free_evidence_radius=0.5, moving_object_size=0.7, segment_gap=0.6,
                       object_min_hits=3),
+    'fine': LabelRule(free_evidence_radius=0.5, moving_object_size=0.7, segment_gap=0.6,
+                      object_min_hits=2, fine_evidence_resolution=0.25,
+                      fine_evidence_radius=0.3),
     'expiry': LabelRule(mobile_expiry=1.0),
     'all': LabelRule(free_evidence_radius=0.75, moving_object_size=1.0, segment_gap=1.1,
                      object_min_hits=2, mobile_expiry=0.5),
@@ -291,6 +295,10 @@ def test_rule_update_equals_the_literal_twin(case, rule_name, stamps):
         grid.seen_free[...] = seen_free
     if grid.last_hit is not None:
         grid.last_hit[...] = last_hit
+    fine_seen_free = None
+    if grid.fine_evidence is not None:
+        fine_seen_free = rng.random(grid.fine_evidence.seen_free.shape) < 0.3
+        grid.fine_evidence.seen_free[...] = fine_seen_free
     grid.labels_changed()
     path = np.argwhere(rng.random(grid.labels.shape) < 0.3)
     scan = {k: case[k] for k in ('angle_min', 'angle_increment', 'range_min', 'range_max',
@@ -301,13 +309,16 @@ def test_rule_update_equals_the_literal_twin(case, rule_name, stamps):
         pose = (x + 0.25 * step, y - 0.5 * step, yaw + math.pi / 4 * step)
         want, last_stamp = literal_update_with_rule(
             labels, seen_free, last_hit, case['origin'], case['resolution'], pose,
-            case['ranges'], rule=rule, stamp=stamp, last_stamp=last_stamp, path=path, **scan)
+            case['ranges'], rule=rule, stamp=stamp, last_stamp=last_stamp, path=path,
+            fine_seen_free=fine_seen_free, **scan)
         got = grid.update(pose, case['ranges'], path=path, stamp=stamp, **scan)
         assert_array_equal(grid.labels, labels)
         if grid.seen_free is not None:
             assert_array_equal(grid.seen_free, seen_free)
         if grid.last_hit is not None:
             assert_array_equal(grid.last_hit, last_hit)
+        if fine_seen_free is not None:
+            assert_array_equal(grid.fine_evidence.seen_free, fine_seen_free)
         assert got == want
 
 
@@ -402,3 +413,69 @@ def test_unconfirmed_mobile_cells_out_of_view_expire():
 def test_bad_rule_raises(kwargs, message):
     with pytest.raises(ValueError, match=message):
         LabelRule(**kwargs)
+
+
+@settings(max_examples=80)
+@given(case=scans(), share=st.sampled_from([0.3, 0.7, 1.0]))
+def test_fine_evidence_equals_the_literal_twin(case, share):
+    # No label cell surely free to start with: whatever shows motion in the first scan, the
+    # fine evidence showed.
+    rule = RULES['fine']
+    grid = LabelGrid(case['cols'] * case['resolution'], case['rows'] * case['resolution'],
+                     case['resolution'], case['origin'], rule)
+    rng = np.random.default_rng(case['path_seed'])
+    labels = rng.integers(0, 4, grid.labels.shape).astype(np.uint8)
+    seen_free = np.zeros(grid.labels.shape, dtype=bool)
+    fine_seen_free = rng.random(grid.fine_evidence.seen_free.shape) < share
+    grid.labels[...] = labels
+    grid.fine_evidence.seen_free[...] = fine_seen_free
+    grid.labels_changed()
+    scan = {k: case[k] for k in ('angle_min', 'angle_increment', 'range_min', 'range_max',
+                                 'safety_radius')}
+    for step in range(case['rounds']):
+        x, y, yaw = case['pose']
+        pose = (x + 0.25 * step, y - 0.5 * step, yaw + math.pi / 4 * step)
+        literal_update_with_rule(labels, seen_free, None, case['origin'], case['resolution'],
+                                 pose, case['ranges'], rule=rule, stamp=0.0,
+                                 last_stamp=-math.inf, fine_seen_free=fine_seen_free, **scan)
+        grid.update(pose, case['ranges'], **scan)
+        assert_array_equal(grid.labels, labels)
+        assert_array_equal(grid.seen_free, seen_free)
+        assert_array_equal(grid.fine_evidence.seen_free, fine_seen_free)
+
+
+def corridor_ranges(angles, board):
+    """Ranges from (1, 4) down a corridor 1.2 m wide ending at x = 2.4, with a board or not."""
+    cos, sin = np.cos(angles), np.abs(np.sin(angles))
+    with np.errstate(divide='ignore'):
+        ranges = np.minimum(np.where(cos > 1e-9, 1.4 / cos, np.inf),
+                            np.where(sin > 1e-9, 0.6 / sin, np.inf))
+    if board:
+        # A board 0.3 m wide across the corridor, 1.0 m ahead.
+        on_board = np.abs(np.tan(angles)) <= 0.15
+        ranges[on_board] = 1.0 / cos[on_board]
+    return ranges
+
+
+def test_fine_evidence_shows_a_hit_moving_where_no_label_cell_was_surely_free():
+    # The corridor is too narrow for a label cell's 0.6 m disc, not for a fine cell's 0.2 m.
+    rule = LabelRule(free_evidence_radius=0.6, moving_object_size=0.7,
+                     fine_evidence_resolution=0.1, fine_evidence_radius=0.2)
+    without_rule = dataclasses.replace(rule, fine_evidence_resolution=0.0,
+                                       fine_evidence_radius=0.0)
+    beams = 181
+    scan = {'angle_min': -math.pi / 2, 'angle_increment': math.pi / (beams - 1),
+            'range_min': 0.1, 'range_max': 8.0, 'safety_radius': 0.6}
+    angles = scan['angle_min'] + np.arange(beams) * scan['angle_increment']
+    laser = (1.0, 4.0, 0.0)
+    grids = {}
+    for name, grid_rule in (('with', rule), ('without', without_rule)):
+        grid = LabelGrid(8.0, 8.0, 0.5, rule=grid_rule)
+        grid.update(laser, corridor_ranges(angles, board=False), **scan)
+        grid.update(laser, corridor_ranges(angles, board=True), **scan)
+        grids[name] = grid
+    rr, cc = grids['with'].geometry.world_to_cell(np.array([2.0]), np.array([4.0]))
+    assert not grids['without'].seen_free.any()
+    assert grids['with'].fine_evidence.seen_free.any()
+    assert grids['without'].labels[rr[0], cc[0]] == CellLabel.STEADY_OBSTACLE
+    assert grids['with'].labels[rr[0], cc[0]] == CellLabel.MOBILE_OBSTACLE

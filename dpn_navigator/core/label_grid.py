@@ -19,6 +19,7 @@ import math
 import numpy as np
 
 from .cell_label import blocked_mask, CellLabel, LABEL_DTYPE
+from .fine_evidence import FineEvidence
 from .grid_geometry import GridGeometry
 from .label_kernel import expire_listed, scan_hits, scan_update, squared_bound
 from .motion_tracks import MotionTracks, TrackConfig
@@ -156,6 +157,16 @@ class LabelRule:
         away, where the beams are 0.1 m apart) is hit in one scan and slips between the beams
         in the next, so the space it stands in is seen empty and its next hit looks like
         motion. 0 or 1 turns it off. Does nothing without ``moving_object_size``.
+    fine_evidence_resolution : float
+        Fine free evidence [m] (``fine_evidence``): the side of the cells of a second, finer
+        grid of surely-free space. A hit also shows motion (besides within
+        ``free_evidence_radius - evidence_margin`` of a surely-free label cell) when its fine
+        cell was once surely seen free with ``fine_evidence_radius``: it lies at least that
+        radius less half the fine cell's diagonal inside space one scan saw empty. 0 turns it
+        off. Needs ``fine_evidence_radius`` > 0 and ``moving_object_size`` > 0.
+    fine_evidence_radius : float
+        A fine cell is surely free when its disc of this radius lay inside one scan's polygon
+        [m]; 0 with ``fine_evidence_resolution`` 0.
     mobile_expiry : float
         Ghost expiry [s]. A mobile obstacle cell that no hit has been within the safety radius
         of for this long, and that the latest scan does not see (f1 = f2 = 0), goes back to
@@ -201,6 +212,8 @@ class LabelRule:
     evidence_margin: float = 0.15
     segment_gap: float = 0.3
     object_min_hits: int = 0
+    fine_evidence_resolution: float = 0.0
+    fine_evidence_radius: float = 0.0
     mobile_expiry: float = 0.0
     track_confirm_time: float = 0.0
     track_still_distance: float = 0.0
@@ -210,8 +223,9 @@ class LabelRule:
 
     def __post_init__(self):
         for name in ('free_evidence_radius', 'moving_object_size', 'evidence_margin',
-                     'mobile_expiry', 'track_confirm_time', 'track_still_distance',
-                     'trail_distance', 'object_memory'):
+                     'fine_evidence_resolution', 'fine_evidence_radius', 'mobile_expiry',
+                     'track_confirm_time', 'track_still_distance', 'trail_distance',
+                     'object_memory'):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0.0):
                 raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
@@ -232,6 +246,13 @@ class LabelRule:
         if self.track_confirm_time > 0.0 and self.moving_object_size == 0.0:
             raise ValueError('track_confirm_time needs moving_object_size > 0: tracks follow '
                              'moving objects')
+        if (self.fine_evidence_resolution > 0.0) != (self.fine_evidence_radius > 0.0):
+            raise ValueError('fine_evidence_resolution and fine_evidence_radius are both 0 '
+                             f'(off) or both > 0, got {self.fine_evidence_resolution!r} and '
+                             f'{self.fine_evidence_radius!r} m')
+        if self.fine_evidence_radius > 0.0 and self.moving_object_size == 0.0:
+            raise ValueError('fine_evidence_radius needs moving_object_size > 0: fine evidence '
+                             'shows objects moving')
         if self.moving_object_size > 0.0 and self.free_evidence_radius == 0.0:
             raise ValueError('moving_object_size needs free_evidence_radius > 0: motion is '
                              'shown by hits in space surely seen free')
@@ -436,6 +457,9 @@ class LabelGrid(ChangeTrackers):
         self._laser_xy = (0.0, 0.0)
         self.object_memory = (ObjectMemory(self.geometry, rule.object_memory)
                               if rule.object_memory > 0.0 else None)
+        self.fine_evidence = (FineEvidence(self.geometry, rule.fine_evidence_resolution,
+                                           rule.fine_evidence_radius)
+                              if rule.fine_evidence_radius > 0.0 else None)
 
     def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
                safety_radius, path=None, angle_max=None, stamp=None):
@@ -482,9 +506,12 @@ class LabelGrid(ChangeTrackers):
         if expiring:
             self._restart_clocks_if_time_went_back(stamp)
         followed = points = None
-        if self.rule.track_confirm_time > 0.0:
+        if self.rule.track_confirm_time > 0.0 or self.fine_evidence is not None:
             followed, points = self._follow(pose, ranges, angle_min, angle_increment,
                                             range_min, range_max, stamp)
+        if self.fine_evidence is not None:
+            self.fine_evidence.update(pose, ranges, angle_min, angle_increment, range_min,
+                                      range_max)
         replan, self.last_window, new_mobile = scan_update(
             self.labels, _NO_BOOL if self.seen_free is None else self.seen_free,
             _NO_TIME if self.last_hit is None else self.last_hit,
@@ -505,20 +532,34 @@ class LabelGrid(ChangeTrackers):
         """
         Follow the moving objects through the scan.
 
-        Returns the hits of followed objects, and the scan's points and moving hits
-        (`scan_hits`) for the update.
+        Returns the hits of followed objects and those the fine evidence shows moving, and the
+        scan's points and moving hits (`scan_hits`, with the fine evidence's) for the update.
         """
         points = scan_hits(
             _NO_BOOL if self.seen_free is None else self.seen_free, self.geometry, pose, ranges,
             angle_min, angle_increment, range_min, range_max, self._kernel_rule)
         vertices_x, vertices_y, hits_x, hits_y, hit_beams, moving = points
+        fine_moving = None
+        if self.fine_evidence is not None:
+            # From the fine evidence before this scan; the hits are moving for the label
+            # update too (as extra moving hits, so that an update that finds the points
+            # again agrees).
+            fine_moving = self.fine_evidence.moving_hits(points, self.rule)
+            moving = moving | fine_moving
+            points = (vertices_x, vertices_y, hits_x, hits_y, hit_beams, moving)
         self._followed_hits = (hits_x, hits_y)
         self._laser_xy = (vertices_x[0], vertices_y[0])
         beam_reach = np.hypot(vertices_x[1:-1] - vertices_x[0],
                               vertices_y[1:-1] - vertices_y[0])
-        followed = self.tracks.update(
-            stamp, (vertices_x[0], vertices_y[0]), hits_x, hits_y, hit_beams, ranges.shape[0],
-            moving, self.rule.segment_gap, pose[2] + angle_min, angle_increment, beam_reach)
+        if self.rule.track_confirm_time > 0.0:
+            followed = self.tracks.update(
+                stamp, (vertices_x[0], vertices_y[0]), hits_x, hits_y, hit_beams,
+                ranges.shape[0], moving, self.rule.segment_gap, pose[2] + angle_min,
+                angle_increment, beam_reach)
+        else:
+            followed = np.zeros(hits_x.shape[0], dtype=bool)
+        if fine_moving is not None:
+            followed = followed | fine_moving
         return followed, points
 
     def _trails(self, safety_radius, stamp):
@@ -642,3 +683,5 @@ class LabelGrid(ChangeTrackers):
         self._marked = np.zeros(0, dtype=np.int64)
         if self.object_memory is not None:
             self.object_memory.reset()
+        if self.fine_evidence is not None:
+            self.fine_evidence.reset()

@@ -106,6 +106,9 @@ class NavigatorConfig:
         Thin things [hits]: a scan segment of fewer hits shows no motion and is not followed
         (a post thinner than the beam spacing slips between the beams); see ``LabelRule``.
         0: off.
+    fine_evidence_resolution, fine_evidence_radius : float
+        Fine free evidence [m]: a hit also shows motion when its cell of a grid this fine was
+        once surely seen free with this radius; see ``LabelRule``. 0, 0: off.
     mobile_expiry : float
         Ghost expiry [s]: mobile cells unconfirmed by any hit for this long and out of view go
         back to explored; see ``LabelRule``. 0: off.
@@ -176,6 +179,8 @@ class NavigatorConfig:
     evidence_margin: float = 0.15
     segment_gap: float = 0.3
     object_min_hits: int = 3
+    fine_evidence_resolution: float = 0.1
+    fine_evidence_radius: float = 0.2
     mobile_expiry: float = 3.0
     track_confirm_time: float = 5.0
     track_still_distance: float = 0.08
@@ -219,6 +224,8 @@ class NavigatorConfig:
                          moving_object_size=self.moving_object_size,
                          evidence_margin=self.evidence_margin, segment_gap=self.segment_gap,
                          object_min_hits=self.object_min_hits,
+                         fine_evidence_resolution=self.fine_evidence_resolution,
+                         fine_evidence_radius=self.fine_evidence_radius,
                          mobile_expiry=self.mobile_expiry,
                          track_confirm_time=self.track_confirm_time,
                          track_still_distance=self.track_still_distance,
