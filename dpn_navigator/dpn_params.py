@@ -56,6 +56,9 @@ FLOAT_PARAMETERS = {
     'fine_evidence_radius': (0.2, 'Fine free evidence: a fine cell is surely free when its '
                              'disc of this radius lay inside one scan polygon [m]; 0: off.',
                              (0.0, 5.0), True),
+    'fine_evidence_range': (15.0, 'Fine free evidence: fine cells are marked surely free only '
+                            'within this distance of the laser, where the beams are closer '
+                            'together than the fine cells [m].', (0.01, 1000.0), True),
     'mobile_expiry': (3.0, 'Mobile cells no hit confirmed for this long and out of view go '
                       'back to explored [s]; 0: never (the paper).', (0.0, 3600.0), True),
     'track_confirm_time': (5.0, 'Motion tracks: a compact free-standing segment near a moving '
@@ -213,6 +216,7 @@ def declare_parameters(node):
         object_min_hits=values['object_min_hits'],
         fine_evidence_resolution=values['fine_evidence_resolution'],
         fine_evidence_radius=values['fine_evidence_radius'],
+        fine_evidence_range=values['fine_evidence_range'],
         mobile_expiry=values['mobile_expiry'],
         track_confirm_time=values['track_confirm_time'],
         track_still_distance=values['track_still_distance'],

@@ -65,6 +65,7 @@ class NumpyExtrasLabelGrid(LabelGrid):
             # The fine evidence kept by the numpy update below.
             self.fine_evidence = FineEvidence(self.geometry, self.rule.fine_evidence_resolution,
                                               self.rule.fine_evidence_radius,
+                                              self.rule.fine_evidence_range,
                                               grid_type=NumpyLabelGrid)
 
     def _follow(self, *args):

@@ -270,7 +270,7 @@ RULES = {
                       object_min_hits=3),
     'fine': LabelRule(free_evidence_radius=0.5, moving_object_size=0.7, segment_gap=0.6,
                       object_min_hits=2, fine_evidence_resolution=0.25,
-                      fine_evidence_radius=0.3),
+                      fine_evidence_radius=0.3, fine_evidence_range=2.5),
     'expiry': LabelRule(mobile_expiry=1.0),
     'all': LabelRule(free_evidence_radius=0.75, moving_object_size=1.0, segment_gap=1.1,
                      object_min_hits=2, mobile_expiry=0.5),
@@ -409,6 +409,12 @@ def test_unconfirmed_mobile_cells_out_of_view_expire():
     ({'mobile_expiry': math.nan}, 'mobile_expiry must be finite'),
     ({'segment_gap': 0.0}, 'segment_gap must be positive'),
     ({'moving_object_size': 1.0}, 'moving_object_size needs free_evidence_radius'),
+    ({'fine_evidence_resolution': 0.1}, 'both 0'),
+    ({'free_evidence_radius': 0.6, 'moving_object_size': 0.7, 'fine_evidence_resolution': 0.1,
+      'fine_evidence_radius': 0.2, 'fine_evidence_range': 0.0}, 'fine_evidence_range must'),
+    ({'fine_evidence_resolution': 0.1, 'fine_evidence_radius': 0.2},
+     'fine_evidence_radius needs moving_object_size'),
+    ({'fine_evidence_range': -1.0}, 'fine_evidence_range must be finite'),
 ])
 def test_bad_rule_raises(kwargs, message):
     with pytest.raises(ValueError, match=message):

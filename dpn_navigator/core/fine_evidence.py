@@ -15,6 +15,12 @@ the fine cell's diagonal inside space one scan saw empty, and shows motion. The 
 ``LabelGrid`` with only the conservative free space on, so its evidence is exactly the label
 grid's, tested against the literal twin.
 
+Only space within ``max_range`` of the laser is marked: the scan goes into the fine grid with
+that as its ``range_max``, so a beam reaching farther saw empty space up to it. Between two
+beams the polygon takes space for empty that no beam crossed; 640 beams over 180 degrees are
+7 cm apart at 15 m, less than a fine cell, but 15 cm apart at 30 m, where a speck of a wall
+of a SLAM map hides between them and its next hit looks like motion.
+
 """
 
 import numpy as np
@@ -35,16 +41,21 @@ class FineEvidence:
     radius : float
         A fine cell is surely free when its disc of this radius lay inside one scan's polygon
         [m], > 0.
+    max_range : float
+        Only space within this distance of the laser is marked [m], > 0.
     grid_type : type, optional
         The grid class to keep it in (``LabelGrid`` by default; the tests pass their numpy
         twin).
 
     """
 
-    def __init__(self, geometry, resolution, radius, grid_type=None):
+    def __init__(self, geometry, resolution, radius, max_range, grid_type=None):
         from .label_grid import LabelGrid, LabelRule
         grid_type = LabelGrid if grid_type is None else grid_type
         self.radius = float(radius)
+        self.max_range = float(max_range)
+        if not self.max_range > 0.0:
+            raise ValueError(f'max_range must be > 0, got {max_range!r} m')
         self.grid = grid_type(geometry.width, geometry.height, resolution,
                               origin=tuple(geometry.origin),
                               rule=LabelRule(free_evidence_radius=self.radius))
@@ -102,9 +113,13 @@ class FineEvidence:
                                   (vertices_x[0], vertices_y[0]), vertices_x.shape[0] - 2)
 
     def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max):
-        """Fold one checked scan into the fine evidence (the laser's pose, as the grid's)."""
-        self.grid.update(pose, ranges, angle_min, angle_increment, range_min, range_max,
-                         self.radius)
+        """
+        Fold one checked scan into the fine evidence, up to ``max_range`` from the laser.
+
+        The laser's pose and the scan as ``LabelGrid.update`` takes them.
+        """
+        self.grid.update(pose, ranges, angle_min, angle_increment, range_min,
+                         min(range_max, max(self.max_range, range_min)), self.radius)
 
     def reset(self):
         """Forget all evidence."""

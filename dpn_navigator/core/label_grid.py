@@ -167,6 +167,10 @@ class LabelRule:
     fine_evidence_radius : float
         A fine cell is surely free when its disc of this radius lay inside one scan's polygon
         [m]; 0 with ``fine_evidence_resolution`` 0.
+    fine_evidence_range : float
+        Fine cells are marked surely free only within this distance of the laser [m] (beyond
+        it the beams are too far apart for the fine cells: a thin thing hides between them).
+        Read with the fine free evidence on; > 0.
     mobile_expiry : float
         Ghost expiry [s]. A mobile obstacle cell that no hit has been within the safety radius
         of for this long, and that the latest scan does not see (f1 = f2 = 0), goes back to
@@ -214,6 +218,7 @@ class LabelRule:
     object_min_hits: int = 0
     fine_evidence_resolution: float = 0.0
     fine_evidence_radius: float = 0.0
+    fine_evidence_range: float = 15.0
     mobile_expiry: float = 0.0
     track_confirm_time: float = 0.0
     track_still_distance: float = 0.0
@@ -223,7 +228,8 @@ class LabelRule:
 
     def __post_init__(self):
         for name in ('free_evidence_radius', 'moving_object_size', 'evidence_margin',
-                     'fine_evidence_resolution', 'fine_evidence_radius', 'mobile_expiry',
+                     'fine_evidence_resolution', 'fine_evidence_radius',
+                     'fine_evidence_range', 'mobile_expiry',
                      'track_confirm_time', 'track_still_distance', 'trail_distance',
                      'object_memory'):
             value = getattr(self, name)
@@ -250,6 +256,8 @@ class LabelRule:
             raise ValueError('fine_evidence_resolution and fine_evidence_radius are both 0 '
                              f'(off) or both > 0, got {self.fine_evidence_resolution!r} and '
                              f'{self.fine_evidence_radius!r} m')
+        if self.fine_evidence_radius > 0.0 and self.fine_evidence_range == 0.0:
+            raise ValueError('fine_evidence_range must be > 0 with the fine free evidence on')
         if self.fine_evidence_radius > 0.0 and self.moving_object_size == 0.0:
             raise ValueError('fine_evidence_radius needs moving_object_size > 0: fine evidence '
                              'shows objects moving')
@@ -458,7 +466,7 @@ class LabelGrid(ChangeTrackers):
         self.object_memory = (ObjectMemory(self.geometry, rule.object_memory)
                               if rule.object_memory > 0.0 else None)
         self.fine_evidence = (FineEvidence(self.geometry, rule.fine_evidence_resolution,
-                                           rule.fine_evidence_radius)
+                                           rule.fine_evidence_radius, rule.fine_evidence_range)
                               if rule.fine_evidence_radius > 0.0 else None)
 
     def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max,

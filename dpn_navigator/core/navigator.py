@@ -106,9 +106,10 @@ class NavigatorConfig:
         Thin things [hits]: a scan segment of fewer hits shows no motion and is not followed
         (a post thinner than the beam spacing slips between the beams); see ``LabelRule``.
         0: off.
-    fine_evidence_resolution, fine_evidence_radius : float
+    fine_evidence_resolution, fine_evidence_radius, fine_evidence_range : float
         Fine free evidence [m]: a hit also shows motion when its cell of a grid this fine was
-        once surely seen free with this radius; see ``LabelRule``. 0, 0: off.
+        once surely seen free with this radius, within this range of the laser; see
+        ``LabelRule``. Resolution and radius 0: off.
     mobile_expiry : float
         Ghost expiry [s]: mobile cells unconfirmed by any hit for this long and out of view go
         back to explored; see ``LabelRule``. 0: off.
@@ -181,6 +182,7 @@ class NavigatorConfig:
     object_min_hits: int = 3
     fine_evidence_resolution: float = 0.1
     fine_evidence_radius: float = 0.2
+    fine_evidence_range: float = 15.0
     mobile_expiry: float = 3.0
     track_confirm_time: float = 5.0
     track_still_distance: float = 0.08
@@ -226,6 +228,7 @@ class NavigatorConfig:
                          object_min_hits=self.object_min_hits,
                          fine_evidence_resolution=self.fine_evidence_resolution,
                          fine_evidence_radius=self.fine_evidence_radius,
+                         fine_evidence_range=self.fine_evidence_range,
                          mobile_expiry=self.mobile_expiry,
                          track_confirm_time=self.track_confirm_time,
                          track_still_distance=self.track_still_distance,
