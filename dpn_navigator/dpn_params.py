@@ -20,6 +20,8 @@ BIG = 1e6   # bound of the "any value" ranges [m]
 #: Most grid cells a node may ask for (2048 x 2048): the grid and A*'s arrays stay in memory and
 #: one plan in seconds. More is a parameter error, not a MemoryError in numpy.
 MAX_GRID_CELLS = 2048 * 2048
+#: Largest fine free-evidence grid (2 bytes a cell: 134 MB; 819 m x 819 m at 0.1 m).
+MAX_FINE_GRID_CELLS = 8192 * 8192
 
 # name: (default, description, (low, high), read_only)
 FLOAT_PARAMETERS = {
@@ -190,6 +192,10 @@ def declare_parameters(node):
     values = {name: declare_number(node, name, default, description, bounds, read_only)
               for name, (default, description, bounds, read_only) in FLOAT_PARAMETERS.items()}
     check_grid_size(values['map_width'], values['map_height'], values['resolution'])
+    if values['fine_evidence_resolution'] > 0.0:
+        check_grid_size(values['map_width'], values['map_height'],
+                        values['fine_evidence_resolution'], MAX_FINE_GRID_CELLS,
+                        'fine_evidence_resolution')
     for name, (default, description) in OTHER_PARAMETERS.items():
         descriptor = ParameterDescriptor(description=description, read_only=True)
         if name == 'map_mobile_value':
@@ -243,14 +249,20 @@ def declare_parameters(node):
         **{name: values[name] for name in OTHER_PARAMETERS if name not in NAVIGATOR_SWITCHES})
 
 
-def check_grid_size(width, height, resolution):
+def check_grid_size(width, height, resolution, max_cells=MAX_GRID_CELLS,
+                    resolution_name='resolution'):
     """
-    Refuse a grid of more than ``MAX_GRID_CELLS`` cells before anything is allocated.
+    Refuse a grid of more than ``max_cells`` cells before anything is allocated.
 
     Parameters
     ----------
     width, height, resolution : float
         The ``map_width``, ``map_height`` and ``resolution`` parameters [m].
+    max_cells : int
+        ``MAX_GRID_CELLS`` for the label grid, ``MAX_FINE_GRID_CELLS`` for the fine free
+        evidence.
+    resolution_name : str
+        The parameter ``resolution`` came from, for the message.
 
     Raises
     ------
@@ -260,8 +272,10 @@ def check_grid_size(width, height, resolution):
     """
     geometry = GridGeometry(width, height, resolution)
     cells = geometry.rows * geometry.cols
-    if cells > MAX_GRID_CELLS:
+    if cells > max_cells:
+        hint = (' (or fine_evidence_resolution 0 and fine_evidence_radius 0: no fine evidence)'
+                if resolution_name != 'resolution' else '')
         raise ValueError(
-            f'map_width {width:g} m x map_height {height:g} m at resolution {resolution:g} m '
-            f'is {geometry.cols} x {geometry.rows} = {cells:,} cells, more than '
-            f'{MAX_GRID_CELLS:,}: use a coarser resolution or a smaller map')
+            f'map_width {width:g} m x map_height {height:g} m at {resolution_name} '
+            f'{resolution:g} m is {geometry.cols} x {geometry.rows} = {cells:,} cells, more '
+            f'than {max_cells:,}: use a coarser {resolution_name} or a smaller map{hint}')

@@ -173,6 +173,19 @@ def test_absurd_grid_is_a_parameter_error(ros_context, width, resolution):
         DpnNode(context=ros_context, parameter_overrides=overrides)
 
 
+def test_fine_evidence_grid_too_large_is_a_parameter_error(ros_context):
+    # 1000 m at 0.5 m is a valid label grid; its fine evidence at 0.1 m is 10,000 x 10,000.
+    overrides = [Parameter('map_width', value=1000.0), Parameter('map_height', value=1000.0)]
+    with pytest.raises(ValueError, match='fine_evidence_resolution 0.1 m is 10000 x 10000'):
+        DpnNode(context=ros_context, parameter_overrides=overrides)
+    overrides.append(Parameter('fine_evidence_resolution', value=0.2))
+    node = DpnNode(context=ros_context, parameter_overrides=overrides)
+    try:
+        assert node.navigator.grid.fine_evidence.seen_free.shape == (5000, 5000)
+    finally:
+        node.destroy_node()
+
+
 def test_node_plans_again_after_sim_time_goes_backwards(dpn):
     dpn._time_source.clock_callback(Clock(clock=Time(sec=500)))
     dpn.on_odom(odometry((-3.0, 6.0, 0.0)))                   # off the map: no path
