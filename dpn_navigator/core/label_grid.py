@@ -152,11 +152,11 @@ class LabelRule:
         be seen to move. Its hits show no motion (``moving_object_hits``), and the motion
         tracks neither start nor continue a track with it nor remember where it stood
         (``TrackConfig.min_hits``). A partly hidden segment is not concerned: its hits say
-        nothing of its width. A thing
-        narrower than about two beam spacings at its range (a post or a speck of a wall 20 m
-        away, where the beams are 0.1 m apart) is hit in one scan and slips between the beams
-        in the next, so the space it stands in is seen empty and its next hit looks like
-        motion. 0 or 1 turns it off. Does nothing without ``moving_object_size``.
+        nothing of its width. A thing narrower than about two beam spacings at its range (a
+        post or a speck of a wall 20 m away, where the beams are 0.1 m apart) is hit in one
+        scan and slips between the beams in the next, so the space it stands in is seen
+        empty and its next hit looks like motion. 0 or 1 turns it off. Does nothing without
+        ``moving_object_size``.
     fine_evidence_resolution : float
         Fine free evidence [m] (``fine_evidence``): the side of the cells of a second, finer
         grid of surely-free space. A hit also shows motion (besides within
