@@ -558,6 +558,9 @@ def bench_against_tree(tree, rng, repeats):
                     if getattr(grids[0], name) is not None:
                         same &= bool(np.array_equal(getattr(grids[0], name),
                                                     getattr(grids[1], name)))
+                fine = [getattr(grid, 'fine_evidence', None) for grid in grids]
+                if fine[0] is not None and fine[1] is not None:
+                    same &= bool(np.array_equal(fine[0].seen_free, fine[1].seen_free))
             new_ms, old_ms = (1e3 * statistics.median(spent) for spent in times)
             print(f'| {cells}x{cells} cells at {resolution} m | {rule_name} | {old_ms:.3f} '
                   f'| {new_ms:.3f} | {old_ms / new_ms:.2f}x | {"yes" if same else "NO"} |')

@@ -17,7 +17,7 @@ from dpn_navigator.core.cell_label import blocked_mask, CellLabel, LABEL_DTYPE, 
 from dpn_navigator.core.cell_label import TRANSITION
 from dpn_navigator.core.fine_evidence import FineEvidence
 from dpn_navigator.core.free_evidence import surely_free
-from dpn_navigator.core.label_grid import LabelGrid
+from dpn_navigator.core.label_grid import LabelGrid, LabelRule
 from dpn_navigator.core.moving_objects import moving_object_hits
 from dpn_navigator.core.scan_features import hit_runs, run_cover, scan_input
 from dpn_navigator.core.scan_polygon import scan_points
@@ -48,6 +48,36 @@ def _runs_touching(runs, cells, hit_count):
     return touching
 
 
+class NumpyFineEvidence(FineEvidence):
+    """
+    ``FineEvidence`` as commit 9c3e0ae kept it: a whole ``NumpyLabelGrid`` of the fine cells.
+
+    The grid has only the conservative free space on and is updated with safety radius
+    ``radius``; its ``seen_free`` is the evidence. The oracle of
+    ``label_kernel.surely_free_update``.
+    """
+
+    def __init__(self, geometry, resolution, radius, max_range):
+        super().__init__(geometry, resolution, radius, max_range)
+        self.grid = NumpyLabelGrid(geometry.width, geometry.height, resolution,
+                                   origin=tuple(geometry.origin),
+                                   rule=LabelRule(free_evidence_radius=self.radius))
+
+    @property
+    def seen_free(self):
+        """Return the fine grid's ``seen_free``."""
+        return self.grid.seen_free
+
+    def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max):
+        """Update the whole fine grid, labels and all."""
+        self.grid.update(pose, ranges, angle_min, angle_increment, range_min,
+                         self.capped_range_max(range_min, range_max), self.radius)
+
+    def reset(self):
+        """Forget all evidence."""
+        self.grid.reset()
+
+
 class NumpyExtrasLabelGrid(LabelGrid):
     """
     ``LabelGrid`` of commit 1d9ead7: the compiled label kernel, the rest numpy.
@@ -63,10 +93,10 @@ class NumpyExtrasLabelGrid(LabelGrid):
             self.object_memory = NumpyObjectMemory(self.geometry, self.rule.object_memory)
         if self.fine_evidence is not None:
             # The fine evidence kept by the numpy update below.
-            self.fine_evidence = FineEvidence(self.geometry, self.rule.fine_evidence_resolution,
-                                              self.rule.fine_evidence_radius,
-                                              self.rule.fine_evidence_range,
-                                              grid_type=NumpyLabelGrid)
+            self.fine_evidence = NumpyFineEvidence(self.geometry,
+                                                   self.rule.fine_evidence_resolution,
+                                                   self.rule.fine_evidence_radius,
+                                                   self.rule.fine_evidence_range)
 
     def _follow(self, *args):
         """Follow the objects; the label kernel then finds the scan's points itself again."""

@@ -5,6 +5,7 @@ import math
 
 from dpn_navigator.core.cell_label import CellLabel, OCCUPANCY_VALUE, TRANSITION
 from dpn_navigator.core.label_grid import LabelGrid, LabelRule, PAPER_RULE
+from dpn_navigator.core.label_kernel import surely_free_update
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from literal_reference import FSM, literal_update, literal_update_with_rule
@@ -448,6 +449,30 @@ def test_fine_evidence_equals_the_literal_twin(case, share):
         assert_array_equal(grid.labels, labels)
         assert_array_equal(grid.seen_free, seen_free)
         assert_array_equal(grid.fine_evidence.seen_free, fine_seen_free)
+
+
+@given(case=scans())
+def test_surely_free_update_equals_the_literal_twin_of_a_free_only_grid(case):
+    # The fine evidence's own update: seen_free alone, as a grid with only the conservative
+    # free space on and the safety radius equal to its radius marks it.
+    radius = max(case['safety_radius'], 0.25)
+    rule = LabelRule(free_evidence_radius=radius)
+    grid = LabelGrid(case['cols'] * case['resolution'], case['rows'] * case['resolution'],
+                     case['resolution'], case['origin'], rule)
+    rng = np.random.default_rng(case['path_seed'])
+    labels = rng.integers(0, 4, grid.labels.shape).astype(np.uint8)
+    seen_free = rng.random(grid.labels.shape) < 0.2
+    kernel_seen_free = seen_free.copy()
+    scan = {k: case[k] for k in ('angle_min', 'angle_increment', 'range_min', 'range_max')}
+    for step in range(case['rounds']):
+        x, y, yaw = case['pose']
+        pose = (x + 0.25 * step, y - 0.5 * step, yaw + math.pi / 4 * step)
+        literal_update_with_rule(labels, seen_free, None, case['origin'], case['resolution'],
+                                 pose, case['ranges'], rule=rule, stamp=0.0,
+                                 last_stamp=-math.inf, safety_radius=radius, **scan)
+        surely_free_update(kernel_seen_free, grid.geometry, pose, case['ranges'], **scan,
+                           radius=radius)
+        assert_array_equal(kernel_seen_free, seen_free)
 
 
 def corridor_ranges(angles, board):

@@ -11,9 +11,10 @@ away, shows motion late or never.
 Here a second grid of ``resolution`` cells keeps the same evidence with its own ``radius``
 (``FineEvidence.seen_free``): a fine cell is surely free when its disc of ``radius`` lay inside
 one scan's polygon. A hit whose fine cell is surely free lies at least ``radius`` minus half
-the fine cell's diagonal inside space one scan saw empty, and shows motion. The grid is a
-``LabelGrid`` with only the conservative free space on, so its evidence is exactly the label
-grid's, tested against the literal twin.
+the fine cell's diagonal inside space one scan saw empty, and shows motion. The evidence is
+exactly the ``seen_free`` of a ``LabelGrid`` of the fine cells with only the conservative free
+space on, computed without its labels (``label_kernel.surely_free_update``) and tested against
+the literal twin and the numpy twin.
 
 Only space within ``max_range`` of the laser is marked: the scan goes into the fine grid with
 that as its ``range_max``, so a beam reaching farther saw empty space up to it. Between two
@@ -25,6 +26,8 @@ of a SLAM map hides between them and its next hit looks like motion.
 
 import numpy as np
 
+from .grid_geometry import GridGeometry
+from .label_kernel import surely_free_update
 from .moving_objects import moving_object_hits
 
 
@@ -43,27 +46,24 @@ class FineEvidence:
         [m], > 0.
     max_range : float
         Only space within this distance of the laser is marked [m], > 0.
-    grid_type : type, optional
-        The grid class to keep it in (``LabelGrid`` by default; the tests pass their numpy
-        twin).
 
     """
 
-    def __init__(self, geometry, resolution, radius, max_range, grid_type=None):
-        from .label_grid import LabelGrid, LabelRule
-        grid_type = LabelGrid if grid_type is None else grid_type
+    def __init__(self, geometry, resolution, radius, max_range):
         self.radius = float(radius)
         self.max_range = float(max_range)
+        if not self.radius > 0.0:
+            raise ValueError(f'radius must be > 0, got {radius!r} m')
         if not self.max_range > 0.0:
             raise ValueError(f'max_range must be > 0, got {max_range!r} m')
-        self.grid = grid_type(geometry.width, geometry.height, resolution,
-                              origin=tuple(geometry.origin),
-                              rule=LabelRule(free_evidence_radius=self.radius))
+        self.geometry = GridGeometry(geometry.width, geometry.height, resolution,
+                                     origin=tuple(geometry.origin))
+        self._seen_free = np.zeros(self.geometry.shape, dtype=bool)
 
     @property
     def seen_free(self):
         """Return the fine cells once surely seen free, (rows, cols) ndarray of bool."""
-        return self.grid.seen_free
+        return self._seen_free
 
     def evidence(self, hits_x, hits_y):
         """
@@ -80,11 +80,10 @@ class FineEvidence:
             False for hits off the grid.
 
         """
-        geometry = self.grid.geometry
-        rows, cols = geometry.world_to_cell(hits_x, hits_y)
-        inside = geometry.contains_cell(rows, cols)
+        rows, cols = self.geometry.world_to_cell(hits_x, hits_y)
+        inside = self.geometry.contains_cell(rows, cols)
         evidence = np.zeros(np.shape(hits_x), dtype=bool)
-        evidence[inside] = self.grid.seen_free[rows[inside], cols[inside]]
+        evidence[inside] = self.seen_free[rows[inside], cols[inside]]
         return evidence
 
     def moving_hits(self, points, rule):
@@ -116,11 +115,19 @@ class FineEvidence:
         """
         Fold one checked scan into the fine evidence, up to ``max_range`` from the laser.
 
-        The laser's pose and the scan as ``LabelGrid.update`` takes them.
+        The laser's pose and the scan as ``LabelGrid.update`` takes them, checked. Exactly the
+        ``seen_free`` of a ``LabelGrid`` of the fine cells with only
+        ``free_evidence_radius = radius`` on, updated with safety radius ``radius`` and
+        ``range_max`` capped at ``max_range`` (``label_kernel.surely_free_update``).
         """
-        self.grid.update(pose, ranges, angle_min, angle_increment, range_min,
-                         min(range_max, max(self.max_range, range_min)), self.radius)
+        surely_free_update(self.seen_free, self.geometry, pose, ranges, angle_min,
+                           angle_increment, range_min, self.capped_range_max(range_min, range_max),
+                           self.radius)
+
+    def capped_range_max(self, range_min, range_max):
+        """Return the scan's ``range_max`` [m] as the fine evidence takes it: at most max_range."""
+        return min(range_max, max(self.max_range, range_min))
 
     def reset(self):
         """Forget all evidence."""
-        self.grid.reset()
+        self._seen_free[...] = False

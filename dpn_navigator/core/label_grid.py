@@ -292,8 +292,8 @@ def warm_up_label_update():
     """Compile (or load from the cache) the label kernels with one tiny scan, every rule part."""
     rule = LabelRule(free_evidence_radius=0.5, moving_object_size=0.5, mobile_expiry=1.0,
                      track_confirm_time=1.0, track_still_distance=0.1, track_exclusive=True,
-                     trail_distance=1.0,
-                     object_memory=1.0)
+                     trail_distance=1.0, object_memory=1.0, fine_evidence_resolution=0.25,
+                     fine_evidence_radius=0.25)
     grid = LabelGrid(2.0, 2.0, 0.5, rule=rule)
     grid.labels[0, 0] = CellLabel.MOBILE_OBSTACLE          # to expire at the second scan
     grid.last_hit[0, 0] = 0.0

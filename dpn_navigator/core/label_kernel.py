@@ -848,6 +848,79 @@ def _points_update(labels, seen_free, last_hit, listed, vertices_x, vertices_y, 
     return replan, row0, row_end, col0, col_end, cell_input, new_mobile[:new_count].copy()
 
 
+@kernel
+def _surely_free_update(seen_free, ranges, x, y, yaw, angle_min, angle_increment, range_min,
+                        range_max, x0, y0, resolution, radius, bound):
+    """
+    Mark the cells whose disc of ``radius`` lies inside the scan's polygon as surely free.
+
+    Exactly the ``seen_free`` of `_update_window` under a rule with only the conservative free
+    space on and a safety radius equal to ``radius``: f2 cells that no vertex's disc and no
+    edge band reaches (a hit's f1 disc is its vertex's disc). Nothing else is computed.
+    """
+    vertices_x, vertices_y, _, _, _ = _scan_points(
+        ranges, x, y, yaw, angle_min, angle_increment, range_min, range_max)
+    rows, cols = seen_free.shape
+    # The window of `_points_update` with reach = radius.
+    row0 = _window_bound(vertices_y.min() - radius, y0, resolution, -1.0, rows)
+    row_end = max(row0, _window_bound(vertices_y.max() + radius, y0, resolution, 2.0, rows))
+    col0 = _window_bound(vertices_x.min() - radius, x0, resolution, -1.0, cols)
+    col_end = max(col0, _window_bound(vertices_x.max() + radius, x0, resolution, 2.0, cols))
+    n_rows = row_end - row0
+    n_cols = col_end - col0
+    if n_rows == 0 or n_cols == 0:
+        return
+    cell_input = np.zeros((n_rows, n_cols), dtype=np.uint8)
+    extent = np.empty((n_rows, 2), dtype=np.int64)
+    extent[:, 0] = n_cols
+    extent[:, 1] = 0
+    _fill_inside(cell_input, row0, col0, x0, y0, resolution, vertices_x, vertices_y, extent)
+    not_free = np.zeros((n_rows, n_cols), dtype=np.bool_)
+    # Every vertex but the closing repeat of the first, hits included (their f1 discs).
+    _mark_discs(not_free, True, vertices_x, vertices_y, vertices_x.shape[0] - 1,
+                np.zeros(0, dtype=np.bool_), row0, col0, x0, y0, resolution, radius, bound,
+                np.zeros((0, 2), dtype=np.int64))
+    _mark_uncovered_edge_bands(not_free, row0, col0, x0, y0, resolution, vertices_x,
+                               vertices_y, radius)
+    for i in range(n_rows):
+        first = extent[i, 0]
+        end = extent[i, 1]
+        if first < end:
+            row_free = seen_free[row0 + i, col0 + first:col0 + end]
+            row_input = cell_input[i, first:end]
+            row_not_free = not_free[i, first:end]
+            for j in range(end - first):
+                row_free[j] = row_free[j] | ((row_input[j] == _INSIDE)
+                                             & (not row_not_free[j]))
+
+
+def surely_free_update(seen_free, geometry, pose, ranges, angle_min, angle_increment,
+                       range_min, range_max, radius):
+    """
+    Fold one checked scan into ``seen_free`` alone: the conservative free space of a grid.
+
+    The same cells ``scan_update`` marks in ``seen_free`` under a ``LabelRule`` with only
+    ``free_evidence_radius = radius`` on and a safety radius of ``radius``, without the labels.
+
+    Parameters
+    ----------
+    seen_free : (rows, cols) ndarray of bool
+        Cells once surely seen free, updated in place.
+    geometry : GridGeometry
+        The grid's placement.
+    pose, ranges, angle_min, angle_increment, range_min, range_max
+        As in `scan_update`, checked.
+    radius : float
+        A cell is surely free when its disc of this radius lies inside the polygon [m], > 0.
+
+    """
+    x0, y0 = geometry.origin
+    _surely_free_update(seen_free, np.ascontiguousarray(ranges), pose[0], pose[1], pose[2],
+                        float(angle_min), float(angle_increment), float(range_min),
+                        float(range_max), x0, y0, geometry.resolution, float(radius),
+                        squared_bound(float(radius)))
+
+
 def scan_update(labels, seen_free, last_hit, listed, geometry, pose, ranges, angle_min,
                 angle_increment, range_min, range_max, safety_radius, rule_arguments, stamp,
                 path, extra_moving=None, points=None):
