@@ -39,7 +39,7 @@ import numpy as np
 
 from .cell_label import CellLabel, ScanInput
 from .jit import kernel
-from .label_kernel import _mark_discs, squared_bound
+from .label_kernel import _box_end, _box_first, _disc_rows, _mark_discs, squared_bound
 
 #: Entries of the list of provisional cells at first; it doubles when full.
 _INITIAL_LIST = 256
@@ -166,17 +166,37 @@ def _memory_update(labels, seen_free, last_hit, anchored, listed, cells, count, 
                     hit_count, long, row0, col0, x0, y0, resolution, safety_radius,
                     safety_bound, no_extent)
         # List the steady, unanchored cells near hits of small objects, in grid order: the
-        # columns [extent[i, 0], extent[i, 1]) of row i hold those of the row.
-        near = np.zeros((n_rows, n_cols), dtype=np.bool_)
-        extent = np.empty((n_rows, 2), dtype=np.int64)
-        extent[:, 0] = n_cols
+        # columns [extent[i, 0], extent[i, 1]) of row i of the discs' box hold those of the
+        # row. The box (window rows [box_row, box_row + box_rows), likewise columns) holds
+        # every disc, with a cell to spare.
+        box_row = n_rows
+        box_row_end = 0
+        box_col = n_cols
+        box_col_end = 0
+        for k in range(hit_count):
+            if small_object[k]:
+                first_row, end_row = _disc_rows(hits_y[k], safety_radius, row0, n_rows, y0,
+                                                resolution)
+                box_row = min(box_row, first_row)
+                box_row_end = max(box_row_end, end_row)
+                box_col = min(box_col, _box_first(col0, n_cols, x0, resolution,
+                                                  hits_x[k] - safety_radius))
+                box_col_end = max(box_col_end, _box_end(col0, n_cols, x0, resolution,
+                                                        hits_x[k] + safety_radius))
+        box_rows = max(box_row_end - box_row, 0)
+        box_cols = max(box_col_end - box_col, 0)
+        near = np.zeros((box_rows, box_cols), dtype=np.bool_)
+        extent = np.empty((box_rows, 2), dtype=np.int64)
+        extent[:, 0] = box_cols
         extent[:, 1] = 0
-        _mark_discs(near, True, hits_x, hits_y, hit_count, small_object, row0, col0, x0, y0,
-                    resolution, safety_radius, safety_bound, extent)
-        for i in range(n_rows):
-            row = row0 + i
+        if box_rows * box_cols > 0:
+            _mark_discs(near, True, hits_x, hits_y, hit_count, small_object, row0 + box_row,
+                        col0 + box_col, x0, y0, resolution, safety_radius, safety_bound,
+                        extent)
+        for i in range(box_rows):
+            row = row0 + box_row + i
             for j in range(extent[i, 0], extent[i, 1]):
-                col = col0 + j
+                col = col0 + box_col + j
                 if (near[i, j] and labels[row, col] == _STEADY and not anchored[row, col]
                         and not listed[row, col]):
                     if count == cells.shape[0]:
