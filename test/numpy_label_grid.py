@@ -53,8 +53,8 @@ class NumpyFineEvidence(FineEvidence):
     ``FineEvidence`` as commit 9c3e0ae kept it: a whole ``NumpyLabelGrid`` of the fine cells.
 
     The grid has only the conservative free space on and is updated with safety radius
-    ``radius``; its ``seen_free`` is the evidence. The oracle of
-    ``label_kernel.surely_free_update``.
+    ``radius``; its ``seen_free`` is the evidence, and its moving hits are found in numpy.
+    The oracle of ``label_kernel.surely_free_update`` and ``fine_evidence._fine_moving_hits``.
     """
 
     def __init__(self, geometry, resolution, radius, max_range):
@@ -67,6 +67,16 @@ class NumpyFineEvidence(FineEvidence):
     def seen_free(self):
         """Return the fine grid's ``seen_free``."""
         return self.grid.seen_free
+
+    def moving_hits(self, points, rule):
+        """`evidence` looked up in numpy, then ``moving_objects.moving_object_hits``."""
+        vertices_x, vertices_y, hits_x, hits_y, hit_beams = points[:5]
+        evidence = self.evidence(hits_x, hits_y)
+        if not evidence.any():
+            return evidence
+        return moving_object_hits(hits_x, hits_y, hit_beams, evidence, rule.segment_gap,
+                                  rule.moving_object_size, rule.object_min_hits,
+                                  (vertices_x[0], vertices_y[0]), vertices_x.shape[0] - 2)
 
     def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max):
         """Update the whole fine grid, labels and all."""

@@ -63,10 +63,11 @@ def test_numba_cache_dir_set_by_the_user_wins(tmp_path):
 
 
 def test_warm_up_compiles_every_kernel():
-    from dpn_navigator.core import astar_search, label_kernel
+    from dpn_navigator.core import astar_search, fine_evidence, label_kernel
     assert jit.warm_up() >= 0.0
     assert astar_search._search.signatures
     assert label_kernel._surely_free_update.signatures         # the fine free evidence
+    assert fine_evidence._fine_moving_hits.signatures
     assert jit.warm_up() < 0.5          # ready now: a tiny call, no compiling
 
 
