@@ -142,6 +142,10 @@ OTHER_PARAMETERS = {
     'track_exclusive': (True, 'Exclusive motion tracks: at most one scan segment continues a '
                         'track per scan (false: the paper has no tracks; before, a post next '
                         'to a wanderer shared its track).'),
+    'object_memory_short_segments': (True, 'Short segments in the object memory: steady cells '
+                                     'that only laser segments of one or two hits have hit (a '
+                                     'wanderer glimpsed far off through a gap) are forgotten '
+                                     'as object_memory forgets small objects (false: kept).'),
     'map_mobile_value': (OCCUPANCY_MOBILE_OBSTACLE, 'OccupancyGrid value of mobile-obstacle '
                          'cells in map, 1 to 100 (steady obstacles are 100).'),
     'map_updates': (True, 'On the scans between full maps (map_publish_period > 0), publish the '
@@ -151,7 +155,7 @@ OTHER_PARAMETERS = {
 MOBILE_VALUE_RANGE = (1, 100)
 #: The parameters of ``OTHER_PARAMETERS`` that go to the navigator's configuration, not to
 #: ``DpnParameters``.
-NAVIGATOR_SWITCHES = ('track_exclusive', 'object_min_hits')
+NAVIGATOR_SWITCHES = ('track_exclusive', 'object_min_hits', 'object_memory_short_segments')
 #: Allowed ``object_min_hits`` (as ``max_beams``: no more hits than beams).
 MIN_HITS_RANGE = (0, 1_000_000)
 
@@ -228,6 +232,7 @@ def declare_parameters(node):
         track_still_distance=values['track_still_distance'],
         track_exclusive=values['track_exclusive'],
         trail_distance=values['trail_distance'], object_memory=values['object_memory'],
+        object_memory_short_segments=values['object_memory_short_segments'],
         robot_length=values['robot_length'], robot_width=values['robot_width'],
         turn_sweep_memory=values['turn_sweep_memory'],
         turn_sweep_margin=values['turn_sweep_margin'],

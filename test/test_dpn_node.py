@@ -276,15 +276,17 @@ def test_track_rules_reach_the_navigators_tracks(ros_context, exclusive):
                  Parameter('track_still_distance', value=0.05),
                  Parameter('object_min_hits', value=4),
                  Parameter('fine_evidence_resolution', value=0.05),
-                 Parameter('fine_evidence_radius', value=0.25)]
+                 Parameter('fine_evidence_radius', value=0.25),
+                 Parameter('object_memory_short_segments', value=not exclusive)]
     dpn = DpnNode(context=ros_context, parameter_overrides=overrides)
     try:
         assert dpn.navigator.grid.tracks.config.exclusive is exclusive
         assert dpn.navigator.grid.tracks.config.still_distance == 0.05
         assert dpn.navigator.grid.tracks.config.min_hits == 4
         assert dpn.navigator.grid.rule.object_min_hits == 4
+        assert dpn.navigator.grid.rule.object_memory_short_segments is (not exclusive)
         fine = dpn.navigator.grid.fine_evidence
-        assert fine.grid.geometry.resolution == 0.05 and fine.radius == 0.25
+        assert fine.geometry.resolution == 0.05 and fine.radius == 0.25
     finally:
         dpn.destroy_node()
 

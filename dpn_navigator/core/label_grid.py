@@ -208,6 +208,12 @@ class LabelRule:
         been within the safety radius of it for this long, the latest scan does not see it
         (f1 = f2 = 0) and it is more than twice the safety radius from the laser. 0 turns it
         off. Needs ``track_confirm_time`` > 0 and ``mobile_expiry`` > 0.
+    object_memory_short_segments : bool
+        Short segments in the object memory: the hits of scan segments of one or two hits
+        (fewer than 3; a wanderer glimpsed far off through a gap, or a wall seen at grazing
+        incidence) list the steady cells near them as the small objects' do, so that they
+        are forgotten on the same terms unless a longer segment anchors them. Off, such hits
+        neither anchor nor list. Read only with ``object_memory`` > 0.
 
     """
 
@@ -225,6 +231,7 @@ class LabelRule:
     track_exclusive: bool = False
     trail_distance: float = 0.0
     object_memory: float = 0.0
+    object_memory_short_segments: bool = False
 
     def __post_init__(self):
         for name in ('free_evidence_radius', 'moving_object_size', 'evidence_margin',
@@ -249,6 +256,9 @@ class LabelRule:
                                          or self.mobile_expiry == 0.0):
             raise ValueError('object_memory needs track_confirm_time > 0 (the scan segments) '
                              'and mobile_expiry > 0 (the hit clock)')
+        if not isinstance(self.object_memory_short_segments, (bool, np.bool_)):
+            raise ValueError('object_memory_short_segments must be a bool, got '
+                             f'{self.object_memory_short_segments!r}')
         if self.track_confirm_time > 0.0 and self.moving_object_size == 0.0:
             raise ValueError('track_confirm_time needs moving_object_size > 0: tracks follow '
                              'moving objects')
@@ -584,9 +594,13 @@ class LabelGrid(ChangeTrackers):
     def _forget_objects(self, safety_radius, stamp):
         """Forget the steady cells of small objects out of view and unconfirmed for long."""
         hits_x, hits_y = self._followed_hits
+        # With short segments, every hit not of a long segment lists: the small objects' and
+        # those of segments of fewer than 3 hits.
+        listing = (~self.tracks.hit_long if self.rule.object_memory_short_segments
+                   else self.tracks.hit_object)
         changed = self.object_memory.update(
             self.labels, self.seen_free, self.last_hit, self.last_window, hits_x, hits_y,
-            self.tracks.hit_long, self.tracks.hit_object, self._laser_xy, safety_radius, stamp)
+            self.tracks.hit_long, listing, self._laser_xy, safety_radius, stamp)
         if changed is not None:
             self._widen_trackers(*changed)
 

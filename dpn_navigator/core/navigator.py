@@ -129,6 +129,9 @@ class NavigatorConfig:
         Object memory [s]: steady cells of small objects (scan segments up to 1 m, 3 hits or
         more) that no longer segment has hit are forgotten after this long without a hit, out
         of view; see ``LabelRule``. 0: off.
+    object_memory_short_segments : bool
+        Short segments in the object memory: steady cells that only segments of one or two
+        hits have hit (a wanderer glimpsed far off) are forgotten too; see ``LabelRule``.
     robot_length, robot_width : float
         The robot's footprint, centred on the base frame's origin [m]; the Husky A200 with
         bumpers.
@@ -189,6 +192,7 @@ class NavigatorConfig:
     track_exclusive: bool = True
     trail_distance: float = 1.2
     object_memory: float = 5.0
+    object_memory_short_segments: bool = True
     robot_length: float = 0.99
     robot_width: float = 0.67
     turn_sweep_memory: float = 2.0
@@ -234,7 +238,8 @@ class NavigatorConfig:
                          track_still_distance=self.track_still_distance,
                          track_exclusive=self.track_exclusive,
                          trail_distance=self.trail_distance,
-                         object_memory=self.object_memory)
+                         object_memory=self.object_memory,
+                         object_memory_short_segments=self.object_memory_short_segments)
 
     def yield_config(self):
         """Return the head-on yield state's ``YieldConfig`` from the ``yield_*`` fields."""

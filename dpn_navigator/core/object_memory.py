@@ -15,9 +15,11 @@ So the grid tells two kinds of steady cell apart, by the scan segments
 - **provisional**: a hit of a small-object segment (at most ``compact_size`` long, with at
   least ``OBJECT_MIN_HITS`` hits: a wanderer, free-standing or partly hidden, a pillar, a short
   piece of wall seen between nearer things) was within the safety radius of it, and no hit of
-  a long one ever was. Hits of segments of one or two hits neither anchor nor list a cell: a
-  wall seen at grazing incidence breaks into such segments, metres apart, and stays steady
-  until a closer look anchors it. A provisional cell is forgotten
+  a long one ever was. Hits of segments of one or two hits neither anchor nor list a cell
+  (a wall seen at grazing incidence breaks into such segments, metres apart, and stays steady
+  until a closer look anchors it), unless the caller passes them as small objects too
+  (``LabelRule.object_memory_short_segments``: a wanderer glimpsed far off through a gap
+  leaves only such segments). A provisional cell is forgotten
   once no hit has been within the safety radius for ``memory`` seconds, the latest scan does
   not see it (f1 = f2 = 0) and it lies more than twice the safety radius from the laser (the
   robot may turn in place beside it before it sees it): it goes back to explored when it was
