@@ -519,7 +519,9 @@ def bench_against_tree(tree, rng, repeats):
              ('dpn without tracks, trails, object memory',
               dataclasses.replace(default, track_confirm_time=0.0, trail_distance=0.0,
                                   object_memory=0.0)),
-             ('dpn (the default)', default))
+             ('dpn (the default)', default),
+             ('dpn, the default without short segments in the object memory',
+              dataclasses.replace(default, object_memory_short_segments=False)))
     print(f'| LabelGrid.update, hall scans, against {tree} | rule | old tree [ms] '
           '| this tree [ms] | ratio | same arrays |')
     print('|---|---|---|---|---|---|')
