@@ -582,6 +582,21 @@ def _window_bound(low, origin, resolution, margin, count):
 
 
 @kernel
+def _scan_window(shape, vertices_x, vertices_y, reach, x0, y0, resolution):
+    """
+    ``GridGeometry.cell_window`` of the polygon's box widened by ``reach`` [m], margin 1.
+
+    Returns the half-open ``(row0, row_end, col0, col_end)`` on a grid of ``shape``.
+    """
+    rows, cols = shape
+    row0 = _window_bound(vertices_y.min() - reach, y0, resolution, -1.0, rows)
+    row_end = max(row0, _window_bound(vertices_y.max() + reach, y0, resolution, 2.0, rows))
+    col0 = _window_bound(vertices_x.min() - reach, x0, resolution, -1.0, cols)
+    col_end = max(col0, _window_bound(vertices_x.max() + reach, x0, resolution, 2.0, cols))
+    return row0, row_end, col0, col_end
+
+
+@kernel
 def _update_window(labels, seen_free, last_hit, listed, row0, col0, cell_input, x0, y0,
                    resolution, vertices_x, vertices_y, hits_x, hits_y, hit_beams,
                    safety_radius, safety_bound, free_on, free_radius, free_bound, objects_on,
@@ -826,12 +841,8 @@ def _points_update(labels, seen_free, last_hit, listed, vertices_x, vertices_y, 
     Returns ``(replan, row0, row_end, col0, col_end, cell_input, new_mobile)``; an empty
     window (the scan misses the grid) changes nothing.
     """
-    rows, cols = labels.shape
-    # GridGeometry.cell_window of the polygon's box widened by reach, margin 1.
-    row0 = _window_bound(vertices_y.min() - reach, y0, resolution, -1.0, rows)
-    row_end = max(row0, _window_bound(vertices_y.max() + reach, y0, resolution, 2.0, rows))
-    col0 = _window_bound(vertices_x.min() - reach, x0, resolution, -1.0, cols)
-    col_end = max(col0, _window_bound(vertices_x.max() + reach, x0, resolution, 2.0, cols))
+    row0, row_end, col0, col_end = _scan_window(labels.shape, vertices_x, vertices_y, reach,
+                                                x0, y0, resolution)
     n_rows = row_end - row0
     n_cols = col_end - col0
     if n_rows == 0 or n_cols == 0:
@@ -860,12 +871,9 @@ def _surely_free_update(seen_free, ranges, x, y, yaw, angle_min, angle_increment
     """
     vertices_x, vertices_y, _, _, _ = _scan_points(
         ranges, x, y, yaw, angle_min, angle_increment, range_min, range_max)
-    rows, cols = seen_free.shape
     # The window of `_points_update` with reach = radius.
-    row0 = _window_bound(vertices_y.min() - radius, y0, resolution, -1.0, rows)
-    row_end = max(row0, _window_bound(vertices_y.max() + radius, y0, resolution, 2.0, rows))
-    col0 = _window_bound(vertices_x.min() - radius, x0, resolution, -1.0, cols)
-    col_end = max(col0, _window_bound(vertices_x.max() + radius, x0, resolution, 2.0, cols))
+    row0, row_end, col0, col_end = _scan_window(seen_free.shape, vertices_x, vertices_y, radius,
+                                                x0, y0, resolution)
     n_rows = row_end - row0
     n_cols = col_end - col0
     if n_rows == 0 or n_cols == 0:
