@@ -162,6 +162,17 @@ reading = st.one_of(
     st.floats(0.0, 9.0), st.sampled_from([math.nan, math.inf, -math.inf, 6.0, 0.2, 7.5]))
 
 
+def round_poses(case):
+    """
+    Yield the laser's pose for each of the case's rounds, starting at its pose.
+
+    Later rounds move and turn the laser so that labels go through several transitions.
+    """
+    x, y, yaw = case['pose']
+    for step in range(case['rounds']):
+        yield (x + 0.25 * step, y - 0.5 * step, yaw + math.pi / 4 * step)
+
+
 @st.composite
 def scans(draw):
     """Random scans, half of them on a lattice where centres, hits and radii coincide exactly."""
@@ -216,10 +227,7 @@ def test_update_equals_the_literal_reference(case):
     path = np.argwhere(rng.random(grid.labels.shape) < 0.3)
     scan = {k: case[k] for k in ('angle_min', 'angle_increment', 'range_min', 'range_max',
                                  'safety_radius')}
-    for step in range(case['rounds']):
-        # Later rounds move the laser so that labels go through several transitions.
-        x, y, yaw = case['pose']
-        pose = (x + 0.25 * step, y - 0.5 * step, yaw + math.pi / 4 * step)
+    for pose in round_poses(case):
         want = literal_update(expected, case['origin'], case['resolution'], pose,
                               case['ranges'], path=path, **scan)
         got = grid.update(pose, case['ranges'], path=path, **scan)
@@ -305,9 +313,7 @@ def test_rule_update_equals_the_literal_twin(case, rule_name, stamps):
     scan = {k: case[k] for k in ('angle_min', 'angle_increment', 'range_min', 'range_max',
                                  'safety_radius')}
     last_stamp = -math.inf
-    for step, stamp in enumerate(stamps[:case['rounds']]):
-        x, y, yaw = case['pose']
-        pose = (x + 0.25 * step, y - 0.5 * step, yaw + math.pi / 4 * step)
+    for pose, stamp in zip(round_poses(case), stamps):
         want, last_stamp = literal_update_with_rule(
             labels, seen_free, last_hit, case['origin'], case['resolution'], pose,
             case['ranges'], rule=rule, stamp=stamp, last_stamp=last_stamp, path=path,
@@ -439,9 +445,7 @@ def test_fine_evidence_equals_the_literal_twin(case, share):
     grid.labels_changed()
     scan = {k: case[k] for k in ('angle_min', 'angle_increment', 'range_min', 'range_max',
                                  'safety_radius')}
-    for step in range(case['rounds']):
-        x, y, yaw = case['pose']
-        pose = (x + 0.25 * step, y - 0.5 * step, yaw + math.pi / 4 * step)
+    for pose in round_poses(case):
         literal_update_with_rule(labels, seen_free, None, case['origin'], case['resolution'],
                                  pose, case['ranges'], rule=rule, stamp=0.0,
                                  last_stamp=-math.inf, fine_seen_free=fine_seen_free, **scan)
@@ -464,9 +468,7 @@ def test_surely_free_update_equals_the_literal_twin_of_a_free_only_grid(case):
     seen_free = rng.random(grid.labels.shape) < 0.2
     kernel_seen_free = seen_free.copy()
     scan = {k: case[k] for k in ('angle_min', 'angle_increment', 'range_min', 'range_max')}
-    for step in range(case['rounds']):
-        x, y, yaw = case['pose']
-        pose = (x + 0.25 * step, y - 0.5 * step, yaw + math.pi / 4 * step)
+    for pose in round_poses(case):
         literal_update_with_rule(labels, seen_free, None, case['origin'], case['resolution'],
                                  pose, case['ranges'], rule=rule, stamp=0.0,
                                  last_stamp=-math.inf, safety_radius=radius, **scan)
