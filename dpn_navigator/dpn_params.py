@@ -58,7 +58,7 @@ FLOAT_PARAMETERS = {
     'fine_evidence_radius': (0.2, 'Fine free evidence: a fine cell is surely free when its '
                              'disc of this radius lay inside one scan polygon [m]; 0: off.',
                              (0.0, 5.0), True),
-    'fine_evidence_range': (15.0, 'Fine free evidence: fine cells are marked surely free only '
+    'fine_evidence_range': (20.0, 'Fine free evidence: fine cells are marked surely free only '
                             'within this distance of the laser, where the beams are closer '
                             'together than the fine cells [m].', (0.01, 1000.0), True),
     'mobile_expiry': (3.0, 'Mobile cells no hit confirmed for this long and out of view go '

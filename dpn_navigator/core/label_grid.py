@@ -224,7 +224,7 @@ class LabelRule:
     object_min_hits: int = 0
     fine_evidence_resolution: float = 0.0
     fine_evidence_radius: float = 0.0
-    fine_evidence_range: float = 15.0
+    fine_evidence_range: float = 20.0
     mobile_expiry: float = 0.0
     track_confirm_time: float = 0.0
     track_still_distance: float = 0.0

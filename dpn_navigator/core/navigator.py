@@ -185,7 +185,7 @@ class NavigatorConfig:
     object_min_hits: int = 3
     fine_evidence_resolution: float = 0.1
     fine_evidence_radius: float = 0.2
-    fine_evidence_range: float = 15.0
+    fine_evidence_range: float = 20.0
     mobile_expiry: float = 3.0
     track_confirm_time: float = 5.0
     track_still_distance: float = 0.08
