@@ -206,7 +206,8 @@ class DpnNode(Node):
             if scan_pose is None:
                 scan_pose = self.pose
                 self.scans_placed_at_latest_pose += 1
-            self.navigator.observe(scan_pose, **fields, stamp=now)
+            # The free evidence waits until the map and the command are out (`settle`).
+            self.navigator.observe(scan_pose, **fields, stamp=now, defer_evidence=True)
         except ValueError as error:
             self.reject('scan', error)
             return
@@ -232,6 +233,7 @@ class DpnNode(Node):
             self.publish_status()
         if self.markers.due(out.replanned, status_changed, now):
             self.publish_markers(stamp, now)
+        self.navigator.settle()
 
     def publish_map(self, stamp):
         """Publish the labelled grid as an ``OccupancyGrid``."""

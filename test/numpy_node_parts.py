@@ -82,8 +82,13 @@ class NumpyPlanningMasks(PlanningMasks):
 
 
 def eager_observe(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
-                  angle_max=None, stamp=None):
-    """Fold one scan into ``self`` (a ``Navigator``) and its turn sweep at once."""
+                  angle_max=None, stamp=None, defer_evidence=False):
+    """
+    Fold one scan into ``self`` (a ``Navigator``) and its turn sweep at once.
+
+    The free evidence too: ``defer_evidence`` is taken and ignored, as nothing was deferred
+    then.
+    """
     pose = check_pose(pose)
     laser_pose = compose(pose, self.config.laser_offset)
     replan = self.grid.update(laser_pose, ranges, angle_min, angle_increment, range_min,

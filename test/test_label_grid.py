@@ -512,3 +512,67 @@ def test_fine_evidence_shows_a_hit_moving_where_no_label_cell_was_surely_free():
     assert grids['with'].fine_evidence.seen_free.any()
     assert grids['without'].labels[rr[0], cc[0]] == CellLabel.STEADY_OBSTACLE
     assert grids['with'].labels[rr[0], cc[0]] == CellLabel.MOBILE_OBSTACLE
+
+
+def grid_state(grid):
+    """Every array of a grid's state that an update writes, by name."""
+    state = {'labels': grid.labels, 'window': grid.last_window[2]}
+    for name in ('seen_free', 'last_hit', 'cell_track'):
+        if getattr(grid, name) is not None:
+            state[name] = getattr(grid, name)
+    if grid.fine_evidence is not None:
+        state['fine'] = grid.fine_evidence.seen_free
+    if grid.object_memory is not None:
+        state['anchored'] = grid.object_memory.anchored
+        state['provisional'] = grid.object_memory.provisional
+    return {name: np.array(value) for name, value in state.items()}
+
+
+def assert_same_state(got, want, skip=()):
+    assert got.keys() == want.keys()
+    for name in got:
+        if name not in skip:
+            assert_array_equal(got[name], want[name], err_msg=name)
+
+
+@settings(max_examples=120)
+@given(case=scans(), rule_name=st.sampled_from(sorted(RULES)),
+       stamps=st.lists(st.sampled_from([0.0, 0.25, 0.5, 1.0, 2.0]), min_size=3, max_size=3),
+       settle=st.lists(st.booleans(), min_size=3, max_size=3))
+def test_deferred_evidence_leaves_the_labels_and_is_marked_when_settled(case, rule_name,
+                                                                       stamps, settle):
+    # One grid marks the free evidence in the update, the other later: in `settle`, or in
+    # the next update when settle is not called. Right after each update everything but the
+    # evidence is the same and the evidence is that of before the scan; once settled, all.
+    rule = RULES[rule_name]
+    grids = [LabelGrid(case['cols'] * case['resolution'], case['rows'] * case['resolution'],
+                       case['resolution'], case['origin'], rule) for _ in range(2)]
+    rng = np.random.default_rng(case['path_seed'])
+    labels = rng.integers(0, 4, grids[0].labels.shape).astype(np.uint8)
+    seen_free = rng.random(labels.shape) < 0.4
+    for grid in grids:
+        grid.labels[...] = labels
+        if grid.seen_free is not None:
+            grid.seen_free[...] = seen_free
+        grid.labels_changed()
+    now, deferred = grids
+    path = np.argwhere(rng.random(labels.shape) < 0.3)
+    scan = {k: case[k] for k in ('angle_min', 'angle_increment', 'range_min', 'range_max',
+                                 'safety_radius')}
+    evidence = ('seen_free', 'fine')
+    for pose, stamp, settle_now in zip(round_poses(case), stamps, settle):
+        before = grid_state(now)            # the deferred grid's once settled
+        want = now.update(pose, case['ranges'], path=path, stamp=stamp, **scan)
+        got = deferred.update(pose, case['ranges'], path=path, stamp=stamp, **scan,
+                              defer_evidence=True)
+        assert got == want
+        after = grid_state(deferred)
+        assert_same_state(after, grid_state(now), skip=evidence)
+        for name in evidence:
+            if name in after:
+                assert_array_equal(after[name], before[name], err_msg=name)
+        if settle_now:
+            deferred.settle()
+            assert_same_state(grid_state(deferred), grid_state(now))
+    deferred.settle()
+    assert_same_state(grid_state(deferred), grid_state(now))

@@ -239,7 +239,9 @@ def test_observe_then_decide_is_the_same_as_step():
     # Plain shortest paths (no proximity cost) hug the box's belt and get replanned often.
     stepped = Navigator(config(obstacle_proximity_cost=0.0))
     split = Navigator(config(obstacle_proximity_cost=0.0))
-    for navigator in (stepped, split):
+    # As the node does: the free evidence marked after the decision (or at the next scan).
+    deferred = Navigator(config(obstacle_proximity_cost=0.0))
+    for navigator in (stepped, split, deferred):
         navigator.set_goal(10.0, 6.0)
     pose = (2.0, 6.0, 0.0)
     for step in range(60):
@@ -250,6 +252,12 @@ def test_observe_then_decide_is_the_same_as_step():
         got = split.decide(step * DT, pose)
         assert got == expected
         np.testing.assert_array_equal(split.grid.labels, stepped.grid.labels)
+        deferred.observe(pose, *scan, stamp=step * DT, defer_evidence=True)
+        assert deferred.decide(step * DT, pose) == expected
+        np.testing.assert_array_equal(deferred.grid.labels, stepped.grid.labels)
+        if step % 2:
+            deferred.settle()
+            np.testing.assert_array_equal(deferred.grid.seen_free, stepped.grid.seen_free)
         v, w = got.command.linear, got.command.angular
         pose = (pose[0] + v * math.cos(pose[2]) * DT, pose[1] + v * math.sin(pose[2]) * DT,
                 pose[2] + w * DT)

@@ -299,3 +299,38 @@ def test_compiled_object_memory_equals_the_numpy_one_on_hall_sequences(
         assert trackers[0].take() == trackers[1].take()
     assert fast.object_memory.forgotten > 0
     assert fast.object_memory.anchored.any()
+
+
+@pytest.mark.parametrize(('resolution', 'seed'), [(0.5, 0), (0.1, 1)])
+def test_deferred_evidence_gives_the_same_grid_on_hall_sequences(resolution, seed):
+    # The navigator's rule (tracks, trails, object memory, fine evidence) on boxes crossing a
+    # hall: a grid that marks its free evidence after each update, as the node does once the
+    # map is out, labels every scan as one that marks it in the update, and ends equal.
+    rule = NavigatorConfig(width=1.0, height=1.0).label_rule()
+    rng = np.random.default_rng(seed)
+    size = 30.0 if resolution == 0.5 else 12.0
+    static = hall(size, 10 if resolution == 0.5 else 3, rng)
+    now, deferred = (LabelGrid(size, size, resolution, rule=rule) for _ in range(2))
+    trackers = (now.change_tracker(), deferred.change_tracker())
+    stamp = 0.0
+    moving = 0
+    for step in range(60):
+        world = moving_box_world(static, step, seed, boxes=4)
+        pose = free_pose(world, rng)
+        ranges = ray_cast(world, pose)
+        stamp += rng.choice([0.1, 0.2, 0.4])
+        args = (pose, ranges, ANGLE_MIN, ANGLE_INCREMENT, RANGE_MIN, RANGE_MAX, 0.6)
+        assert now.update(*args, stamp=stamp) == deferred.update(*args, stamp=stamp,
+                                                                 defer_evidence=True)
+        assert_array_equal(deferred.labels, now.labels)
+        assert_array_equal(deferred.last_hit, now.last_hit)
+        assert_array_equal(deferred.cell_track, now.cell_track)
+        assert_array_equal(deferred.object_memory.provisional, now.object_memory.provisional)
+        assert trackers[0].take() == trackers[1].take()
+        if step % 3:
+            deferred.settle()
+            assert_array_equal(deferred.seen_free, now.seen_free)
+            assert_array_equal(deferred.fine_evidence.seen_free, now.fine_evidence.seen_free)
+        moving += int((now.labels == CellLabel.MOBILE_OBSTACLE).sum())
+    assert moving > 0                       # the boxes were seen to move
+    assert now.seen_free.any() and now.fine_evidence.seen_free.any()

@@ -21,7 +21,8 @@ import numpy as np
 from .cell_label import blocked_mask, CellLabel, LABEL_DTYPE
 from .fine_evidence import FineEvidence
 from .grid_geometry import GridGeometry
-from .label_kernel import expire_listed, scan_hits, scan_update, squared_bound
+from .label_kernel import (expire_listed, mark_free_window, scan_hits, scan_update,
+                           squared_bound)
 from .motion_tracks import MotionTracks, TrackConfig
 from .object_memory import ObjectMemory
 from .scan_polygon import check_pose, check_scan
@@ -309,12 +310,15 @@ def warm_up_label_update():
     grid.last_hit[0, 0] = 0.0
     grid.labels_changed()
     ranges = np.array([0.75, np.inf, 0.75])
-    for stamp in (0.0, 2.0):
+    for stamp in (0.0, 2.0, 3.0):
         grid.update((1.0, 1.5, 0.0), ranges, -0.5, 0.5, 0.1, 1.5, 0.25, path=[[0, 0]],
-                    stamp=stamp)
+                    stamp=stamp, defer_evidence=stamp > 2.5)
+    grid.settle()
     # Without the tracks the kernel finds the scan's points itself.
-    LabelGrid(2.0, 2.0, 0.5).update((1.0, 1.5, 0.0), ranges, -0.5, 0.5, 0.1, 1.5, 0.25,
-                                    path=[[0, 0]])
+    for rule in (PAPER_RULE, LabelRule(free_evidence_radius=0.5)):
+        LabelGrid(2.0, 2.0, 0.5, rule=rule).update(
+            (1.0, 1.5, 0.0), ranges, -0.5, 0.5, 0.1, 1.5, 0.25, path=[[0, 0]],
+            defer_evidence=True)
 
 
 class ChangeTracker:
@@ -419,7 +423,8 @@ class LabelGrid(ChangeTrackers):
         Current labels, row ``i`` along y; all ``NON_EXPLORED`` at start. Updated in place.
     rule : LabelRule
     seen_free : (rows, cols) ndarray of bool, or None
-        Cells once surely seen free; None unless ``rule.free_evidence_radius`` > 0.
+        Cells once surely seen free; None unless ``rule.free_evidence_radius`` > 0. After an
+        update with ``defer_evidence``, without that scan's cells until `settle`.
     last_hit : (rows, cols) ndarray of float64, or None
         Stamp of the last scan with f1 = 1 on each cell [s], ``-inf`` before any; None unless
         ``rule.mobile_expiry`` > 0.
@@ -478,9 +483,11 @@ class LabelGrid(ChangeTrackers):
         self.fine_evidence = (FineEvidence(self.geometry, rule.fine_evidence_resolution,
                                            rule.fine_evidence_radius, rule.fine_evidence_range)
                               if rule.fine_evidence_radius > 0.0 else None)
+        # Free evidence an update left for `settle`: (free window, fine scan), or None.
+        self._deferred = None
 
     def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
-               safety_radius, path=None, angle_max=None, stamp=None):
+               safety_radius, path=None, angle_max=None, stamp=None, defer_evidence=False):
         """
         Fold one laser scan into the labels and say whether the path needs replanning.
 
@@ -502,6 +509,11 @@ class LabelGrid(ChangeTrackers):
             Angle of the last beam [rad]; when given, the beam count is checked against it.
         stamp : float, optional
             Time of the scan [s], any clock; needed with ``rule.mobile_expiry`` > 0.
+        defer_evidence : bool
+            Leave the free evidence this scan gives (``seen_free`` and the fine evidence) for
+            `settle`, or for the next update, which settles first. The labels, the replan flag
+            and every other state are the same as without: the rule reads that evidence only
+            for later scans. A node publishes the map in between.
 
         Returns
         -------
@@ -517,6 +529,7 @@ class LabelGrid(ChangeTrackers):
             radius, a malformed path or a missing stamp; the labels are then unchanged.
 
         """
+        self.settle()
         pose, ranges, safety_radius, path, stamp = self._checked_scan(
             pose, ranges, angle_min, angle_increment, range_min, range_max, safety_radius, path,
             angle_max, stamp)
@@ -527,15 +540,23 @@ class LabelGrid(ChangeTrackers):
         if self.rule.track_confirm_time > 0.0 or self.fine_evidence is not None:
             followed, points = self._follow(pose, ranges, angle_min, angle_increment,
                                             range_min, range_max, stamp)
+        fine_scan = None
         if self.fine_evidence is not None:
-            self.fine_evidence.update(pose, ranges, angle_min, angle_increment, range_min,
-                                      range_max)
-        replan, self.last_window, new_mobile = scan_update(
+            # Read by the next scans only (`_follow` took this one's before).
+            fine_scan = (pose, ranges.copy() if defer_evidence else ranges, angle_min,
+                         angle_increment, range_min, range_max)
+            if not defer_evidence:
+                self.fine_evidence.update(*fine_scan)
+                fine_scan = None
+        replan, self.last_window, new_mobile, free_scan = scan_update(
             self.labels, _NO_BOOL if self.seen_free is None else self.seen_free,
             _NO_TIME if self.last_hit is None else self.last_hit,
             _NO_BOOL if self._listed is None else self._listed, self.geometry, pose, ranges,
             angle_min, angle_increment, range_min, range_max, safety_radius, self._kernel_rule,
-            stamp if expiring else 0.0, _NO_PATH if path is None else path, followed, points)
+            stamp if expiring else 0.0, _NO_PATH if path is None else path, followed, points,
+            defer_free=defer_evidence)
+        if free_scan is not None or fine_scan is not None:
+            self._deferred = (free_scan, fine_scan)
         self._widen_trackers(self.last_window[0], self.last_window[1])
         if expiring:
             self._list_mobile(new_mobile, stamp)
@@ -545,6 +566,22 @@ class LabelGrid(ChangeTrackers):
         if self.object_memory is not None:
             self._forget_objects(safety_radius, stamp)
         return replan
+
+    def settle(self):
+        """
+        Mark the free evidence an update with ``defer_evidence`` left; nothing when none.
+
+        Until then ``seen_free`` and the fine evidence lack that scan's cells. `update` and
+        `reset` call it first themselves.
+        """
+        if self._deferred is None:
+            return
+        free_scan, fine_scan = self._deferred
+        self._deferred = None
+        if free_scan is not None:
+            mark_free_window(self.seen_free, self.geometry, free_scan)
+        if fine_scan is not None:
+            self.fine_evidence.update(*fine_scan)
 
     def _follow(self, pose, ranges, angle_min, angle_increment, range_min, range_max, stamp):
         """
@@ -688,6 +725,7 @@ class LabelGrid(ChangeTrackers):
 
     def reset(self):
         """Forget everything: every cell back to ``NON_EXPLORED``, no evidence kept."""
+        self._deferred = None
         self.labels.fill(CellLabel.NON_EXPLORED)
         if self.seen_free is not None:
             self.seen_free.fill(False)

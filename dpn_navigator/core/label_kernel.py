@@ -597,11 +597,67 @@ def _scan_window(shape, vertices_x, vertices_y, reach, x0, y0, resolution):
 
 
 @kernel
+def _not_surely_free(n_rows, n_cols, row0, col0, x0, y0, resolution, vertices_x, vertices_y,
+                     hit_beams, safety_radius, free_radius, free_bound):
+    """
+    Mark the window cells that a scan cannot show surely free: near a vertex or an edge.
+
+    Returns the window's ``(n_rows, n_cols)`` marks: every vertex's disc of ``free_radius``
+    and every edge band beyond the ends' discs (`_mark_uncovered_edge_bands`). Within the
+    safety radius a hit's disc holds only f1 cells, which are never marked free, so then only
+    the vertices that are not hits need theirs.
+    """
+    not_free = np.zeros((n_rows, n_cols), dtype=np.bool_)
+    # Every vertex but the closing repeat of the first.
+    not_hit = np.zeros(0, dtype=np.bool_)
+    if free_radius <= safety_radius:
+        not_hit = np.ones(vertices_x.shape[0], dtype=np.bool_)
+        for k in range(hit_beams.shape[0]):
+            not_hit[hit_beams[k] + 1] = False
+    _mark_discs(not_free, True, vertices_x, vertices_y, vertices_x.shape[0] - 1, not_hit,
+                row0, col0, x0, y0, resolution, free_radius, free_bound,
+                np.zeros((0, 2), dtype=np.int64))
+    # Every vertex's disc of free_radius is marked or f1: the bands need only the rest.
+    _mark_uncovered_edge_bands(not_free, row0, col0, x0, y0, resolution, vertices_x,
+                               vertices_y, free_radius)
+    return not_free
+
+
+@kernel
+def _mark_free_row(row_free, row_input, row_not_free):
+    """Set ``row_free`` on the f2 cells of a row run not in ``row_not_free``; no branches."""
+    for j in range(row_free.shape[0]):
+        row_free[j] = row_free[j] | ((row_input[j] == _INSIDE) & (not row_not_free[j]))
+
+
+@kernel
+def _mark_free_window(seen_free, row0, col0, cell_input, extent, x0, y0, resolution,
+                      vertices_x, vertices_y, hit_beams, safety_radius, free_radius,
+                      free_bound):
+    """
+    Mark the surely-free cells of a scan whose update left them (``defer_free``).
+
+    The arguments are those of that `_update_window` call, its ``cell_input`` and ``extent``
+    as it filled them; ``seen_free`` becomes what the call would have made it.
+    """
+    n_rows, n_cols = cell_input.shape
+    not_free = _not_surely_free(n_rows, n_cols, row0, col0, x0, y0, resolution, vertices_x,
+                                vertices_y, hit_beams, safety_radius, free_radius, free_bound)
+    for i in range(n_rows):
+        first = extent[i, 0]
+        end = extent[i, 1]
+        if first < end:
+            _mark_free_row(seen_free[row0 + i, col0 + first:col0 + end],
+                           cell_input[i, first:end], not_free[i, first:end])
+
+
+@kernel
 def _update_window(labels, seen_free, last_hit, listed, row0, col0, cell_input, x0, y0,
                    resolution, vertices_x, vertices_y, hits_x, hits_y, hit_beams,
                    safety_radius, safety_bound, free_on, free_radius, free_bound, objects_on,
                    evidence_radius, evidence_bound, segment_gap, object_size, min_hits,
-                   expiry_on, stamp, path, new_mobile, extra_moving, moving_known):
+                   expiry_on, stamp, path, new_mobile, extra_moving, moving_known, defer_free,
+                   extent):
     """
     Fold one scan into the window ``labels[row0:row0 + n_rows, col0:col0 + n_cols]``.
 
@@ -650,6 +706,11 @@ def _update_window(labels, seen_free, last_hit, listed, row0, col0, cell_input, 
     moving_known : bool
         ``extra_moving`` holds every moving hit, the object rule's included (as `scan_hits`
         finds them): the rule's evidence is not looked for again.
+    defer_free : bool
+        Leave ``seen_free`` alone (with ``free_on``): `_mark_free_window` marks this scan's
+        surely-free cells later. No label of this scan depends on them.
+    extent : (n_rows, 2) ndarray of int64
+        Receives the columns ``[first, end)`` of each window row that f2 filled.
 
     Returns
     -------
@@ -663,7 +724,6 @@ def _update_window(labels, seen_free, last_hit, listed, row0, col0, cell_input, 
     grid_cols = labels.shape[1]
     # extent[i]: the columns [first, end) of row i that f2 filled; hit_extent[i] those of
     # its f1 cells (which may lie within the first).
-    extent = np.empty((n_rows, 2), dtype=np.int64)
     extent[:, 0] = n_cols
     extent[:, 1] = 0
     hit_extent = extent.copy()
@@ -690,21 +750,12 @@ def _update_window(labels, seen_free, last_hit, listed, row0, col0, cell_input, 
         near_moving = np.zeros((n_rows, n_cols), dtype=np.bool_)
         _mark_discs(near_moving, True, hits_x, hits_y, hits_x.shape[0], moving, row0, col0,
                     x0, y0, resolution, safety_radius, safety_bound, no_extent)
-    not_free = np.zeros((0, 0), dtype=np.bool_)         # read only with free_on
-    if free_on:
-        not_free = np.zeros((n_rows, n_cols), dtype=np.bool_)
-        # Every vertex but the closing repeat of the first. Within the safety radius a hit's
-        # disc holds only HIT cells, so only the vertices that are not hits need theirs then.
-        not_hit = no_selection
-        if free_radius <= safety_radius:
-            not_hit = np.ones(vertices_x.shape[0], dtype=np.bool_)
-            for k in range(hit_beams.shape[0]):
-                not_hit[hit_beams[k] + 1] = False
-        _mark_discs(not_free, True, vertices_x, vertices_y, vertices_x.shape[0] - 1, not_hit,
-                    row0, col0, x0, y0, resolution, free_radius, free_bound, no_extent)
-        # Every vertex's disc of free_radius is marked or f1: the bands need only the rest.
-        _mark_uncovered_edge_bands(not_free, row0, col0, x0, y0, resolution, vertices_x,
-                                   vertices_y, free_radius)
+    mark_free = free_on and not defer_free
+    not_free = np.zeros((0, 0), dtype=np.bool_)         # read only with mark_free
+    if mark_free:
+        not_free = _not_surely_free(n_rows, n_cols, row0, col0, x0, y0, resolution,
+                                    vertices_x, vertices_y, hit_beams, safety_radius,
+                                    free_radius, free_bound)
     # The path's labels before the update, for the replan flag.
     path_before = np.empty(path.shape[0], dtype=np.uint8)
     for k in range(path.shape[0]):
@@ -722,12 +773,9 @@ def _update_window(labels, seen_free, last_hit, listed, row0, col0, cell_input, 
             row_input = cell_input[i, first:end]
             for j in range(end - first):
                 row_labels[j] = _EXPLORED if row_input[j] == _INSIDE else row_labels[j]
-            if free_on:
-                row_free = seen_free[row, col0 + first:col0 + end]
-                row_not_free = not_free[i, first:end]
-                for j in range(end - first):
-                    row_free[j] = row_free[j] | ((row_input[j] == _INSIDE)
-                                                 & (not row_not_free[j]))
+            if mark_free:
+                _mark_free_row(seen_free[row, col0 + first:col0 + end], row_input,
+                               not_free[i, first:end])
         # f1 (HIT) cells, which no cell above changed.
         if not (free_on or expiry_on):
             # The paper's rule: the FSM table alone.
@@ -816,17 +864,18 @@ def _scan_update(labels, seen_free, last_hit, listed, ranges, x, y, yaw, angle_m
                  evidence_radius, evidence_bound, segment_gap, object_size, min_hits, expiry_on,
                  stamp, path, extra_moving):
     """
-    Find the scan's points, then run `_points_update` with them.
+    Find the scan's points, then run `_points_update` with them (nothing deferred).
 
     Returns ``(replan, row0, row_end, col0, col_end, cell_input, new_mobile)``.
     """
     vertices_x, vertices_y, hits_x, hits_y, hit_beams = _scan_points(
         ranges, x, y, yaw, angle_min, angle_increment, range_min, range_max)
-    return _points_update(
+    replan, row0, row_end, col0, col_end, cell_input, new_mobile, _ = _points_update(
         labels, seen_free, last_hit, listed, vertices_x, vertices_y, hits_x, hits_y,
         hit_beams, x0, y0, resolution, reach, safety_radius, safety_bound, free_on,
         free_radius, free_bound, objects_on, evidence_radius, evidence_bound, segment_gap,
-        object_size, min_hits, expiry_on, stamp, path, extra_moving, False)
+        object_size, min_hits, expiry_on, stamp, path, extra_moving, False, False)
+    return replan, row0, row_end, col0, col_end, cell_input, new_mobile
 
 
 @kernel
@@ -834,11 +883,12 @@ def _points_update(labels, seen_free, last_hit, listed, vertices_x, vertices_y, 
                    hits_y, hit_beams, x0, y0, resolution, reach, safety_radius, safety_bound,
                    free_on, free_radius, free_bound, objects_on, evidence_radius,
                    evidence_bound, segment_gap, object_size, min_hits, expiry_on, stamp, path,
-                   extra_moving, moving_known):
+                   extra_moving, moving_known, defer_free):
     """
     Find the scan's window from its points, then run `_update_window` over it.
 
-    Returns ``(replan, row0, row_end, col0, col_end, cell_input, new_mobile)``; an empty
+    Returns ``(replan, row0, row_end, col0, col_end, cell_input, new_mobile, extent)``, the
+    last f2's columns per window row (for `_mark_free_window` after ``defer_free``); an empty
     window (the scan misses the grid) changes nothing.
     """
     row0, row_end, col0, col_end = _scan_window(labels.shape, vertices_x, vertices_y, reach,
@@ -847,16 +897,18 @@ def _points_update(labels, seen_free, last_hit, listed, vertices_x, vertices_y, 
     n_cols = col_end - col0
     if n_rows == 0 or n_cols == 0:
         return (False, 0, 0, 0, 0, np.zeros((0, 0), dtype=np.uint8),
-                np.zeros(0, dtype=np.int64))
+                np.zeros(0, dtype=np.int64), np.zeros((0, 2), dtype=np.int64))
     cell_input = np.empty((n_rows, n_cols), dtype=np.uint8)
     new_mobile = np.empty(n_rows * n_cols if expiry_on else 0, dtype=np.int64)
+    extent = np.empty((n_rows, 2), dtype=np.int64)
     replan, new_count = _update_window(
         labels, seen_free, last_hit, listed, row0, col0, cell_input, x0, y0, resolution,
         vertices_x, vertices_y, hits_x, hits_y, hit_beams, safety_radius, safety_bound,
         free_on, free_radius, free_bound, objects_on, evidence_radius, evidence_bound,
         segment_gap, object_size, min_hits, expiry_on, stamp, path, new_mobile, extra_moving,
-        moving_known)
-    return replan, row0, row_end, col0, col_end, cell_input, new_mobile[:new_count].copy()
+        moving_known, defer_free, extent)
+    return (replan, row0, row_end, col0, col_end, cell_input, new_mobile[:new_count].copy(),
+            extent)
 
 
 @kernel
@@ -894,12 +946,8 @@ def _surely_free_update(seen_free, ranges, x, y, yaw, angle_min, angle_increment
         first = extent[i, 0]
         end = extent[i, 1]
         if first < end:
-            row_free = seen_free[row0 + i, col0 + first:col0 + end]
-            row_input = cell_input[i, first:end]
-            row_not_free = not_free[i, first:end]
-            for j in range(end - first):
-                row_free[j] = row_free[j] | ((row_input[j] == _INSIDE)
-                                             & (not row_not_free[j]))
+            _mark_free_row(seen_free[row0 + i, col0 + first:col0 + end],
+                           cell_input[i, first:end], not_free[i, first:end])
 
 
 def surely_free_update(seen_free, geometry, pose, ranges, angle_min, angle_increment,
@@ -931,7 +979,7 @@ def surely_free_update(seen_free, geometry, pose, ranges, angle_min, angle_incre
 
 def scan_update(labels, seen_free, last_hit, listed, geometry, pose, ranges, angle_min,
                 angle_increment, range_min, range_max, safety_radius, rule_arguments, stamp,
-                path, extra_moving=None, points=None):
+                path, extra_moving=None, points=None, defer_free=False):
     """
     Fold one validated scan into the grid's state arrays in place.
 
@@ -968,6 +1016,12 @@ def scan_update(labels, seen_free, last_hit, listed, geometry, pose, ranges, ang
         ``(vertices_x, vertices_y, hits_x, hits_y, hit_beams, moving)`` of this scan from
         `scan_hits` on the same state, so that they are not found again; ``extra_moving`` is
         then added to ``moving``.
+    defer_free : bool
+        With the conservative free space on, leave ``seen_free`` as it is and return what
+        `mark_free_window` needs to mark this scan's surely-free cells later. The labels, the
+        replan flag and the window are the same either way: no label of this scan depends on
+        the cells it shows surely free (they are f2 cells; the rule reads ``seen_free`` only
+        at f1 cells and at the hits, before the update).
 
     Returns
     -------
@@ -976,28 +1030,69 @@ def scan_update(labels, seen_free, last_hit, listed, geometry, pose, ranges, ang
         The window the scan reached and its FSM input (``ScanInput``).
     new_mobile : (M,) ndarray of int64
         Flat indices of the cells this scan made mobile and listed (with the expiry on).
+    deferred : tuple or None
+        For `mark_free_window`, with ``defer_free`` and the free space on; else None.
 
     """
     x0, y0 = geometry.origin
-    reach = max(safety_radius, rule_arguments[1])
-    if points is not None:
+    free_on, free_radius, free_bound = rule_arguments[:3]
+    reach = max(safety_radius, free_radius)
+    defer_free = bool(defer_free and free_on)
+    if points is None and not defer_free:
+        replan, row0, row_end, col0, col_end, cell_input, new_mobile = _scan_update(
+            labels, seen_free, last_hit, listed, np.ascontiguousarray(ranges), pose[0],
+            pose[1], pose[2], float(angle_min), float(angle_increment), float(range_min),
+            float(range_max), x0, y0, geometry.resolution, reach, safety_radius,
+            squared_bound(safety_radius), *rule_arguments, float(stamp),
+            np.ascontiguousarray(path),
+            _NO_HITS if extra_moving is None else np.ascontiguousarray(extra_moving, dtype=bool))
+        return (bool(replan), (slice(row0, row_end), slice(col0, col_end), cell_input),
+                new_mobile, None)
+    if points is None:
+        # The kernel's object rule finds the moving hits itself (moving_known False).
+        vertices_x, vertices_y, hits_x, hits_y, hit_beams = _scan_points(
+            np.ascontiguousarray(ranges), pose[0], pose[1], pose[2], float(angle_min),
+            float(angle_increment), float(range_min), float(range_max))
+        moving = (_NO_HITS if extra_moving is None
+                  else np.ascontiguousarray(extra_moving, dtype=bool))
+        moving_known = False
+    else:
         vertices_x, vertices_y, hits_x, hits_y, hit_beams, moving = points
         if extra_moving is not None:
             moving = moving | extra_moving
-        replan, row0, row_end, col0, col_end, cell_input, new_mobile = _points_update(
-            labels, seen_free, last_hit, listed, vertices_x, vertices_y, hits_x, hits_y,
-            hit_beams, x0, y0, geometry.resolution, reach, safety_radius,
-            squared_bound(safety_radius), *rule_arguments, float(stamp),
-            np.ascontiguousarray(path), moving, True)
-        return (bool(replan), (slice(row0, row_end), slice(col0, col_end), cell_input),
-                new_mobile)
-    replan, row0, row_end, col0, col_end, cell_input, new_mobile = _scan_update(
-        labels, seen_free, last_hit, listed, np.ascontiguousarray(ranges), pose[0], pose[1],
-        pose[2], float(angle_min), float(angle_increment), float(range_min), float(range_max),
-        x0, y0, geometry.resolution, reach, safety_radius, squared_bound(safety_radius),
-        *rule_arguments, float(stamp), np.ascontiguousarray(path),
-        _NO_HITS if extra_moving is None else np.ascontiguousarray(extra_moving, dtype=bool))
-    return bool(replan), (slice(row0, row_end), slice(col0, col_end), cell_input), new_mobile
+        moving_known = True
+    replan, row0, row_end, col0, col_end, cell_input, new_mobile, extent = _points_update(
+        labels, seen_free, last_hit, listed, vertices_x, vertices_y, hits_x, hits_y,
+        hit_beams, x0, y0, geometry.resolution, reach, safety_radius,
+        squared_bound(safety_radius), *rule_arguments, float(stamp),
+        np.ascontiguousarray(path), moving, moving_known, defer_free)
+    deferred = None
+    if defer_free:
+        deferred = (row0, col0, cell_input, extent, vertices_x, vertices_y, hit_beams,
+                    float(safety_radius), float(free_radius), float(free_bound))
+    return (bool(replan), (slice(row0, row_end), slice(col0, col_end), cell_input),
+            new_mobile, deferred)
+
+
+def mark_free_window(seen_free, geometry, deferred):
+    """
+    Mark the surely-free cells that a `scan_update` with ``defer_free`` left unmarked.
+
+    Parameters
+    ----------
+    seen_free : (rows, cols) ndarray of bool
+        The grid's cells once surely seen free, updated in place.
+    geometry : GridGeometry
+        The grid's placement.
+    deferred : tuple
+        What that `scan_update` returned last.
+
+    """
+    x0, y0 = geometry.origin
+    (row0, col0, cell_input, extent, vertices_x, vertices_y, hit_beams, safety_radius,
+     free_radius, free_bound) = deferred
+    _mark_free_window(seen_free, row0, col0, cell_input, extent, x0, y0, geometry.resolution,
+                      vertices_x, vertices_y, hit_beams, safety_radius, free_radius, free_bound)
 
 
 def scan_hits(seen_free, geometry, pose, ranges, angle_min, angle_increment, range_min,

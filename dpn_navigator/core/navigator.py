@@ -287,7 +287,8 @@ class Navigator:
     grid : LabelGrid-like, optional
         The map to plan on, in place of the ``LabelGrid`` built from ``config``: any object
         with ``LabelGrid``'s ``geometry``, ``labels``, ``last_window``, ``update`` and
-        ``blocked`` (the benchmark's reference navigators: ``CostmapGrid``, ``OracleGrid``).
+        ``blocked`` (the benchmark's reference navigators: ``CostmapGrid``, ``OracleGrid``),
+        and optionally ``settle`` (then its ``update`` takes ``defer_evidence``).
 
     Attributes
     ----------
@@ -313,6 +314,7 @@ class Navigator:
         self.config = config
         self.grid = grid if grid is not None else LabelGrid(
             config.width, config.height, config.resolution, config.origin, config.label_rule())
+        self._settles = callable(getattr(self.grid, 'settle', None))
         self._masks = PlanningMasks(self.grid, config.obstacle_proximity_cost)
         self.path = None
         self.goal = None
@@ -402,7 +404,7 @@ class Navigator:
         return self.decide(stamp, pose)
 
     def observe(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
-                angle_max=None, stamp=None):
+                angle_max=None, stamp=None, defer_evidence=False):
         """
         Fold one scan into the map; the next ``decide`` replans if the scan asks for it.
 
@@ -416,6 +418,10 @@ class Navigator:
             As for ``step``.
         stamp : float, optional
             Time of the scan [s]; needed when ``mobile_expiry`` is on.
+        defer_evidence : bool
+            Leave the free evidence of the scan for `settle` (``LabelGrid.update``), so that
+            the map is ready sooner; the map and the plans are the same. Ignored by a grid
+            without ``settle``.
 
         Raises
         ------
@@ -425,14 +431,20 @@ class Navigator:
         """
         pose = check_pose(pose)
         laser_pose = compose(pose, self.config.laser_offset)
+        deferring = {'defer_evidence': True} if defer_evidence and self._settles else {}
         replan = self.grid.update(laser_pose, ranges, angle_min, angle_increment, range_min,
                                   range_max, self.config.safety_radius, path=self.path,
-                                  angle_max=angle_max, stamp=stamp)
+                                  angle_max=angle_max, stamp=stamp, **deferring)
         self._sweep_last_scan()
         self._replan_requested |= replan
         self._last_scan = (laser_pose, np.array(ranges, dtype=np.float64), angle_min,
                            angle_increment, range_min, range_max, angle_max, stamp)
         self._unswept_pose = pose if self.turn_sweep is not None else None
+
+    def settle(self):
+        """Finish what the last ``observe`` with ``defer_evidence`` left for later."""
+        if self._settles:
+            self.grid.settle()
 
     def _sweep_last_scan(self):
         """Give the turn sweep the hits of the last scan observed, once."""
