@@ -9,7 +9,9 @@ Benchmark of the two nodes over ROS 2: simulator speed and scan-to-map latency.
    at 10 Hz to the ``dpn`` process (a 100 m hall with 160 boxes and 10 walking 0.6 m boxes,
    the laser standing still for ten scans at a time; 200x200 cells of 0.5 m and 2000x2000 of
    0.05 m) and times the ``/compabot/map`` (or ``/compabot/map_updates``) that answers, wall
-   clock, both ends in this machine's loopback DDS. Node variants run in turn, alternating,
+   clock, both ends in this machine's loopback DDS, at two ends: the probe's callback (its
+   own rclpy executor included, 0.3-0.6 ms) and the reception time the probe's middleware
+   stamps the message with (``MessageInfo.received_timestamp``). Node variants run in turn, alternating,
    ``--rounds`` times: the default, the dpn rule without its motion tracks, trails and object
    memory, the markers on every replan (``marker_min_period`` 0), the full map every second
    with the changed cells on ``map_updates`` in between, and with ``--old-tree DIR`` the
@@ -127,16 +129,35 @@ class LatencyProbe(Node):
         self.status = {}
         self.sent = {}
         self.latencies = []
+        self.reception_latencies = []
 
     def on_status(self, msg):
         """Keep the dpn node's latest status values."""
         self.status = {kv.key: kv.value for kv in msg.values}
 
-    def on_map(self, msg):
-        """Match a map or map update to its scan by stamp and record the latency [s]."""
+    def send_scan(self, scan):
+        """Publish a scan and note when: this clock and the system clock."""
+        self.sent[(scan.header.stamp.sec, scan.header.stamp.nanosec)] = (
+            time.perf_counter(), time.time_ns())
+        self.scan_pub.publish(scan)
+
+    def on_map(self, msg, info):
+        """
+        Match a map or map update to its scan by stamp and record the latencies [s].
+
+        Two ends: this callback (``latencies``, this process's executor included), and the
+        time this subscription's middleware received the message (``reception_latencies``,
+        ``MessageInfo.received_timestamp``, system clock; NaN when the RMW leaves it 0).
+        """
+        called = time.perf_counter()
         key = (msg.header.stamp.sec, msg.header.stamp.nanosec)
-        if key in self.sent:
-            self.latencies.append(time.perf_counter() - self.sent.pop(key))
+        if key not in self.sent:
+            return
+        sent, sent_ns = self.sent.pop(key)
+        self.latencies.append(called - sent)
+        received_ns = info.get('received_timestamp') or 0
+        self.reception_latencies.append(1e-9 * (received_ns - sent_ns) if received_ns
+                                        else math.nan)
 
 
 def start_probe(domain_id):
@@ -190,7 +211,10 @@ def scan_to_map_latency(domain_id, log_dir, scenes, cells=200, node_args=(), tre
     Returns
     -------
     latencies : list of float
-        Scan published to its map or map update received, per scan [ms].
+        Scan published to its map or map update received, per scan [ms]: in the probe's
+        callback.
+    reception_latencies : list of float
+        The same to the probe's middleware receiving it (``received_timestamp``) [ms].
     in_node : float
         The node's own median from scan callback to map published, from its status [ms].
 
@@ -221,8 +245,7 @@ def scan_to_map_latency(domain_id, log_dir, scenes, cells=200, node_args=(), tre
             executor.spin_once(timeout_sec=0.01)       # let odometry land first
             scan = make_laser_scan(ranges[k % len(poses)], ANGLE_MIN, ANGLE_INCREMENT,
                                    RANGE_MIN, RANGE_MAX, stamp)
-            probe.sent[(stamp.sec, stamp.nanosec)] = time.perf_counter()
-            probe.scan_pub.publish(scan)
+            probe.send_scan(scan)
             next_scan = time.monotonic() + 1.0 / rate
             while time.monotonic() < next_scan:
                 executor.spin_once(timeout_sec=max(0.0, next_scan - time.monotonic()))
@@ -234,7 +257,9 @@ def scan_to_map_latency(domain_id, log_dir, scenes, cells=200, node_args=(), tre
         probe.destroy_node()
         rclpy.try_shutdown(context=context)
     in_node = float(probe.status.get('scan_to_map_ms_median') or 'nan')
-    return [1e3 * latency for latency in probe.latencies[5:]], in_node    # skip the warm-up
+    # Skip the warm-up.
+    return ([1e3 * latency for latency in probe.latencies[5:]],
+            [1e3 * latency for latency in probe.reception_latencies[5:]], in_node)
 
 
 def first_map_seconds(domain_id, log_dir, scenes, tree=None):
@@ -267,10 +292,8 @@ def first_map_seconds(domain_id, log_dir, scenes, tree=None):
             stamp = probe.get_clock().now().to_msg()
             probe.odom_pub.publish(pose_to_odometry(poses[k % len(poses)], (0.0, 0.0), stamp))
             executor.spin_once(timeout_sec=0.01)
-            probe.sent[(stamp.sec, stamp.nanosec)] = time.perf_counter()
-            probe.scan_pub.publish(make_laser_scan(ranges[k % len(poses)], ANGLE_MIN,
-                                                   ANGLE_INCREMENT, RANGE_MIN, RANGE_MAX,
-                                                   stamp))
+            probe.send_scan(make_laser_scan(ranges[k % len(poses)], ANGLE_MIN,
+                                            ANGLE_INCREMENT, RANGE_MIN, RANGE_MAX, stamp))
             k += 1
             deadline = time.monotonic() + 0.1
             while not probe.latencies and time.monotonic() < deadline:
@@ -317,17 +340,21 @@ def latency_tables(domain_id, log_dir, cells_list, rounds, scans, old_tree):
                     domain_id, log_dir, scenes, cells, args, tree, scans))
         print(f'| dpn scan-to-map, {cells}x{cells} cells, 640 beams at 10 Hz, 10 walking boxes '
               '| scans | over ROS median [ms], per round | all rounds: median / 90 % / 99 % '
-              '[ms] | in the node (its status), per round [ms] |')
-        print('|---|---|---|---|---|')
+              '[ms] | to the probe\'s middleware: median / 90 % [ms] '
+              '| in the node (its status), per round [ms] |')
+        print('|---|---|---|---|---|---|')
         for name, _, _ in variants:
             runs = results[name]
-            every = [latency for latencies, _ in runs for latency in latencies]
+            every = [latency for latencies, _, _ in runs for latency in latencies]
+            received = [latency for _, latencies, _ in runs for latency in latencies]
             quantiles = np.percentile(every, [50, 90, 99]) if every else [math.nan] * 3
-            medians = [statistics.median(latencies or [math.nan]) for latencies, _ in runs]
+            reception = np.percentile(received, [50, 90]) if received else [math.nan] * 2
+            medians = [statistics.median(latencies or [math.nan]) for latencies, _, _ in runs]
             print(f'| {name} | {len(every)} '
                   f'| {" / ".join(f"{median:.2f}" for median in medians)} '
                   f'| {quantiles[0]:.2f} / {quantiles[1]:.2f} / {quantiles[2]:.2f} '
-                  f'| {" / ".join(f"{in_node:.2f}" for _, in_node in runs)} |')
+                  f'| {reception[0]:.2f} / {reception[1]:.2f} '
+                  f'| {" / ".join(f"{in_node:.2f}" for _, _, in_node in runs)} |')
         print()
 
 
