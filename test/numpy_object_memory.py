@@ -44,8 +44,12 @@ class NumpyObjectMemory(ObjectMemory):
     """
 
     def update(self, labels, seen_free, last_hit, window, hits_x, hits_y, long, small_object,
-               laser_xy, safety_radius, stamp):
-        """Take one scan's hits into account, then forget the provisional cells due."""
+               laser_xy, safety_radius, stamp, defer_anchors=False):
+        """
+        Take one scan's hits into account, then forget the provisional cells due.
+
+        ``defer_anchors`` is taken and ignored: nothing was deferred then.
+        """
         rows, cols, cell_input = window
         if cell_input.size and hits_x.shape[0]:
             self._anchor(rows, cols, hits_x[long], hits_y[long], safety_radius)

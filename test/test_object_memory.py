@@ -305,15 +305,17 @@ def test_compiled_object_memory_equals_the_numpy_one_on_hall_sequences(
 def test_deferred_evidence_gives_the_same_grid_on_hall_sequences(resolution, seed):
     # The navigator's rule (tracks, trails, object memory, fine evidence) on boxes crossing a
     # hall: a grid that marks its free evidence after each update, as the node does once the
-    # map is out, labels every scan as one that marks it in the update, and ends equal.
-    rule = NavigatorConfig(width=1.0, height=1.0).label_rule()
+    # map is out, labels every scan as one that marks it in the update, and ends equal. A
+    # short memory, so that cells are forgotten.
+    rule = dataclasses.replace(NavigatorConfig(width=1.0, height=1.0).label_rule(),
+                               object_memory=1.0)
     rng = np.random.default_rng(seed)
     size = 30.0 if resolution == 0.5 else 12.0
     static = hall(size, 10 if resolution == 0.5 else 3, rng)
     now, deferred = (LabelGrid(size, size, resolution, rule=rule) for _ in range(2))
     trackers = (now.change_tracker(), deferred.change_tracker())
     stamp = 0.0
-    moving = 0
+    moving = stale_entries = 0
     for step in range(60):
         world = moving_box_world(static, step, seed, boxes=4)
         pose = free_pose(world, rng)
@@ -325,12 +327,21 @@ def test_deferred_evidence_gives_the_same_grid_on_hall_sequences(resolution, see
         assert_array_equal(deferred.labels, now.labels)
         assert_array_equal(deferred.last_hit, now.last_hit)
         assert_array_equal(deferred.cell_track, now.cell_track)
-        assert_array_equal(deferred.object_memory.provisional, now.object_memory.provisional)
         assert trackers[0].take() == trackers[1].take()
         if step % 3:
             deferred.settle()
             assert_array_equal(deferred.seen_free, now.seen_free)
             assert_array_equal(deferred.fine_evidence.seen_free, now.fine_evidence.seen_free)
+            memory = deferred.object_memory
+            assert_array_equal(memory.anchored, now.object_memory.anchored)
+            # The list in the same order, but for cells this scan anchored (dropped at the
+            # next update).
+            listed = memory.provisional
+            stale = memory.anchored.ravel()[listed]
+            assert_array_equal(listed[~stale], now.object_memory.provisional)
+            stale_entries += int(stale.sum())
         moving += int((now.labels == CellLabel.MOBILE_OBSTACLE).sum())
     assert moving > 0                       # the boxes were seen to move
     assert now.seen_free.any() and now.fine_evidence.seen_free.any()
+    assert now.object_memory.forgotten > 0
+    assert deferred.object_memory.forgotten == now.object_memory.forgotten

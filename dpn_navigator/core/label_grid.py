@@ -510,10 +510,11 @@ class LabelGrid(ChangeTrackers):
         stamp : float, optional
             Time of the scan [s], any clock; needed with ``rule.mobile_expiry`` > 0.
         defer_evidence : bool
-            Leave the free evidence this scan gives (``seen_free`` and the fine evidence) for
-            `settle`, or for the next update, which settles first. The labels, the replan flag
-            and every other state are the same as without: the rule reads that evidence only
-            for later scans. A node publishes the map in between.
+            Leave the evidence this scan gives (``seen_free``, the fine evidence, the object
+            memory's anchors) for `settle`, or for the next update, which settles first. The
+            labels, the replan flag and the window are the same as without: the rule reads
+            that evidence only for later scans. A node publishes the map in between.
+            (``ObjectMemory.update``'s ``defer_anchors`` says what its list may hold.)
 
         Returns
         -------
@@ -564,16 +565,18 @@ class LabelGrid(ChangeTrackers):
         if self.cell_track is not None and self.last_window[2].size:
             self._trails(safety_radius, stamp)
         if self.object_memory is not None:
-            self._forget_objects(safety_radius, stamp)
+            self._forget_objects(safety_radius, stamp, defer_evidence)
         return replan
 
     def settle(self):
         """
-        Mark the free evidence an update with ``defer_evidence`` left; nothing when none.
+        Mark the evidence an update with ``defer_evidence`` left; nothing when none.
 
-        Until then ``seen_free`` and the fine evidence lack that scan's cells. `update` and
-        `reset` call it first themselves.
+        Until then ``seen_free`` and the fine evidence lack that scan's cells, and the object
+        memory its anchors. `update` and `reset` call it first themselves.
         """
+        if self.object_memory is not None:
+            self.object_memory.settle()
         if self._deferred is None:
             return
         free_scan, fine_scan = self._deferred
@@ -628,7 +631,7 @@ class LabelGrid(ChangeTrackers):
         # The ghost expiry's list drops cells no longer mobile when it next visits them.
         self._widen_trackers(*cleared)
 
-    def _forget_objects(self, safety_radius, stamp):
+    def _forget_objects(self, safety_radius, stamp, defer_anchors):
         """Forget the steady cells of small objects out of view and unconfirmed for long."""
         hits_x, hits_y = self._followed_hits
         # With short segments, every hit not of a long segment lists: the small objects' and
@@ -637,7 +640,7 @@ class LabelGrid(ChangeTrackers):
                    else self.tracks.hit_object)
         changed = self.object_memory.update(
             self.labels, self.seen_free, self.last_hit, self.last_window, hits_x, hits_y,
-            self.tracks.hit_long, listing, self._laser_xy, safety_radius, stamp)
+            self.tracks.hit_long, listing, self._laser_xy, safety_radius, stamp, defer_anchors)
         if changed is not None:
             self._widen_trackers(*changed)
 

@@ -29,8 +29,8 @@ A pillar is provisional too: out of view for that long it is forgotten, and foun
 soon as a scan sees it (a path through it turns the robot towards it first, and the laser looks
 ahead). That is the price of forgetting a wanderer that was never seen to move.
 
-One compiled kernel per scan (`_memory_update`) does it all, over the scan's window and the
-listed cells only; the numpy implementation it replaced is the oracle of the tests
+Two compiled kernels per scan (`_anchor_near`, `_memory_update`) do it all, over the scan's
+window and the listed cells only; the numpy implementation it replaced is the oracle of the tests
 (``test/numpy_object_memory.py``), equal array for array and list for list.
 
 """
@@ -83,6 +83,7 @@ class ObjectMemory:
 
     def reset(self):
         """Forget every anchor and every listed cell."""
+        self._deferred_anchors = None
         self.anchored.fill(False)
         self._listed.fill(False)
         self._cells = np.empty(_INITIAL_LIST, dtype=np.int64)
@@ -95,7 +96,7 @@ class ObjectMemory:
         return self._cells[:self._count].copy()
 
     def update(self, labels, seen_free, last_hit, window, hits_x, hits_y, long, small_object,
-               laser_xy, safety_radius, stamp):
+               laser_xy, safety_radius, stamp, defer_anchors=False):
         """
         Take one scan's hits into account, then forget the provisional cells due.
 
@@ -121,6 +122,12 @@ class ObjectMemory:
             f1's ``r`` [m].
         stamp : float
             Time of the scan [s].
+        defer_anchors : bool
+            Leave the anchoring by this scan's long segments for `settle` (or the next update,
+            which settles first). The labels are the same: a cell anchored by this scan lies
+            within the safety radius of one of its hits, so it is in view and not forgotten
+            now either way. Such a cell, if listed, is only dropped from the list at the next
+            update instead of this one (``provisional`` may hold it until then).
 
         Returns
         -------
@@ -128,30 +135,63 @@ class ObjectMemory:
             The box of the cells forgotten, None when none was.
 
         """
+        self.settle()
         rows, cols, cell_input = window
         x0, y0 = self.geometry.origin
+        hits_x = np.ascontiguousarray(hits_x, dtype=np.float64)
+        hits_y = np.ascontiguousarray(hits_y, dtype=np.float64)
+        long = np.array(long, dtype=bool)       # a copy: it may be read at `settle`
+        safety_radius = float(safety_radius)
+        anchors = (rows.start, cols.start, cell_input.shape[0], cell_input.shape[1], hits_x,
+                   hits_y, long, safety_radius, squared_bound(safety_radius))
+        if not defer_anchors:
+            self._mark_anchors(anchors)
         (self._cells, self._count, forgotten, row_lo, row_hi, col_lo,
          col_hi) = _memory_update(
             labels, seen_free, last_hit, self.anchored, self._listed, self._cells, self._count,
-            rows.start, cols.start, cell_input, x0, y0, self.geometry.resolution,
-            np.ascontiguousarray(hits_x, dtype=np.float64),
-            np.ascontiguousarray(hits_y, dtype=np.float64),
-            np.ascontiguousarray(long, dtype=bool),
-            np.ascontiguousarray(small_object, dtype=bool), float(laser_xy[0]),
-            float(laser_xy[1]), float(safety_radius), squared_bound(float(safety_radius)),
-            2.0 * float(safety_radius), float(stamp), self.memory)
+            rows.start, cols.start, cell_input, x0, y0, self.geometry.resolution, hits_x,
+            hits_y, np.ascontiguousarray(small_object, dtype=bool), float(laser_xy[0]),
+            float(laser_xy[1]), safety_radius, anchors[-1], 2.0 * safety_radius, float(stamp),
+            self.memory)
+        if defer_anchors:
+            self._deferred_anchors = anchors
         if not forgotten:
             return None
         self.forgotten += int(forgotten)
         return slice(row_lo, row_hi), slice(col_lo, col_hi)
 
+    def settle(self):
+        """Anchor the cells near the long segments of an update with ``defer_anchors``."""
+        if self._deferred_anchors is not None:
+            anchors = self._deferred_anchors
+            self._deferred_anchors = None
+            self._mark_anchors(anchors)
+
+    def _mark_anchors(self, anchors):
+        """Mark ``anchored`` within the safety radius of the long segments' hits."""
+        x0, y0 = self.geometry.origin
+        row0, col0, n_rows, n_cols, hits_x, hits_y, long, safety_radius, safety_bound = anchors
+        _anchor_near(self.anchored, row0, col0, n_rows, n_cols, x0, y0,
+                     self.geometry.resolution, hits_x, hits_y, long, safety_radius,
+                     safety_bound)
+
+
+@kernel
+def _anchor_near(anchored, row0, col0, n_rows, n_cols, x0, y0, resolution, hits_x, hits_y,
+                 long, safety_radius, safety_bound):
+    """Set ``anchored`` on the window's cells within the safety radius of the ``long`` hits."""
+    if n_rows * n_cols > 0 and hits_x.shape[0] > 0:
+        _mark_discs(anchored[row0:row0 + n_rows, col0:col0 + n_cols], True, hits_x, hits_y,
+                    hits_x.shape[0], long, row0, col0, x0, y0, resolution, safety_radius,
+                    safety_bound, np.zeros((0, 2), dtype=np.int64))
+
 
 @kernel
 def _memory_update(labels, seen_free, last_hit, anchored, listed, cells, count, row0, col0,
-                   cell_input, x0, y0, resolution, hits_x, hits_y, long, small_object,
-                   laser_x, laser_y, safety_radius, safety_bound, keep_within, stamp, memory):
+                   cell_input, x0, y0, resolution, hits_x, hits_y, small_object, laser_x,
+                   laser_y, safety_radius, safety_bound, keep_within, stamp, memory):
     """
-    `ObjectMemory.update` in one pass: anchor, list, then forget what is due.
+    `ObjectMemory.update` after the anchoring (`_anchor_near`): list, then forget what is due.
 
     ``anchored``, ``listed`` and ``labels`` are updated in place; ``cells[:count]`` is the
     list of provisional cells (flat grid indices), grown into a new array when full.
@@ -162,11 +202,6 @@ def _memory_update(labels, seen_free, last_hit, anchored, listed, cells, count, 
     grid_cols = labels.shape[1]
     if n_rows * n_cols > 0 and hits_x.shape[0] > 0:
         hit_count = hits_x.shape[0]
-        no_extent = np.zeros((0, 2), dtype=np.int64)
-        # Anchor the cells near hits of long segments.
-        _mark_discs(anchored[row0:row0 + n_rows, col0:col0 + n_cols], True, hits_x, hits_y,
-                    hit_count, long, row0, col0, x0, y0, resolution, safety_radius,
-                    safety_bound, no_extent)
         # List the steady, unanchored cells near hits of small objects, in grid order: the
         # columns [extent[i, 0], extent[i, 1]) of row i of the discs' box hold those of the
         # row. The box (window rows [box_row, box_row + box_rows), likewise columns) holds
