@@ -18,7 +18,7 @@ import numpy as np
 
 from .cell_label import CellLabel, ScanInput
 from .jit import kernel
-from .label_kernel import _mark_discs, squared_bound
+from .label_kernel import _box_end, _box_first, _disc_rows, _mark_discs, squared_bound
 
 _EXPLORED = int(CellLabel.EXPLORED)
 _MOBILE = int(CellLabel.MOBILE_OBSTACLE)
@@ -38,7 +38,8 @@ def update_trails(cell_track, labels, marked, geometry, window, hits_x, hits_y, 
     labels : (rows, cols) ndarray of uint8
         The grid's labels after the scan's update; trail cells are set to explored.
     marked : (M,) ndarray of int64
-        Flat indices of the cells that may hold a mark (repeats allowed).
+        Flat indices of the cells that may hold a mark (repeats allowed): every cell of
+        ``cell_track`` that holds one is among them.
     geometry : GridGeometry
         The grid's geometry.
     window : (slice, slice, (n_rows, n_cols) ndarray of uint8)
@@ -89,14 +90,33 @@ def _update_trails(cell_track, labels, marked, row0, col0, cell_input, x0, y0, r
     n_rows, n_cols = cell_input.shape
     grid_cols = labels.shape[1]
     window = cell_track[row0:row0 + n_rows, col0:col0 + n_cols]
-    for i in range(n_rows):
-        for j in range(n_cols):
-            if cell_input[i, j] == _HIT:
-                window[i, j] = -1                       # marks are of the last hit
-    # The marks, track by track in increasing number.
+    # Marks are of the last hit: the scan's f1 cells lose theirs. Only listed cells hold one.
+    for k in range(marked.shape[0]):
+        row = marked[k] // grid_cols
+        col = marked[k] - row * grid_cols
+        i = row - row0
+        j = col - col0
+        if 0 <= i < n_rows and 0 <= j < n_cols and cell_input[i, j] == _HIT:
+            window[i, j] = -1
+    # The marks, track by track in increasing number, and the box of window rows
+    # [box_row, box_row_end) and columns [box_col, box_col_end) that holds them all.
     count = hit_ids.shape[0]
     selected = np.zeros(count, dtype=np.bool_)
     no_extent = np.zeros((0, 2), dtype=np.int64)
+    box_row = n_rows
+    box_row_end = 0
+    box_col = n_cols
+    box_col_end = 0
+    for k in range(count):
+        if hit_ids[k] >= 0:
+            first_row, end_row = _disc_rows(hits_y[k], safety_radius, row0, n_rows, y0,
+                                            resolution)
+            box_row = min(box_row, first_row)
+            box_row_end = max(box_row_end, end_row)
+            box_col = min(box_col, _box_first(col0, n_cols, x0, resolution,
+                                              hits_x[k] - safety_radius))
+            box_col_end = max(box_col_end, _box_end(col0, n_cols, x0, resolution,
+                                                    hits_x[k] + safety_radius))
     done = -1
     while True:
         track = -1
@@ -110,18 +130,18 @@ def _update_trails(cell_track, labels, marked, row0, col0, cell_input, x0, y0, r
         _mark_discs(window, track, hits_x, hits_y, count, selected, row0, col0, x0, y0,
                     resolution, safety_radius, safety_bound, no_extent)
         done = track
-    # List the cells marked now (hit cells, all reset above).
+    # List the cells marked now (hit cells, all reset above), in window order.
     listed = marked
     if done >= 0:
         new = 0
-        for i in range(n_rows):
-            for j in range(n_cols):
+        for i in range(box_row, box_row_end):
+            for j in range(box_col, box_col_end):
                 new += cell_input[i, j] == _HIT and window[i, j] >= 0
         listed = np.empty(marked.shape[0] + new, dtype=np.int64)
         listed[:marked.shape[0]] = marked
         new = marked.shape[0]
-        for i in range(n_rows):
-            for j in range(n_cols):
+        for i in range(box_row, box_row_end):
+            for j in range(box_col, box_col_end):
                 if cell_input[i, j] == _HIT and window[i, j] >= 0:
                     listed[new] = (row0 + i) * grid_cols + col0 + j
                     new += 1
