@@ -511,7 +511,9 @@ def bench_against_tree(tree, rng, repeats):
 
     Hall scans (20 poses, each grid warmed up with all of them first); the order of the two
     alternates; labels and the rule's state compared after every update. Rule fields that
-    ``tree`` lacks are not passed to it.
+    ``tree`` lacks are not passed to it. A third grid of this tree updates with
+    ``defer_evidence`` (as the node does): the time to its labels, and that of its `settle`
+    after them; its arrays are compared too, once settled.
     """
     old_grid = import_old_core(tree)
     default = NavigatorConfig(width=1.0, height=1.0).label_rule()
@@ -523,8 +525,9 @@ def bench_against_tree(tree, rng, repeats):
              ('dpn, the default without short segments in the object memory',
               dataclasses.replace(default, object_memory_short_segments=False)))
     print(f'| LabelGrid.update, hall scans, against {tree} | rule | old tree [ms] '
-          '| this tree [ms] | ratio | same arrays |')
-    print('|---|---|---|---|---|---|')
+          '| this tree [ms] | ratio | labels ready, defer_evidence [ms] | then settle [ms] '
+          '| same arrays |')
+    print('|---|---|---|---|---|---|---|---|')
     for cells, resolution, runs in ((200, 0.5, repeats), (2000, 0.05, max(10, repeats // 5))):
         size = cells * resolution
         poses, scans = hall_scans(cells, resolution, 'hall', rng)
@@ -536,36 +539,43 @@ def bench_against_tree(tree, rng, repeats):
                                              in dataclasses.asdict(rule).items()
                                              if name in known})
             grids = (LabelGrid(size, size, resolution, rule=rule),
-                     old_grid.LabelGrid(size, size, resolution, rule=old_rule))
+                     old_grid.LabelGrid(size, size, resolution, rule=old_rule),
+                     LabelGrid(size, size, resolution, rule=rule))
 
-            def updater(grid):
+            def updater(grid, defer=False):
                 def one_update(k):
                     grid.update(poses[k % len(poses)], scans[k % len(poses)], ANGLE_MIN,
                                 ANGLE_INCREMENT, RANGE_MIN, RANGE_MAX, SAFETY_RADIUS,
-                                stamp=0.1 * k)
+                                stamp=0.1 * k, **({'defer_evidence': True} if defer else {}))
                 return one_update
 
             for k in range(len(poses)):
                 for grid in grids:
                     updater(grid)(k)
             same = True
-            times = [[], []]
+            times = [[], [], [], []]            # this tree, old tree, labels ready, settle
             for k in range(runs):
-                order = (0, 1) if k % 2 else (1, 0)
-                for index in order:
+                for index in ((0, 1, 2), (2, 1, 0), (1, 2, 0))[k % 3]:
                     start = time.process_time()
-                    updater(grids[index])(k)
+                    updater(grids[index], defer=index == 2)(k)
                     times[index].append(time.process_time() - start)
-                for name in ('labels', 'seen_free', 'last_hit'):
-                    if getattr(grids[0], name) is not None:
-                        same &= bool(np.array_equal(getattr(grids[0], name),
-                                                    getattr(grids[1], name)))
-                fine = [getattr(grid, 'fine_evidence', None) for grid in grids]
-                if fine[0] is not None and fine[1] is not None:
-                    same &= bool(np.array_equal(fine[0].seen_free, fine[1].seen_free))
-            new_ms, old_ms = (1e3 * statistics.median(spent) for spent in times)
+                    if index == 2:
+                        start = time.process_time()
+                        grids[2].settle()
+                        times[3].append(time.process_time() - start)
+                for other in grids[1:]:
+                    for name in ('labels', 'seen_free', 'last_hit'):
+                        if getattr(grids[0], name) is not None:
+                            same &= bool(np.array_equal(getattr(grids[0], name),
+                                                        getattr(other, name)))
+                    fine = [getattr(grid, 'fine_evidence', None) for grid in (grids[0], other)]
+                    if fine[0] is not None and fine[1] is not None:
+                        same &= bool(np.array_equal(fine[0].seen_free, fine[1].seen_free))
+            new_ms, old_ms, ready_ms, settle_ms = (1e3 * statistics.median(spent)
+                                                   for spent in times)
             print(f'| {cells}x{cells} cells at {resolution} m | {rule_name} | {old_ms:.3f} '
-                  f'| {new_ms:.3f} | {old_ms / new_ms:.2f}x | {"yes" if same else "NO"} |')
+                  f'| {new_ms:.3f} | {old_ms / new_ms:.2f}x | {ready_ms:.3f} | {settle_ms:.3f} '
+                  f'| {"yes" if same else "NO"} |')
     print()
 
 
