@@ -44,11 +44,11 @@ class NumpyObjectMemory(ObjectMemory):
     """
 
     def update(self, labels, seen_free, last_hit, window, hits_x, hits_y, long, small_object,
-               laser_xy, safety_radius, stamp, defer_anchors=False):
+               laser_xy, safety_radius, stamp, defer_marks=False):
         """
         Take one scan's hits into account, then forget the provisional cells due.
 
-        ``defer_anchors`` is taken and ignored: nothing was deferred then.
+        ``defer_marks`` is taken and ignored: nothing was deferred then.
         """
         rows, cols, cell_input = window
         if cell_input.size and hits_x.shape[0]:

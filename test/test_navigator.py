@@ -233,6 +233,34 @@ def test_bad_config_raises(kwargs, message):
         config(**kwargs)
 
 
+def test_deferring_the_evidence_changes_no_decision_across_forgetting():
+    # Stuck behind a band of steady cells, with the object memory on and a small object in
+    # view: the forgetting writes labels (and settles first, as the object memory's deferred
+    # listing reads them). A navigator that defers the evidence, as the node does, decides
+    # and labels as one that does not.
+    occupied = walled_room()
+    add_box(occupied, 8.5, 4.0, 8.8, 4.3)           # a small object in view: listed
+    navigators = [Navigator(config(forget_obstacles_after=2.0)) for _ in range(2)]
+    for navigator in navigators:
+        navigator.set_goal(2.0, 6.0)
+        block_behind(navigator, 3.5, 4.5, CellLabel.STEADY_OBSTACLE)
+    stepped, deferred = navigators
+    pose = (6.0, 6.0, 0.0)
+    listed = 0
+    for step in range(60):
+        ranges = ray_cast(occupied, pose, TRUTH_RES, RANGE_MAX)
+        scan = (ranges, ANGLE_MIN, ANGLE_INCREMENT, RANGE_MIN, RANGE_MAX)
+        expected = stepped.step(step * DT, pose, *scan)
+        deferred.observe(pose, *scan, stamp=step * DT, defer_evidence=True)
+        assert deferred.decide(step * DT, pose) == expected
+        np.testing.assert_array_equal(deferred.grid.labels, stepped.grid.labels)
+        if step % 2:
+            deferred.settle()
+        listed = max(listed, stepped.grid.object_memory.provisional.size)
+    assert stepped.forgets >= 1 and deferred.forgets == stepped.forgets
+    assert listed > 0
+
+
 def test_observe_then_decide_is_the_same_as_step():
     occupied = walled_room()
     add_box(occupied, 5.0, 4.0, 6.0, 8.0)

@@ -511,10 +511,11 @@ class LabelGrid(ChangeTrackers):
             Time of the scan [s], any clock; needed with ``rule.mobile_expiry`` > 0.
         defer_evidence : bool
             Leave the evidence this scan gives (``seen_free``, the fine evidence, the object
-            memory's anchors) for `settle`, or for the next update, which settles first. The
-            labels, the replan flag and the window are the same as without: the rule reads
-            that evidence only for later scans. A node publishes the map in between.
-            (``ObjectMemory.update``'s ``defer_anchors`` says what its list may hold.)
+            memory's anchors and list) for `settle`, or for the next update, which settles
+            first. The labels, the replan flag and the window are the same as without: the
+            rule reads that evidence only for later scans. A node publishes the map in
+            between. Code that writes ``labels`` itself calls `settle` first
+            (``ObjectMemory.update``'s ``defer_marks`` says why, and what its list may hold).
 
         Returns
         -------
@@ -573,7 +574,7 @@ class LabelGrid(ChangeTrackers):
         Mark the evidence an update with ``defer_evidence`` left; nothing when none.
 
         Until then ``seen_free`` and the fine evidence lack that scan's cells, and the object
-        memory its anchors. `update` and `reset` call it first themselves.
+        memory its anchors and listed cells. `update` and `reset` call it first themselves.
         """
         if self.object_memory is not None:
             self.object_memory.settle()
@@ -631,7 +632,7 @@ class LabelGrid(ChangeTrackers):
         # The ghost expiry's list drops cells no longer mobile when it next visits them.
         self._widen_trackers(*cleared)
 
-    def _forget_objects(self, safety_radius, stamp, defer_anchors):
+    def _forget_objects(self, safety_radius, stamp, defer_marks=False):
         """Forget the steady cells of small objects out of view and unconfirmed for long."""
         hits_x, hits_y = self._followed_hits
         # With short segments, every hit not of a long segment lists: the small objects' and
@@ -640,7 +641,7 @@ class LabelGrid(ChangeTrackers):
                    else self.tracks.hit_object)
         changed = self.object_memory.update(
             self.labels, self.seen_free, self.last_hit, self.last_window, hits_x, hits_y,
-            self.tracks.hit_long, listing, self._laser_xy, safety_radius, stamp, defer_anchors)
+            self.tracks.hit_long, listing, self._laser_xy, safety_radius, stamp, defer_marks)
         if changed is not None:
             self._widen_trackers(*changed)
 

@@ -644,6 +644,7 @@ class Navigator:
         ``FORGET_KEEP_RADII`` safety radii of the robot are kept: the robot may have to turn in
         place beside them before the laser sees them again.
         """
+        self.settle()                   # the deferred evidence reads the labels as they were
         labels = self.grid.labels
         geometry = self.grid.geometry
         keep = FORGET_KEEP_RADII * self.config.safety_radius

@@ -29,7 +29,7 @@ A pillar is provisional too: out of view for that long it is forgotten, and foun
 soon as a scan sees it (a path through it turns the robot towards it first, and the laser looks
 ahead). That is the price of forgetting a wanderer that was never seen to move.
 
-Two compiled kernels per scan (`_anchor_near`, `_memory_update`) do it all, over the scan's
+Two compiled kernels per scan (`_mark_near_hits`, `_forget_due`) do it all, over the scan's
 window and the listed cells only; the numpy implementation it replaced is the oracle of the tests
 (``test/numpy_object_memory.py``), equal array for array and list for list.
 
@@ -83,7 +83,7 @@ class ObjectMemory:
 
     def reset(self):
         """Forget every anchor and every listed cell."""
-        self._deferred_anchors = None
+        self._deferred_marks = None
         self.anchored.fill(False)
         self._listed.fill(False)
         self._cells = np.empty(_INITIAL_LIST, dtype=np.int64)
@@ -96,7 +96,7 @@ class ObjectMemory:
         return self._cells[:self._count].copy()
 
     def update(self, labels, seen_free, last_hit, window, hits_x, hits_y, long, small_object,
-               laser_xy, safety_radius, stamp, defer_anchors=False):
+               laser_xy, safety_radius, stamp, defer_marks=False):
         """
         Take one scan's hits into account, then forget the provisional cells due.
 
@@ -122,12 +122,13 @@ class ObjectMemory:
             f1's ``r`` [m].
         stamp : float
             Time of the scan [s].
-        defer_anchors : bool
-            Leave the anchoring by this scan's long segments for `settle` (or the next update,
-            which settles first). The labels are the same: a cell anchored by this scan lies
-            within the safety radius of one of its hits, so it is in view and not forgotten
-            now either way. Such a cell, if listed, is only dropped from the list at the next
-            update instead of this one (``provisional`` may hold it until then).
+        defer_marks : bool
+            Forget now, and leave the anchoring and listing by this scan's hits for `settle`
+            (or the next update, which settles first); ``labels`` must not change in between.
+            The labels are the same: the cells this scan anchors or lists lie within the
+            safety radius of its hits, in view, and are not forgotten now either way. A listed
+            cell this scan anchors is dropped from the list at the next update instead of this
+            one (``provisional`` may hold it until then).
 
         Returns
         -------
@@ -138,70 +139,62 @@ class ObjectMemory:
         self.settle()
         rows, cols, cell_input = window
         x0, y0 = self.geometry.origin
-        hits_x = np.ascontiguousarray(hits_x, dtype=np.float64)
-        hits_y = np.ascontiguousarray(hits_y, dtype=np.float64)
-        long = np.array(long, dtype=bool)       # a copy: it may be read at `settle`
         safety_radius = float(safety_radius)
-        anchors = (rows.start, cols.start, cell_input.shape[0], cell_input.shape[1], hits_x,
-                   hits_y, long, safety_radius, squared_bound(safety_radius))
-        if not defer_anchors:
-            self._mark_anchors(anchors)
-        (self._cells, self._count, forgotten, row_lo, row_hi, col_lo,
-         col_hi) = _memory_update(
+        # Copies: they may be read at `settle`.
+        marks = (labels, rows.start, cols.start, cell_input.shape[0], cell_input.shape[1],
+                 np.array(hits_x, dtype=np.float64), np.array(hits_y, dtype=np.float64),
+                 np.array(long, dtype=bool), np.array(small_object, dtype=bool), safety_radius,
+                 squared_bound(safety_radius))
+        if defer_marks:
+            self._deferred_marks = marks
+        else:
+            self._mark(marks)
+        self._count, forgotten, row_lo, row_hi, col_lo, col_hi = _forget_due(
             labels, seen_free, last_hit, self.anchored, self._listed, self._cells, self._count,
-            rows.start, cols.start, cell_input, x0, y0, self.geometry.resolution, hits_x,
-            hits_y, np.ascontiguousarray(small_object, dtype=bool), float(laser_xy[0]),
-            float(laser_xy[1]), safety_radius, anchors[-1], 2.0 * safety_radius, float(stamp),
+            rows.start, cols.start, cell_input, x0, y0, self.geometry.resolution,
+            float(laser_xy[0]), float(laser_xy[1]), 2.0 * safety_radius, float(stamp),
             self.memory)
-        if defer_anchors:
-            self._deferred_anchors = anchors
         if not forgotten:
             return None
         self.forgotten += int(forgotten)
         return slice(row_lo, row_hi), slice(col_lo, col_hi)
 
     def settle(self):
-        """Anchor the cells near the long segments of an update with ``defer_anchors``."""
-        if self._deferred_anchors is not None:
-            anchors = self._deferred_anchors
-            self._deferred_anchors = None
-            self._mark_anchors(anchors)
+        """Anchor and list by the hits of an update with ``defer_marks``; nothing when none."""
+        if self._deferred_marks is not None:
+            marks = self._deferred_marks
+            self._deferred_marks = None
+            self._mark(marks)
 
-    def _mark_anchors(self, anchors):
-        """Mark ``anchored`` within the safety radius of the long segments' hits."""
+    def _mark(self, marks):
+        """Anchor the cells near the long segments' hits, then list those near small objects."""
         x0, y0 = self.geometry.origin
-        row0, col0, n_rows, n_cols, hits_x, hits_y, long, safety_radius, safety_bound = anchors
-        _anchor_near(self.anchored, row0, col0, n_rows, n_cols, x0, y0,
-                     self.geometry.resolution, hits_x, hits_y, long, safety_radius,
-                     safety_bound)
+        (labels, row0, col0, n_rows, n_cols, hits_x, hits_y, long, small_object, safety_radius,
+         safety_bound) = marks
+        self._cells, self._count = _mark_near_hits(
+            labels, self.anchored, self._listed, self._cells, self._count, row0, col0, n_rows,
+            n_cols, x0, y0, self.geometry.resolution, hits_x, hits_y, long, small_object,
+            safety_radius, safety_bound)
 
 
 @kernel
-def _anchor_near(anchored, row0, col0, n_rows, n_cols, x0, y0, resolution, hits_x, hits_y,
-                 long, safety_radius, safety_bound):
-    """Set ``anchored`` on the window's cells within the safety radius of the ``long`` hits."""
-    if n_rows * n_cols > 0 and hits_x.shape[0] > 0:
-        _mark_discs(anchored[row0:row0 + n_rows, col0:col0 + n_cols], True, hits_x, hits_y,
-                    hits_x.shape[0], long, row0, col0, x0, y0, resolution, safety_radius,
-                    safety_bound, np.zeros((0, 2), dtype=np.int64))
-
-
-@kernel
-def _memory_update(labels, seen_free, last_hit, anchored, listed, cells, count, row0, col0,
-                   cell_input, x0, y0, resolution, hits_x, hits_y, small_object, laser_x,
-                   laser_y, safety_radius, safety_bound, keep_within, stamp, memory):
+def _mark_near_hits(labels, anchored, listed, cells, count, row0, col0, n_rows, n_cols, x0, y0,
+                    resolution, hits_x, hits_y, long, small_object, safety_radius,
+                    safety_bound):
     """
-    `ObjectMemory.update` after the anchoring (`_anchor_near`): list, then forget what is due.
+    Anchor the window cells near hits of long segments, then list the provisional ones.
 
-    ``anchored``, ``listed`` and ``labels`` are updated in place; ``cells[:count]`` is the
-    list of provisional cells (flat grid indices), grown into a new array when full.
-    Returns ``(cells, count, forgotten, row_lo, row_hi, col_lo, col_hi)``: the list, how many
-    cells this scan forgot and the half-open box around them.
+    ``anchored`` and ``listed`` are updated in place; ``cells[:count]`` is the list of
+    provisional cells (flat grid indices), grown into a new array when full. Returns
+    ``(cells, count)``.
     """
-    n_rows, n_cols = cell_input.shape
     grid_cols = labels.shape[1]
     if n_rows * n_cols > 0 and hits_x.shape[0] > 0:
         hit_count = hits_x.shape[0]
+        no_extent = np.zeros((0, 2), dtype=np.int64)
+        _mark_discs(anchored[row0:row0 + n_rows, col0:col0 + n_cols], True, hits_x, hits_y,
+                    hit_count, long, row0, col0, x0, y0, resolution, safety_radius,
+                    safety_bound, no_extent)
         # List the steady, unanchored cells near hits of small objects, in grid order: the
         # columns [extent[i, 0], extent[i, 1]) of row i of the discs' box hold those of the
         # row. The box (window rows [box_row, box_row + box_rows), likewise columns) holds
@@ -243,7 +236,21 @@ def _memory_update(labels, seen_free, last_hit, anchored, listed, cells, count, 
                     cells[count] = row * grid_cols + col
                     count += 1
                     listed[row, col] = True
-    # Forget the listed cells that are due; drop those no longer provisional.
+    return cells, count
+
+
+@kernel
+def _forget_due(labels, seen_free, last_hit, anchored, listed, cells, count, row0, col0,
+                cell_input, x0, y0, resolution, laser_x, laser_y, keep_within, stamp, memory):
+    """
+    Forget the listed cells that are due; drop those no longer provisional.
+
+    ``labels`` and ``listed`` are updated in place, the kept cells compacted to the front of
+    ``cells``. Returns ``(count, forgotten, row_lo, row_hi, col_lo, col_hi)``: the cells kept,
+    how many this scan forgot and the half-open box around them.
+    """
+    n_rows, n_cols = cell_input.shape
+    grid_cols = labels.shape[1]
     forgotten = 0
     row_lo = labels.shape[0]
     row_hi = 0
@@ -274,4 +281,4 @@ def _memory_update(labels, seen_free, last_hit, anchored, listed, cells, count, 
             continue
         cells[kept] = flat
         kept += 1
-    return cells, kept, forgotten, row_lo, row_hi, col_lo, col_hi
+    return kept, forgotten, row_lo, row_hi, col_lo, col_hi
