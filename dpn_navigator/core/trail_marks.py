@@ -151,7 +151,9 @@ def _update_trails(cell_track, labels, marked, row0, col0, cell_input, x0, y0, r
         seen = seen or last_seen[t] == stamp
     if not seen or not listed.shape[0]:
         return listed, 0, 0, 0, 0
-    listed = np.unique(listed)
+    # Each cell once, in the order of its first entry: a cell kept is flagged as visited by
+    # writing -2 - mark into cell_track until the end of the pass (marks are >= 0).
+    kept_cells = np.empty(listed.shape[0], dtype=np.int64)
     kept = 0
     row_lo = labels.shape[0]
     row_hi = 0
@@ -162,6 +164,8 @@ def _update_trails(cell_track, labels, marked, row0, col0, cell_input, x0, y0, r
         row = flat // grid_cols
         col = flat - row * grid_cols
         mark = cell_track[row, col]
+        if mark <= -2:
+            continue                                # a repeat of a cell kept above
         if mark < 0 or labels[row, col] != _MOBILE:
             cell_track[row, col] = -1
             continue
@@ -184,6 +188,11 @@ def _update_trails(cell_track, labels, marked, row0, col0, cell_input, x0, y0, r
             col_lo = min(col_lo, col)
             col_hi = max(col_hi, col + 1)
             continue
-        listed[kept] = flat
+        cell_track[row, col] = -2 - mark
+        kept_cells[kept] = flat
         kept += 1
-    return listed[:kept].copy(), row_lo, row_hi, col_lo, col_hi
+    for k in range(kept):
+        row = kept_cells[k] // grid_cols
+        col = kept_cells[k] - row * grid_cols
+        cell_track[row, col] = -2 - cell_track[row, col]
+    return kept_cells[:kept].copy(), row_lo, row_hi, col_lo, col_hi
