@@ -18,7 +18,7 @@ import numpy as np
 
 from .cell_label import CellLabel, ScanInput
 from .jit import kernel
-from .label_kernel import _box_end, _box_first, _disc_rows, _mark_discs, squared_bound
+from .label_kernel import _mark_discs, squared_bound
 
 _EXPLORED = int(CellLabel.EXPLORED)
 _MOBILE = int(CellLabel.MOBILE_OBSTACLE)
@@ -98,25 +98,13 @@ def _update_trails(cell_track, labels, marked, row0, col0, cell_input, x0, y0, r
         j = col - col0
         if 0 <= i < n_rows and 0 <= j < n_cols and cell_input[i, j] == _HIT:
             window[i, j] = -1
-    # The marks, track by track in increasing number, and the box of window rows
-    # [box_row, box_row_end) and columns [box_col, box_col_end) that holds them all.
+    # The marks, track by track in increasing number; extent[i] holds the columns marked in
+    # window row i.
     count = hit_ids.shape[0]
     selected = np.zeros(count, dtype=np.bool_)
-    no_extent = np.zeros((0, 2), dtype=np.int64)
-    box_row = n_rows
-    box_row_end = 0
-    box_col = n_cols
-    box_col_end = 0
-    for k in range(count):
-        if hit_ids[k] >= 0:
-            first_row, end_row = _disc_rows(hits_y[k], safety_radius, row0, n_rows, y0,
-                                            resolution)
-            box_row = min(box_row, first_row)
-            box_row_end = max(box_row_end, end_row)
-            box_col = min(box_col, _box_first(col0, n_cols, x0, resolution,
-                                              hits_x[k] - safety_radius))
-            box_col_end = max(box_col_end, _box_end(col0, n_cols, x0, resolution,
-                                                    hits_x[k] + safety_radius))
+    extent = np.empty((n_rows, 2), dtype=np.int64)
+    extent[:, 0] = n_cols
+    extent[:, 1] = 0
     done = -1
     while True:
         track = -1
@@ -128,29 +116,35 @@ def _update_trails(cell_track, labels, marked, row0, col0, cell_input, x0, y0, r
         for k in range(count):
             selected[k] = hit_ids[k] == track
         _mark_discs(window, track, hits_x, hits_y, count, selected, row0, col0, x0, y0,
-                    resolution, safety_radius, safety_bound, no_extent)
+                    resolution, safety_radius, safety_bound, extent)
         done = track
     # List the cells marked now (hit cells, all reset above), in window order.
     listed = marked
     if done >= 0:
         new = 0
-        for i in range(box_row, box_row_end):
-            for j in range(box_col, box_col_end):
-                new += cell_input[i, j] == _HIT and window[i, j] >= 0
+        for i in range(n_rows):
+            new += max(extent[i, 1] - extent[i, 0], 0)
         listed = np.empty(marked.shape[0] + new, dtype=np.int64)
         listed[:marked.shape[0]] = marked
         new = marked.shape[0]
-        for i in range(box_row, box_row_end):
-            for j in range(box_col, box_col_end):
+        for i in range(n_rows):
+            for j in range(extent[i, 0], extent[i, 1]):
                 if cell_input[i, j] == _HIT and window[i, j] >= 0:
                     listed[new] = (row0 + i) * grid_cols + col0 + j
                     new += 1
+        listed = listed[:new]
     # Clear the trails of the tracks this scan saw.
     seen = False
     for t in range(track_ids.shape[0]):
         seen = seen or last_seen[t] == stamp
     if not seen or not listed.shape[0]:
         return listed, 0, 0, 0, 0
+    # The tracks seen now by id (ids are unique): seen_index[id - first_id], -1 for none.
+    first_id = track_ids.min()
+    seen_index = np.full(track_ids.max() - first_id + 1, -1, dtype=np.int64)
+    for t in range(track_ids.shape[0]):
+        if last_seen[t] == stamp:
+            seen_index[track_ids[t] - first_id] = t
     # Each cell once, in the order of its first entry: a cell kept is flagged as visited by
     # writing -2 - mark into cell_track until the end of the pass (marks are >= 0).
     kept_cells = np.empty(listed.shape[0], dtype=np.int64)
@@ -173,13 +167,13 @@ def _update_trails(cell_track, labels, marked, row0, col0, cell_input, x0, y0, r
         j = col - col0
         out_of_view = not (0 <= i < n_rows and 0 <= j < n_cols) or cell_input[i, j] == _NONE
         trail = False
-        for t in range(track_ids.shape[0]):
-            if track_ids[t] == mark and last_seen[t] == stamp:
-                centre_x = x0 + (float(col) + 0.5) * resolution
-                centre_y = y0 + (float(row) + 0.5) * resolution
-                trail = out_of_view and math.hypot(centre_x - positions[t, 0],
-                                                   centre_y - positions[t, 1]) >= trail_distance
-                break
+        t = seen_index[mark - first_id] if first_id <= mark < first_id + seen_index.shape[0] \
+            else -1
+        if t >= 0:
+            centre_x = x0 + (float(col) + 0.5) * resolution
+            centre_y = y0 + (float(row) + 0.5) * resolution
+            trail = out_of_view and math.hypot(centre_x - positions[t, 0],
+                                               centre_y - positions[t, 1]) >= trail_distance
         if trail:
             labels[row, col] = _EXPLORED
             cell_track[row, col] = -1
