@@ -11,13 +11,13 @@ Benchmark of the two nodes over ROS 2: simulator speed and scan-to-map latency.
    0.05 m) and times the ``/compabot/map`` (or ``/compabot/map_updates``) that answers, wall
    clock, both ends in this machine's loopback DDS, at two ends: the probe's callback (its
    own rclpy executor included, 0.3-0.6 ms) and the reception time the probe's middleware
-   stamps the message with (``MessageInfo.received_timestamp``). Node variants run in turn, alternating,
-   ``--rounds`` times: the default, the dpn rule without its motion tracks, trails and object
-   memory, the markers on every replan (``marker_min_period`` 0), the full map every second
-   with the changed cells on ``map_updates`` in between, and with ``--old-tree DIR`` the
-   default of another
-   source tree of the package (the code before a change, from ``git worktree add`` or
-   ``git archive``), imported instead of the installed one.
+   stamps the message with (``MessageInfo.received_timestamp``). Node variants run in turn,
+   alternating, ``--rounds`` times: the default, the dpn rule without its motion tracks,
+   trails and object memory, the markers on every replan (``marker_min_period`` 0), the full
+   map every second with the changed cells on ``map_updates`` in between, and with
+   ``--old-tree DIR`` the default and the ``map_updates`` variant of another source tree of
+   the package (the code before a change, from ``git worktree add`` or ``git archive``),
+   imported instead of the installed one.
 
 Not a test: it prints Markdown tables. Run with ``make bench-ros`` (``BENCH_ROS_ARGS``), or
 ``python benchmarks/bench_ros.py [--latency-only] [--cells 200 2000] [--old-tree DIR]``.
@@ -331,6 +331,8 @@ def latency_tables(domain_id, log_dir, cells_list, rounds, scans, old_tree):
     variants = [(name, args, None) for name, args in VARIANTS.items()]
     if old_tree:
         variants.append(('default, old tree', (), old_tree))
+        variants.append(('full map every 1 s, map_updates between, old tree',
+                         VARIANTS['full map every 1 s, map_updates between'], old_tree))
     for cells in cells_list:
         results = {name: [] for name, _, _ in variants}
         for round_number in range(rounds):

@@ -643,7 +643,13 @@ def _mark_free_window(seen_free, row0, col0, cell_input, extent, x0, y0, resolut
     n_rows, n_cols = cell_input.shape
     not_free = _not_surely_free(n_rows, n_cols, row0, col0, x0, y0, resolution, vertices_x,
                                 vertices_y, hit_beams, safety_radius, free_radius, free_bound)
-    for i in range(n_rows):
+    _mark_free_rows(seen_free, row0, col0, cell_input, extent, not_free)
+
+
+@kernel
+def _mark_free_rows(seen_free, row0, col0, cell_input, extent, not_free):
+    """`_mark_free_row` over each window row's f2 columns ``[extent[i, 0], extent[i, 1])``."""
+    for i in range(cell_input.shape[0]):
         first = extent[i, 0]
         end = extent[i, 1]
         if first < end:
@@ -935,19 +941,11 @@ def _surely_free_update(seen_free, ranges, x, y, yaw, angle_min, angle_increment
     extent[:, 0] = n_cols
     extent[:, 1] = 0
     _fill_inside(cell_input, row0, col0, x0, y0, resolution, vertices_x, vertices_y, extent)
-    not_free = np.zeros((n_rows, n_cols), dtype=np.bool_)
-    # Every vertex but the closing repeat of the first, hits included (their f1 discs).
-    _mark_discs(not_free, True, vertices_x, vertices_y, vertices_x.shape[0] - 1,
-                np.zeros(0, dtype=np.bool_), row0, col0, x0, y0, resolution, radius, bound,
-                np.zeros((0, 2), dtype=np.int64))
-    _mark_uncovered_edge_bands(not_free, row0, col0, x0, y0, resolution, vertices_x,
-                               vertices_y, radius)
-    for i in range(n_rows):
-        first = extent[i, 0]
-        end = extent[i, 1]
-        if first < end:
-            _mark_free_row(seen_free[row0 + i, col0 + first:col0 + end],
-                           cell_input[i, first:end], not_free[i, first:end])
+    # Every vertex's disc, hits included (their f1 discs): a safety radius of 0 selects them
+    # all.
+    not_free = _not_surely_free(n_rows, n_cols, row0, col0, x0, y0, resolution, vertices_x,
+                                vertices_y, np.zeros(0, dtype=np.int64), 0.0, radius, bound)
+    _mark_free_rows(seen_free, row0, col0, cell_input, extent, not_free)
 
 
 def surely_free_update(seen_free, geometry, pose, ranges, angle_min, angle_increment,
