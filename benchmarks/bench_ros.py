@@ -342,7 +342,7 @@ def latency_tables(domain_id, log_dir, cells_list, rounds, scans, old_tree):
                     domain_id, log_dir, scenes, cells, args, tree, scans))
         print(f'| dpn scan-to-map, {cells}x{cells} cells, 640 beams at 10 Hz, 10 walking boxes '
               '| scans | over ROS median [ms], per round | all rounds: median / 90 % / 99 % '
-              '[ms] | to the probe\'s middleware: median / 90 % [ms] '
+              "[ms] | to the probe's middleware: median / 90 % [ms] "
               '| in the node (its status), per round [ms] |')
         print('|---|---|---|---|---|---|')
         for name, _, _ in variants:

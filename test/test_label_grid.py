@@ -539,8 +539,8 @@ def assert_same_state(got, want, skip=()):
 @given(case=scans(), rule_name=st.sampled_from(sorted(RULES)),
        stamps=st.lists(st.sampled_from([0.0, 0.25, 0.5, 1.0, 2.0]), min_size=3, max_size=3),
        settle=st.lists(st.booleans(), min_size=3, max_size=3))
-def test_deferred_evidence_leaves_the_labels_and_is_marked_when_settled(case, rule_name,
-                                                                       stamps, settle):
+def test_deferred_evidence_leaves_the_labels_and_is_marked_when_settled(
+        case, rule_name, stamps, settle):
     # One grid marks the free evidence in the update, the other later: in `settle`, or in
     # the next update when settle is not called. Right after each update everything but the
     # evidence is the same and the evidence is that of before the scan; once settled, all.
