@@ -197,6 +197,70 @@ def test_edge_bands_and_discs_equal_a_test_of_every_cell(resolution):
         assert_array_equal(disc, np.sqrt(dx * dx + dy * dy) <= radius)
 
 
+@pytest.mark.parametrize('resolution, x0, y0', [(0.1, -2.15, 0.7), (0.125, -2.25, 0.75),
+                                                (0.5, -2.25, 0.75)])
+def test_small_discs_and_their_evidence_equal_a_test_of_every_cell(resolution, x0, y0):
+    # Discs of up to three cells are marked from a box around their point's cell: radii from
+    # a fifth of a cell to three, points on and off the window and on lattices of half and
+    # eighth cells (with dyadic cells, centres then lie exactly on a disc's edge), some values
+    # and extents.
+    from dpn_navigator.core import label_kernel
+    rng = np.random.default_rng(5)
+    n_rows, n_cols, row0, col0 = 24, 31, 4, 9
+    cx = x0 + (np.arange(col0, col0 + n_cols) + 0.5) * resolution
+    cy = y0 + (np.arange(row0, row0 + n_rows) + 0.5) * resolution
+    cx, cy = np.meshgrid(cx, cy)
+    low = np.array([x0 + col0 * resolution, y0 + row0 * resolution])
+    span = np.array([n_cols, n_rows]) * resolution
+    marked_cells = cells_on_edges = 0
+    for case in range(600):
+        radius = float(rng.choice([0.2, 0.5, 1.0, 1.3, 2.0, 2.5, 3.0])) * resolution
+        bound = label_kernel.squared_bound(radius)
+        count = int(rng.integers(1, 6))
+        points = low + rng.uniform(-0.15, 1.15, (count, 2)) * span
+        if case % 2:
+            origin = np.array([x0, y0])
+            step = resolution / (2 if case % 4 == 1 else 8)
+            points = origin + np.round((points - origin) / step) * step
+        selected = rng.random(count) < 0.7 if case % 3 == 0 else np.zeros(0, dtype=bool)
+        xs, ys = points[:, 0].copy(), points[:, 1].copy()
+        want = np.zeros((n_rows, n_cols), dtype=bool)
+        for k in range(count):
+            if selected.size and not selected[k]:
+                continue
+            dx, dy = cx - xs[k], cy - ys[k]
+            want |= dx * dx + dy * dy <= bound
+        mark = np.zeros((n_rows, n_cols), dtype=np.uint8)
+        extent = np.empty((n_rows, 2), dtype=np.int64)
+        extent[:, 0], extent[:, 1] = n_cols, 0
+        label_kernel._mark_discs(mark, 3, xs, ys, count, selected, row0, col0, x0, y0,
+                                 resolution, radius, bound, extent)
+        assert_array_equal(mark, np.where(want, 3, 0))
+        rows_marked = want.any(axis=1)
+        columns = np.arange(n_cols)
+        assert_array_equal(extent[rows_marked, 0],
+                           [columns[row].min() for row in want[rows_marked]])
+        assert_array_equal(extent[rows_marked, 1],
+                           [columns[row].max() + 1 for row in want[rows_marked]])
+        assert (extent[~rows_marked, 0] == n_cols).all()
+        marked_cells += int(want.sum())
+        # The evidence of hits: a True cell of the whole grid within the radius.
+        grid_free = rng.random((row0 + n_rows + 3, col0 + n_cols + 2)) < 0.1
+        gx = x0 + (np.arange(grid_free.shape[1]) + 0.5) * resolution
+        gy = y0 + (np.arange(grid_free.shape[0]) + 0.5) * resolution
+        gx, gy = np.meshgrid(gx, gy)
+        evidence = label_kernel._hit_evidence(grid_free, xs, ys, x0, y0, resolution, radius,
+                                              bound)
+        expected = [bool((grid_free & ((gx - x) ** 2 + (gy - y) ** 2 <= bound)).any())
+                    for x, y in zip(xs, ys)]
+        assert evidence.tolist() == expected
+        on_edge = [(cx - x) ** 2 + (cy - y) ** 2 == bound for x, y in zip(xs, ys)]
+        cells_on_edges += int(np.logical_or.reduce(on_edge).sum())
+    assert marked_cells > 1000
+    if resolution != 0.1:
+        assert cells_on_edges > 20, cells_on_edges
+
+
 @pytest.mark.parametrize('resolution', [0.05, 0.5])
 def test_uncovered_bands_of_short_edges_hold_every_band_cell_beyond_the_ends(resolution):
     # Edges no longer than the radius are searched only along two thin strips beside them:

@@ -180,9 +180,70 @@ def _disc_spans(px, py, radius, bound, row0, n_rows, col0, n_cols, x0, y0, resol
     return first_row, end_row
 
 
-#: Discs of a radius up to this many cells are searched row by row (`_disc_row_span`), larger
-#: ones by `_disc_spans`.
+#: Discs of a radius up to this many cells are marked from a box of cells around them
+#: (`_mark_small_disc`), larger ones by `_disc_spans`.
 _ROW_BY_ROW_CELLS = 3.0
+
+
+@kernel
+def _small_disc_box(px, py, row0, n_rows, col0, n_cols, x0, y0, resolution, reach):
+    """
+    Return the window cells ``(first_row, end_row, first_col, end_col)`` a small disc may hold.
+
+    Those within ``reach`` cells of the cell holding ``(px, py)``, clipped to the window's
+    ``n_rows`` x ``n_cols``: ``reach = ceil(radius / resolution) + 1`` holds every cell whose
+    centre lies within ``radius`` (the + 1 for the rounding of that cell's index).
+    """
+    centre_col = int(math.floor((px - x0) / resolution)) - col0
+    centre_row = int(math.floor((py - y0) / resolution)) - row0
+    return (max(centre_row - reach, 0), min(centre_row + reach + 1, n_rows),
+            max(centre_col - reach, 0), min(centre_col + reach + 1, n_cols))
+
+
+@kernel
+def _small_disc_reach(radius, resolution):
+    """Return `_small_disc_box`'s ``reach`` for discs of ``radius`` [m] (0 for large ones)."""
+    if radius <= _ROW_BY_ROW_CELLS * resolution:
+        return int(math.ceil(radius / resolution)) + 1
+    return 0
+
+
+@kernel
+def _mark_small_disc(mark, value, px, py, row0, col0, x0, y0, resolution, bound, reach,
+                     extent, dx2):
+    """
+    Set ``mark`` to ``value`` on the window cells whose centre passes ``dx*dx + dy*dy <= bound``.
+
+    The cells tested are those of `_small_disc_box`. Each row's run is shrunk from the box's
+    ends with the exact test, ``dx * dx`` taken once per column (``dx2``, at least
+    ``2 * reach + 1`` long). ``extent`` as in `_mark_discs`.
+    """
+    n_rows, n_cols = mark.shape
+    first_row, end_row, first_col, end_col = _small_disc_box(
+        px, py, row0, n_rows, col0, n_cols, x0, y0, resolution, reach)
+    if first_col >= end_col or first_row >= end_row:
+        return
+    for j in range(first_col, end_col):
+        dx = (x0 + (float(col0 + j) + 0.5) * resolution) - px
+        dx2[j - first_col] = dx * dx
+    for i in range(first_row, end_row):
+        dy = (y0 + (float(row0 + i) + 0.5) * resolution) - py
+        dy2 = dy * dy
+        if dy2 > bound:
+            continue
+        first = first_col
+        end = end_col
+        while first < end and dx2[first - first_col] + dy2 > bound:
+            first += 1
+        while end > first and dx2[end - 1 - first_col] + dy2 > bound:
+            end -= 1
+        if first >= end:
+            continue
+        for j in range(first, end):
+            mark[i, j] = value
+        if extent.shape[0]:
+            extent[i, 0] = min(extent[i, 0], first)
+            extent[i, 1] = max(extent[i, 1], end)
 
 
 @kernel
@@ -197,25 +258,23 @@ def _mark_discs(mark, value, xs, ys, count, selected, row0, col0, x0, y0, resolu
     ``extent[i]`` is widened to hold the columns marked in row ``i``.
     """
     n_rows, n_cols = mark.shape
-    row_by_row = radius <= _ROW_BY_ROW_CELLS * resolution
-    spans = np.empty((0 if row_by_row else n_rows, 2), dtype=np.int64)
+    reach = _small_disc_reach(radius, resolution)
+    dx2 = np.empty(2 * reach + 1)
+    spans = np.empty((0 if reach else n_rows, 2), dtype=np.int64)
     for k in range(count):
         if selected.shape[0] and not selected[k]:
             continue
         px = xs[k]
         py = ys[k]
-        if row_by_row:
-            first_row, end_row = _disc_rows(py, radius, row0, n_rows, y0, resolution)
-        else:
-            first_row, end_row = _disc_spans(px, py, radius, bound, row0, n_rows, col0, n_cols,
-                                             x0, y0, resolution, spans)
+        if reach:
+            _mark_small_disc(mark, value, px, py, row0, col0, x0, y0, resolution, bound, reach,
+                             extent, dx2)
+            continue
+        first_row, end_row = _disc_spans(px, py, radius, bound, row0, n_rows, col0, n_cols,
+                                         x0, y0, resolution, spans)
         for i in range(first_row, end_row):
-            if row_by_row:
-                dy = (y0 + (float(row0 + i) + 0.5) * resolution) - py
-                first, end = _disc_row_span(px, dy * dy, bound, col0, n_cols, x0, resolution)
-            else:
-                first = spans[i - first_row, 0]
-                end = spans[i - first_row, 1]
+            first = spans[i - first_row, 0]
+            end = spans[i - first_row, 1]
             if first >= end:
                 continue
             mark[i, first:end] = value
@@ -385,6 +444,8 @@ def _mark_uncovered_edge_bands(mark, row0, col0, x0, y0, resolution, vertices_x,
     cell beyond the ends.)
     """
     n_rows, n_cols = mark.shape
+    # Reciprocals for the boxes only, whose slack is far above their rounding.
+    per_cell = 1.0 / resolution
     for a in range(vertices_x.shape[0] - 1):
         xa = vertices_x[a]
         ya = vertices_y[a]
@@ -403,8 +464,9 @@ def _mark_uncovered_edge_bands(mark, row0, col0, x0, y0, resolution, vertices_x,
         offset_low = math.sqrt(max(inner * inner - 0.25 * length2, 0.0)) - slack
         offset_high = radius + slack
         # Unit vectors along the edge and across it.
-        ux = ex / length
-        uy = ey / length
+        per_length = 1.0 / length
+        ux = ex * per_length
+        uy = ey * per_length
         for side in (1.0, -1.0):
             x_low = y_low = math.inf
             x_high = y_high = -math.inf
@@ -417,9 +479,10 @@ def _mark_uncovered_edge_bands(mark, row0, col0, x0, y0, resolution, vertices_x,
                     y_low = min(y_low, py)
                     y_high = max(y_high, py)
             # The cells whose centre lies in the strip's box (often none: a strip is thin; a
-            # box clear of every row's centre by far more than rounding is passed over).
-            low_index = (y_low - y0) / resolution - 0.5
-            if math.floor((y_high - y0) / resolution - 0.5 + 1e-6) < math.ceil(low_index - 1e-6):
+            # box clear of every row's or every column's centre by far more than rounding is
+            # passed over).
+            if (_clear_of_centres(y_low, y_high, y0, per_cell)
+                    or _clear_of_centres(x_low, x_high, x0, per_cell)):
                 continue
             first_row = _count_below(row0, n_rows, y0, resolution, y_low)
             end_row = _count_below(row0, n_rows, y0, resolution, y_high)
@@ -430,6 +493,18 @@ def _mark_uncovered_edge_bands(mark, row0, col0, x0, y0, resolution, vertices_x,
             if first_col < end_col:
                 _mark_band_rows(mark, row0, col0, x0, y0, resolution, xa, ya, ex, ey, length2,
                                 length, radius, first_row, end_row, first_col, end_col, False)
+
+
+@kernel
+def _clear_of_centres(low, high, origin, per_cell):
+    """
+    Tell whether no centre ``origin + (k + 0.5) / per_cell`` lies near ``[low, high]``.
+
+    ``per_cell`` is ``1 / resolution``; near: within a millionth of a cell, far above the
+    rounding of these products.
+    """
+    return (math.floor((high - origin) * per_cell - 0.5 + 1e-6)
+            < math.ceil((low - origin) * per_cell - 0.5 - 1e-6))
 
 
 @kernel
@@ -511,30 +586,45 @@ def _hit_evidence(seen_free, hits_x, hits_y, x0, y0, resolution, radius, bound):
     rows, cols = seen_free.shape
     count = hits_x.shape[0]
     evidence = np.zeros(count, dtype=np.bool_)
-    row_by_row = radius <= _ROW_BY_ROW_CELLS * resolution
-    spans = np.empty((0 if row_by_row else rows, 2), dtype=np.int64)
+    reach = _small_disc_reach(radius, resolution)
+    dx2 = np.empty(2 * reach + 1)
+    spans = np.empty((0 if reach else rows, 2), dtype=np.int64)
     for k in range(count):
         px = hits_x[k]
         py = hits_y[k]
-        if row_by_row:
-            first_row, end_row = _disc_rows(py, radius, 0, rows, y0, resolution)
-        else:
-            first_row, end_row = _disc_spans(px, py, radius, bound, 0, rows, 0, cols, x0, y0,
-                                             resolution, spans)
+        if reach:
+            evidence[k] = _small_disc_holds(seen_free, px, py, x0, y0, resolution, bound,
+                                            reach, dx2)
+            continue
+        first_row, end_row = _disc_spans(px, py, radius, bound, 0, rows, 0, cols, x0, y0,
+                                         resolution, spans)
         for i in range(first_row, end_row):
-            if row_by_row:
-                dy = (y0 + (float(i) + 0.5) * resolution) - py
-                first, end = _disc_row_span(px, dy * dy, bound, 0, cols, x0, resolution)
-            else:
-                first = spans[i - first_row, 0]
-                end = spans[i - first_row, 1]
-            for j in range(first, end):
+            for j in range(spans[i - first_row, 0], spans[i - first_row, 1]):
                 if seen_free[i, j]:
                     evidence[k] = True
                     break
             if evidence[k]:
                 break
     return evidence
+
+
+@kernel
+def _small_disc_holds(cells, px, py, x0, y0, resolution, bound, reach, dx2):
+    """Tell whether a True cell of ``cells`` passes `_mark_small_disc`'s test around a point."""
+    first_row, end_row, first_col, end_col = _small_disc_box(
+        px, py, 0, cells.shape[0], 0, cells.shape[1], x0, y0, resolution, reach)
+    for j in range(first_col, end_col):
+        dx = (x0 + (float(j) + 0.5) * resolution) - px
+        dx2[j - first_col] = dx * dx
+    for i in range(first_row, end_row):
+        dy = (y0 + (float(i) + 0.5) * resolution) - py
+        dy2 = dy * dy
+        if dy2 > bound:
+            continue
+        for j in range(first_col, end_col):
+            if cells[i, j] and dx2[j - first_col] + dy2 <= bound:
+                return True
+    return False
 
 
 @kernel
