@@ -212,7 +212,7 @@ def test_small_discs_and_their_evidence_equal_a_test_of_every_cell(resolution, x
     cx, cy = np.meshgrid(cx, cy)
     low = np.array([x0 + col0 * resolution, y0 + row0 * resolution])
     span = np.array([n_cols, n_rows]) * resolution
-    marked_cells = cells_on_edges = 0
+    marked_cells = cells_on_edges = found = 0
     for case in range(600):
         radius = float(rng.choice([0.2, 0.5, 1.0, 1.3, 2.0, 2.5, 3.0])) * resolution
         bound = label_kernel.squared_bound(radius)
@@ -249,14 +249,19 @@ def test_small_discs_and_their_evidence_equal_a_test_of_every_cell(resolution, x
         gx = x0 + (np.arange(grid_free.shape[1]) + 0.5) * resolution
         gy = y0 + (np.arange(grid_free.shape[0]) + 0.5) * resolution
         gx, gy = np.meshgrid(gx, gy)
-        evidence = label_kernel._hit_evidence(grid_free, xs, ys, x0, y0, resolution, radius,
-                                              bound)
-        expected = [bool((grid_free & ((gx - x) ** 2 + (gy - y) ** 2 <= bound)).any())
-                    for x, y in zip(xs, ys)]
-        assert evidence.tolist() == expected
+        # Discs of any size are searched in their box: the radius and 3.7 times it.
+        for evidence_radius in (radius, 3.7 * radius):
+            evidence_bound = label_kernel.squared_bound(evidence_radius)
+            evidence = label_kernel._hit_evidence(grid_free, xs, ys, x0, y0, resolution,
+                                                  evidence_radius, evidence_bound)
+            expected = [bool((grid_free
+                              & ((gx - x) ** 2 + (gy - y) ** 2 <= evidence_bound)).any())
+                        for x, y in zip(xs, ys)]
+            assert evidence.tolist() == expected
+            found += sum(expected)
         on_edge = [(cx - x) ** 2 + (cy - y) ** 2 == bound for x, y in zip(xs, ys)]
         cells_on_edges += int(np.logical_or.reduce(on_edge).sum())
-    assert marked_cells > 1000
+    assert marked_cells > 1000 and 300 < found < 2 * 600 * 5 - 300
     if resolution != 0.1:
         assert cells_on_edges > 20, cells_on_edges
 

@@ -186,9 +186,9 @@ _ROW_BY_ROW_CELLS = 3.0
 
 
 @kernel
-def _small_disc_box(px, py, row0, n_rows, col0, n_cols, x0, y0, resolution, reach):
+def _disc_box(px, py, row0, n_rows, col0, n_cols, x0, y0, resolution, reach):
     """
-    Return the window cells ``(first_row, end_row, first_col, end_col)`` a small disc may hold.
+    Return the window cells ``(first_row, end_row, first_col, end_col)`` a disc may hold.
 
     Those within ``reach`` cells of the cell holding ``(px, py)``, clipped to the window's
     ``n_rows`` x ``n_cols``: ``reach = ceil(radius / resolution) + 1`` holds every cell whose
@@ -202,7 +202,7 @@ def _small_disc_box(px, py, row0, n_rows, col0, n_cols, x0, y0, resolution, reac
 
 @kernel
 def _small_disc_reach(radius, resolution):
-    """Return `_small_disc_box`'s ``reach`` for discs of ``radius`` [m] (0 for large ones)."""
+    """Return `_disc_box`'s ``reach`` for discs of ``radius`` [m] (0 for large ones)."""
     if radius <= _ROW_BY_ROW_CELLS * resolution:
         return int(math.ceil(radius / resolution)) + 1
     return 0
@@ -214,12 +214,12 @@ def _mark_small_disc(mark, value, px, py, row0, col0, x0, y0, resolution, bound,
     """
     Set ``mark`` to ``value`` on the window cells whose centre passes ``dx*dx + dy*dy <= bound``.
 
-    The cells tested are those of `_small_disc_box`. Each row's run is shrunk from the box's
+    The cells tested are those of `_disc_box`. Each row's run is shrunk from the box's
     ends with the exact test, ``dx * dx`` taken once per column (``dx2``, at least
     ``2 * reach + 1`` long). ``extent`` as in `_mark_discs`.
     """
     n_rows, n_cols = mark.shape
-    first_row, end_row, first_col, end_col = _small_disc_box(
+    first_row, end_row, first_col, end_col = _disc_box(
         px, py, row0, n_rows, col0, n_cols, x0, y0, resolution, reach)
     if first_col >= end_col or first_row >= end_row:
         return
@@ -586,32 +586,25 @@ def _hit_evidence(seen_free, hits_x, hits_y, x0, y0, resolution, radius, bound):
     rows, cols = seen_free.shape
     count = hits_x.shape[0]
     evidence = np.zeros(count, dtype=np.bool_)
-    reach = _small_disc_reach(radius, resolution)
+    # Every disc searched in its box, small or not: a box row is read whole, without branches.
+    reach = int(math.ceil(radius / resolution)) + 1
     dx2 = np.empty(2 * reach + 1)
-    spans = np.empty((0 if reach else rows, 2), dtype=np.int64)
     for k in range(count):
-        px = hits_x[k]
-        py = hits_y[k]
-        if reach:
-            evidence[k] = _small_disc_holds(seen_free, px, py, x0, y0, resolution, bound,
-                                            reach, dx2)
-            continue
-        first_row, end_row = _disc_spans(px, py, radius, bound, 0, rows, 0, cols, x0, y0,
-                                         resolution, spans)
-        for i in range(first_row, end_row):
-            for j in range(spans[i - first_row, 0], spans[i - first_row, 1]):
-                if seen_free[i, j]:
-                    evidence[k] = True
-                    break
-            if evidence[k]:
-                break
+        evidence[k] = _disc_holds(seen_free, hits_x[k], hits_y[k], x0, y0, resolution, bound,
+                                  reach, dx2)
     return evidence
 
 
 @kernel
-def _small_disc_holds(cells, px, py, x0, y0, resolution, bound, reach, dx2):
-    """Tell whether a True cell of ``cells`` passes `_mark_small_disc`'s test around a point."""
-    first_row, end_row, first_col, end_col = _small_disc_box(
+def _disc_holds(cells, px, py, x0, y0, resolution, bound, reach, dx2):
+    """
+    Tell whether a True cell of ``cells`` passes ``dx*dx + dy*dy <= bound`` around a point.
+
+    The cells searched are those of `_disc_box` with ``reach``, a row at a time: each row's
+    test is or-ed over the whole row of the box, which runs on vectors. ``dx2`` holds at
+    least ``2 * reach + 1`` values.
+    """
+    first_row, end_row, first_col, end_col = _disc_box(
         px, py, 0, cells.shape[0], 0, cells.shape[1], x0, y0, resolution, reach)
     for j in range(first_col, end_col):
         dx = (x0 + (float(j) + 0.5) * resolution) - px
@@ -621,9 +614,11 @@ def _small_disc_holds(cells, px, py, x0, y0, resolution, bound, reach, dx2):
         dy2 = dy * dy
         if dy2 > bound:
             continue
+        found = False
         for j in range(first_col, end_col):
-            if cells[i, j] and dx2[j - first_col] + dy2 <= bound:
-                return True
+            found |= cells[i, j] & (dx2[j - first_col] + dy2 <= bound)
+        if found:
+            return True
     return False
 
 
