@@ -28,7 +28,7 @@ import time
 
 from dpn_navigator.benchmark.episode import run_episode, task_setup
 from dpn_navigator.benchmark.episode_bag import EpisodeBagRecorder
-from dpn_navigator.core import jit
+from dpn_navigator.benchmark.runner import warm_up_kernels
 from sim_bridge.scenario import load_scenario
 
 
@@ -114,7 +114,7 @@ def main():
     parser.add_argument('--demo-rounds', type=int, default=0,
                         help='also time the ROS demo this many times each way')
     args = parser.parse_args()
-    jit.warm_up()
+    warm_up_kernels('labels')
     rows = []
     with tempfile.TemporaryDirectory() as scratch:
         if args.demo_rounds:

@@ -3,13 +3,69 @@
 
 Run after an install (``ros2 run dpn_navigator compile_kernels``; ``make build`` does it), so
 that a node's first start loads the kernels instead of waiting for the compiler, whatever the
-user's numba cache holds (``core/jit.py``).
+user's numba cache holds (``core/_kernels/jit.py``). The kernels go to
+``SHIPPED_CACHE/<digest>``, the digest of the kernel sources they were compiled from.
 
 """
 
 import argparse
+import os
+from pathlib import Path
+import subprocess
+import sys
+import time
 
-from .core import jit
+from .core._kernels import jit
+
+
+def warm_up_all():
+    """
+    Compile (or load from the cache) every kernel of the core with a tiny call.
+
+    Returns
+    -------
+    seconds : float
+        Wall time it took [s].
+
+    """
+    from .core.astar_search import warm_up_astar
+    from .core.costmap_grid import warm_up_costmap
+    from .core.label_grid import warm_up_label_update
+    from .core.map_values import warm_up_map_values
+    from .core.planning_masks import warm_up_planning_masks
+    started = time.perf_counter()
+    for warm_up in (warm_up_astar, warm_up_label_update, warm_up_costmap, warm_up_map_values,
+                    warm_up_planning_masks):
+        warm_up()
+    return time.perf_counter() - started
+
+
+def compile_kernels(directory=jit.SHIPPED_CACHE):
+    """
+    Compile every kernel into ``directory/<digest>``, the cache a first start copies from.
+
+    Runs `warm_up_all` in a fresh process with ``NUMBA_CACHE_DIR`` set to ``directory``:
+    kernels whose cached code matches the sources are loaded, the others compiled.
+
+    Parameters
+    ----------
+    directory : path-like
+        Default ``jit.SHIPPED_CACHE``, beside the kernels' sources.
+
+    Returns
+    -------
+    seconds : float
+        Wall time of the fresh process's `warm_up_all` [s].
+
+    """
+    os.makedirs(directory, exist_ok=True)
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(directory))
+    package_root = str(Path(__file__).resolve().parents[1])
+    code = (f'import sys; sys.path.insert(0, {package_root!r}); '
+            f'from {__name__} import warm_up_all; print(warm_up_all())')
+    result = subprocess.run([sys.executable, '-c', code], env=env, check=True,
+                            capture_output=True, text=True)
+    return float(result.stdout.split()[-1])
 
 
 def main(args=None):
@@ -19,6 +75,7 @@ def main(args=None):
     parser.add_argument('--into', default=str(jit.SHIPPED_CACHE),
                         help='cache directory to compile into (default: %(default)s)')
     options = parser.parse_args(args)
-    seconds = jit.compile_kernels(options.into)
-    print(f'compile_kernels: kernels ready in {options.into} ({seconds:.1f} s)')
+    seconds = compile_kernels(options.into)
+    print(f'compile_kernels: kernels ready in {jit.keyed_cache_dir(options.into)} '
+          f'({seconds:.1f} s)')
     return 0

@@ -38,7 +38,9 @@ from .cmd_vel_monitor import CommandTopicMonitor
 from .command_publisher import CommandPublisher
 from .conversions import (laser_scan_fields, OccupancyGridBuffer, odometry_to_pose,
                           pose_to_odometry, stamp_to_seconds)
-from .core import jit, Navigator, NavigatorStatus
+from .core import Navigator, NavigatorStatus
+from .core.map_values import warm_up_map_values
+from .core.navigator import warm_up_navigator
 from .core.pose_history import PoseHistory
 from .core.scan_polygon import check_scan
 from .diagnostics import diagnostic_status, DiagnosticsPublisher
@@ -67,7 +69,10 @@ class DpnNode(Node):
         self.params = declare_parameters(self)
         self.limits = declare_safety_parameters(self)
         # Compile (or load) the kernels now, so that the first scan does not wait for them.
-        compile_seconds = jit.warm_up()
+        started = time.perf_counter()
+        warm_up_navigator()
+        warm_up_map_values()
+        compile_seconds = time.perf_counter() - started
         self.navigator = Navigator(self.params.navigator)
         self.map_buffer = OccupancyGridBuffer(self.navigator.grid.geometry.shape,
                                               self.params.map_mobile_value)

@@ -26,7 +26,7 @@ import math
 from diagnostic_msgs.msg import DiagnosticStatus
 from dpn_navigator.command_publisher import command_to_velocity, command_type
 from dpn_navigator.conversions import make_laser_scan, pose_to_odometry, seconds_to_time
-from dpn_navigator.core import jit
+from dpn_navigator.core.astar_search import warm_up_astar
 from dpn_navigator.diagnostics import diagnostic_status, DiagnosticsPublisher
 from dpn_navigator.names import DEFAULT_NAMESPACE
 from dpn_navigator.parameter_declaration import declare_number
@@ -111,7 +111,7 @@ class PybulletWorldNode(Node):
                              laser=LaserConfig(noise_std=noise))
         # The wanderers plan with the core's A* kernel: compile (or load) it before the first
         # tick rather than in the middle of one.
-        jit.warm_up()
+        warm_up_astar()
         self.world = World(scenario, config, start=start)
         self.goal = scenario.tasks[task].goal
         self.command = (0.0, 0.0)

@@ -54,7 +54,8 @@ class NumpyFineEvidence(FineEvidence):
 
     The grid has only the conservative free space on and is updated with safety radius
     ``radius``; its ``seen_free`` is the evidence, and its moving hits are found in numpy.
-    The oracle of ``label_kernel.surely_free_update`` and ``fine_evidence._fine_moving_hits``.
+    The oracle of ``label_kernel.surely_free_update`` and of the kernel
+    ``_kernels.fine_evidence.fine_moving_hits``.
     """
 
     def __init__(self, geometry, resolution, radius, max_range):

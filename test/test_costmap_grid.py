@@ -12,8 +12,9 @@ import math
 import subprocess
 import sys
 
+from dpn_navigator.core._kernels.costmap import clear_rays
 from dpn_navigator.core.cell_label import CellLabel, ScanInput
-from dpn_navigator.core.costmap_grid import (_clear_rays, any_in_blocks, bresenham_cells,
+from dpn_navigator.core.costmap_grid import (any_in_blocks, bresenham_cells,
                                              CostmapConfig, CostmapGrid, inflate,
                                              layer_geometry_for)
 from dpn_navigator.core.grid_geometry import GridGeometry
@@ -279,8 +280,8 @@ def test_the_clearing_kernel_clears_exactly_the_bresenham_cells(start, ends, max
     lethal = np.ones((60, 60), dtype=bool)
     known_free = np.zeros((60, 60), dtype=bool)
     cleared = np.zeros((12, 12), dtype=bool)
-    _clear_rays(start[0], start[1], ends[:, 0].copy(), ends[:, 1].copy(), max_cells, 5, lethal,
-                known_free, cleared)
+    clear_rays(start[0], start[1], ends[:, 0].copy(), ends[:, 1].copy(), max_cells, 5, lethal,
+               known_free, cleared)
     rr, cc = bresenham_cells(start[0], start[1], ends[:, 0], ends[:, 1], max_cells)
     expected = np.zeros((60, 60), dtype=bool)
     expected[rr, cc] = True

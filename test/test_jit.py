@@ -1,5 +1,5 @@
 """
-Tests of the kernels' compile settings: where the cache goes, and the warm-up.
+Tests of the kernels' compile settings: where the cache goes, its key, the warm-up by need.
 
 No ROS is needed: run ``python -m pytest test/test_jit.py`` from the repository root.
 
@@ -11,9 +11,24 @@ import shutil
 import subprocess
 import sys
 
-from dpn_navigator.core import jit
+from dpn_navigator.core._kernels import jit
 import numba
 import pytest
+
+DIGEST = jit.SOURCES_DIGEST
+
+
+def run_python(code, **env):
+    """
+    Run ``code`` in a fresh interpreter with this one's path and ``env``; return stdout.
+
+    It runs in the root directory, so that it imports the package from ``PYTHONPATH`` only.
+
+    """
+    environ = dict(os.environ, PYTHONPATH=os.pathsep.join(path for path in sys.path if path))
+    environ.update(env)
+    return subprocess.run([sys.executable, '-c', code], env=environ, check=True,
+                          capture_output=True, text=True, cwd=os.path.abspath(os.sep)).stdout
 
 
 @pytest.mark.parametrize('environ, expected', [
@@ -25,6 +40,32 @@ def test_default_cache_dir(environ, expected):
     assert str(jit.default_cache_dir(environ)) == expected
 
 
+def test_the_digest_covers_every_kernel_source_and_nothing_else(tmp_path):
+    leaf = Path(jit.__file__).resolve().parent
+    copy = tmp_path / '_kernels'
+    shutil.copytree(leaf, copy, ignore=shutil.ignore_patterns('kernel_cache', '__pycache__'))
+    assert jit.sources_digest(copy) == DIGEST
+    assert len(DIGEST) == jit.DIGEST_LENGTH
+    (copy / 'notes.txt').write_text('not a source')
+    (copy / '__pycache__').mkdir()
+    (copy / '__pycache__' / 'x.pyc').write_text('compiled')
+    assert jit.sources_digest(copy) == DIGEST
+    for source in sorted(copy.glob('*.py')):
+        text = source.read_text()
+        source.write_text(text + '\n')
+        assert jit.sources_digest(copy) != DIGEST, source.name
+        source.write_text(text)
+    (copy / 'new_kernels.py').write_text('')
+    assert jit.sources_digest(copy) != DIGEST
+
+
+@pytest.mark.parametrize('base, expected', [
+    ('/c', f'/c/{DIGEST}'), (f'/c/{DIGEST}', f'/c/{DIGEST}'), ('/c/0123', f'/c/0123/{DIGEST}'),
+])
+def test_keyed_cache_dir_nests_once(base, expected):
+    assert str(jit.keyed_cache_dir(base)) == expected
+
+
 @pytest.fixture
 def fresh_numba_settings(monkeypatch):
     """Let a test call `jit._configure_cache` as if at import; restore everything after."""
@@ -33,12 +74,14 @@ def fresh_numba_settings(monkeypatch):
     return monkeypatch
 
 
-def test_cache_goes_under_the_users_cache_dir(tmp_path, fresh_numba_settings):
+def test_cache_goes_under_the_users_cache_dir_keyed_on_the_sources(tmp_path,
+                                                                   fresh_numba_settings):
     fresh_numba_settings.setenv('XDG_CACHE_HOME', str(tmp_path))
     jit._configure_cache()
-    assert os.environ['NUMBA_CACHE_DIR'] == str(tmp_path / 'dpn_numba')
-    assert jit.cache_dir() == str(tmp_path / 'dpn_numba')
-    assert (tmp_path / 'dpn_numba').is_dir()
+    expected = tmp_path / 'dpn_numba' / DIGEST
+    assert os.environ['NUMBA_CACHE_DIR'] == str(expected)
+    assert jit.cache_dir() == str(expected)
+    assert expected.is_dir()
 
 
 def test_unwritable_cache_dir_leaves_numbas_own_choice(tmp_path, fresh_numba_settings):
@@ -50,25 +93,46 @@ def test_unwritable_cache_dir_leaves_numbas_own_choice(tmp_path, fresh_numba_set
     assert jit.cache_dir() == ''
 
 
-def test_numba_cache_dir_set_by_the_user_wins(tmp_path):
+def test_numba_cache_dir_set_by_the_user_wins_and_a_child_keeps_it(tmp_path):
     # In a fresh interpreter, as numba reads its environment once, at import.
-    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / 'mine'),
-               XDG_CACHE_HOME=str(tmp_path / 'xdg'),
-               PYTHONPATH=os.pathsep.join(path for path in sys.path if path))
-    code = 'from dpn_navigator.core import jit; print(jit.cache_dir())'
-    out = subprocess.run([sys.executable, '-c', code], env=env, check=True,
-                         capture_output=True, text=True).stdout
-    assert out.strip() == str(tmp_path / 'mine')
+    code = ('import os; from dpn_navigator.core._kernels import jit; print(jit.cache_dir()); '
+            'import subprocess, sys; print(subprocess.run([sys.executable, "-c", '
+            '"from dpn_navigator.core._kernels import jit; print(jit.cache_dir())"], '
+            'capture_output=True, text=True, check=True).stdout.strip())')
+    out = run_python(code, NUMBA_CACHE_DIR=str(tmp_path / 'mine'),
+                     XDG_CACHE_HOME=str(tmp_path / 'xdg')).split()
+    assert out == [str(tmp_path / 'mine' / DIGEST)] * 2
     assert not (tmp_path / 'xdg').exists()
 
 
-def test_warm_up_compiles_every_kernel():
-    from dpn_navigator.core import astar_search, fine_evidence, label_kernel
-    assert jit.warm_up() >= 0.0
-    assert astar_search._search.signatures
-    assert label_kernel._surely_free_update.signatures         # the fine free evidence
-    assert fine_evidence._fine_moving_hits.signatures
-    assert jit.warm_up() < 0.5          # ready now: a tiny call, no compiling
+def test_warm_up_by_need_compiles_only_what_a_process_uses():
+    # What a fresh process compiled: the kernels of the leaf with a signature.
+    compiled = ('import sys; from numba.core.registry import CPUDispatcher; '
+                'print(sorted(f"{name[28:]}.{attr}" for name, module in list(sys.modules.items())'
+                ' if name.startswith("dpn_navigator.core._kernels.") for attr, value in '
+                'vars(module).items() if isinstance(value, CPUDispatcher) and value.signatures'
+                ' and value.__module__ == name))')
+    # The pybullet world's wanderers plan with A* and nothing else of the core.
+    out = run_python('from dpn_navigator.core.astar_search import warm_up_astar; '
+                     'warm_up_astar(); ' + compiled)
+    assert out.strip() == str(['astar.largest_if_finite_and_non_negative', 'astar.search'])
+    # A navigator on the labelled grid compiles none of the costmap's kernels.
+    out = run_python('from dpn_navigator.core.navigator import warm_up_navigator; '
+                     'warm_up_navigator(); ' + compiled)
+    assert 'scan_labels.scan_update' in out and 'astar.search' in out
+    assert 'costmap.' not in out
+
+
+def test_warm_up_compiles_the_navigators_kernels_once():
+    from dpn_navigator.core._kernels import astar, fine_evidence, scan_labels
+    from dpn_navigator.core.navigator import warm_up_navigator
+    warm_up_navigator()
+    kernels = (astar.search, scan_labels.scan_update, scan_labels.points_update,
+               scan_labels.surely_free_update, fine_evidence.fine_moving_hits)
+    signatures = [list(kernel.signatures) for kernel in kernels]
+    assert all(signatures)
+    warm_up_navigator()                 # ready now: no new specialisation
+    assert [list(kernel.signatures) for kernel in kernels] == signatures
 
 
 def test_seed_cache_copies_what_the_cache_lacks_or_holds_older(tmp_path):
@@ -92,19 +156,56 @@ def test_seed_cache_copies_what_the_cache_lacks_or_holds_older(tmp_path):
     assert jit.seed_cache(tmp_path / 'shipped', not_a_dir) == 0     # unwritable: numba's turn
 
 
-def test_shipped_kernels_are_seeded_into_an_empty_cache(tmp_path):
-    # In a fresh interpreter whose jit module ships a (fake) compiled kernel.
-    package = Path(jit.__file__).resolve().parents[1]
-    copy = tmp_path / 'tree' / 'dpn_navigator'
-    shutil.copytree(package, copy, ignore=shutil.ignore_patterns('kernel_cache',
-                                                                 '__pycache__'))
-    (copy / 'core' / 'kernel_cache' / 'core_0123').mkdir(parents=True)
-    (copy / 'core' / 'kernel_cache' / 'core_0123' / 'k.nbi').write_text('index')
-    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / 'empty'),
-               PYTHONPATH=os.pathsep.join([str(tmp_path / 'tree')]
-                                          + [path for path in sys.path if path]))
-    code = 'from dpn_navigator.core import jit; print(jit.__file__)'
-    out = subprocess.run([sys.executable, '-c', code], env=env, check=True, cwd=tmp_path,
-                         capture_output=True, text=True).stdout
-    assert out.strip().startswith(str(copy))
-    assert (tmp_path / 'empty' / 'core_0123' / 'k.nbi').read_text() == 'index'
+def copy_package(tmp_path):
+    """Copy the dpn_navigator sources (no caches) to ``tmp_path/tree``; return the leaf."""
+    package = Path(jit.__file__).resolve().parents[2]
+    shutil.copytree(package, tmp_path / 'tree' / 'dpn_navigator',
+                    ignore=shutil.ignore_patterns('kernel_cache', '__pycache__'))
+    return tmp_path / 'tree' / 'dpn_navigator' / 'core' / '_kernels'
+
+
+def test_shipped_kernels_of_these_sources_only_are_seeded(tmp_path):
+    leaf = copy_package(tmp_path)
+    for digest in (DIGEST, '0' * jit.DIGEST_LENGTH):
+        (leaf / 'kernel_cache' / digest / 'core_0123').mkdir(parents=True)
+        (leaf / 'kernel_cache' / digest / 'core_0123' / 'k.nbi').write_text(digest)
+    code = 'from dpn_navigator.core._kernels import jit; print(jit.__file__)'
+    out = run_python(code, NUMBA_CACHE_DIR=str(tmp_path / 'empty'),
+                     PYTHONPATH=os.pathsep.join([str(tmp_path / 'tree')]
+                                                + [path for path in sys.path if path]))
+    assert out.strip().startswith(str(leaf))
+    assert (tmp_path / 'empty' / DIGEST / 'core_0123' / 'k.nbi').read_text() == DIGEST
+    assert sorted(path.name for path in (tmp_path / 'empty').iterdir()) == [DIGEST]
+
+
+#: A fine-evidence call whose result comes from ``scan_labels.moving_hits``, a kernel of
+#: another file than its caller ``fine_evidence.fine_moving_hits``.
+CALLER = """
+import numpy as np
+from dpn_navigator.core._kernels import fine_evidence, jit
+xs = np.array([1.0, 1.1, 1.2, 1.3])
+moving = fine_evidence.fine_moving_hits(
+    np.ones((40, 40), dtype=np.bool_), 0.0, 0.0, 0.1, xs, np.full(4, 1.0),
+    np.arange(4, dtype=np.int64), 0.3, 0.7, 1, 0.0, 0.0, 640)
+print(jit.cache_dir(), ''.join(str(int(flag)) for flag in moving))
+"""
+
+
+def test_an_edited_callee_recompiles_its_callers_in_other_files(tmp_path):
+    leaf = copy_package(tmp_path)
+    env = {'NUMBA_CACHE_DIR': str(tmp_path / 'cache'),
+           'PYTHONPATH': os.pathsep.join([str(tmp_path / 'tree')]
+                                         + [path for path in sys.path if path])}
+    first_dir, before = run_python(CALLER, **env).split()
+    assert run_python(CALLER, **env).split() == [first_dir, before]     # loaded from the cache
+    callee = leaf / 'scan_labels.py'
+    text = callee.read_text()
+    marker = '"""``moving_objects.moving_object_hits`` as a loop, with the same arithmetic."""\n'
+    assert marker in text
+    flipped = '1' if before == '0' * len(before) else '0'
+    callee.write_text(text.replace(
+        marker, marker + f'    return np.full(hits_x.shape[0], {flipped == "1"})\n', 1))
+    second_dir, after = run_python(CALLER, **env).split()
+    assert second_dir != first_dir
+    assert Path(second_dir).name == jit.sources_digest(leaf)
+    assert after == flipped * len(before)

@@ -141,7 +141,8 @@ def test_planning_masks_equal_the_full_recompute_at_every_plan(monkeypatch):
 
 @pytest.mark.parametrize('resolution', [0.05, 0.5])
 def test_edge_bands_and_discs_equal_a_test_of_every_cell(resolution):
-    from dpn_navigator.core import label_kernel
+    from dpn_navigator.core._kernels import raster
+    from dpn_navigator.core.grid_geometry import squared_bound
     rng = np.random.default_rng(8)
     n_rows, n_cols, row0, col0 = 40, 50, 7, 3
     x0, y0 = -1.3, 0.4
@@ -151,7 +152,7 @@ def test_edge_bands_and_discs_equal_a_test_of_every_cell(resolution):
     low = np.array([x0 + col0 * resolution, y0 + row0 * resolution])
     span = np.array([n_cols, n_rows]) * resolution
     radius = 0.6
-    bound = label_kernel.squared_bound(radius)
+    bound = squared_bound(radius)
     for case in range(300):
         # Edges of every length, from a tenth of a cell to across the window; every third
         # along an axis, every third with both ends on a quarter-cell lattice (so that cell
@@ -172,7 +173,7 @@ def test_edge_bands_and_discs_equal_a_test_of_every_cell(resolution):
                 continue
         xs, ys = np.array([a[0], b[0]]), np.array([a[1], b[1]])
         band = np.zeros((n_rows, n_cols), dtype=bool)
-        label_kernel._mark_edge_bands(band, row0, col0, x0, y0, resolution, xs, ys, radius)
+        raster.mark_edge_bands(band, row0, col0, x0, y0, resolution, xs, ys, radius)
         ex, ey = b[0] - a[0], b[1] - a[1]
         length2 = ex * ex + ey * ey
         dot = (cx - a[0]) * ex + (cy - a[1]) * ey
@@ -182,8 +183,8 @@ def test_edge_bands_and_discs_equal_a_test_of_every_cell(resolution):
         # What the update marks for its free evidence: the band less some cells within the
         # radius of the ends (their discs are marked besides), never any other cell.
         uncovered = np.zeros((n_rows, n_cols), dtype=bool)
-        label_kernel._mark_uncovered_edge_bands(uncovered, row0, col0, x0, y0, resolution, xs,
-                                                ys, radius)
+        raster.mark_uncovered_edge_bands(uncovered, row0, col0, x0, y0, resolution, xs,
+                                         ys, radius)
         near_ends = np.zeros((n_rows, n_cols), dtype=bool)
         for end_x, end_y in ((a[0], a[1]), (b[0], b[1])):
             dx, dy = cx - end_x, cy - end_y
@@ -191,8 +192,8 @@ def test_edge_bands_and_discs_equal_a_test_of_every_cell(resolution):
         assert not (uncovered & ~want).any()
         assert not (want & ~near_ends & ~uncovered).any()
         disc = np.zeros((n_rows, n_cols), dtype=bool)
-        label_kernel._mark_discs(disc, True, xs, ys, 1, np.zeros(0, dtype=bool), row0, col0,
-                                 x0, y0, resolution, radius, bound, np.zeros((0, 2), np.int64))
+        raster.mark_discs(disc, True, xs, ys, 1, np.zeros(0, dtype=bool), row0, col0,
+                          x0, y0, resolution, radius, bound, np.zeros((0, 2), np.int64))
         dx, dy = a[0] - cx, a[1] - cy
         assert_array_equal(disc, np.sqrt(dx * dx + dy * dy) <= radius)
 
@@ -204,7 +205,8 @@ def test_small_discs_and_their_evidence_equal_a_test_of_every_cell(resolution, x
     # a fifth of a cell to three, points on and off the window and on lattices of half and
     # eighth cells (with dyadic cells, centres then lie exactly on a disc's edge), some values
     # and extents.
-    from dpn_navigator.core import label_kernel
+    from dpn_navigator.core._kernels import raster, scan_labels
+    from dpn_navigator.core.grid_geometry import squared_bound
     rng = np.random.default_rng(5)
     n_rows, n_cols, row0, col0 = 24, 31, 4, 9
     cx = x0 + (np.arange(col0, col0 + n_cols) + 0.5) * resolution
@@ -215,7 +217,7 @@ def test_small_discs_and_their_evidence_equal_a_test_of_every_cell(resolution, x
     marked_cells = cells_on_edges = found = 0
     for case in range(600):
         radius = float(rng.choice([0.2, 0.5, 1.0, 1.3, 2.0, 2.5, 3.0])) * resolution
-        bound = label_kernel.squared_bound(radius)
+        bound = squared_bound(radius)
         count = int(rng.integers(1, 6))
         points = low + rng.uniform(-0.15, 1.15, (count, 2)) * span
         if case % 2:
@@ -233,8 +235,8 @@ def test_small_discs_and_their_evidence_equal_a_test_of_every_cell(resolution, x
         mark = np.zeros((n_rows, n_cols), dtype=np.uint8)
         extent = np.empty((n_rows, 2), dtype=np.int64)
         extent[:, 0], extent[:, 1] = n_cols, 0
-        label_kernel._mark_discs(mark, 3, xs, ys, count, selected, row0, col0, x0, y0,
-                                 resolution, radius, bound, extent)
+        raster.mark_discs(mark, 3, xs, ys, count, selected, row0, col0, x0, y0,
+                          resolution, radius, bound, extent)
         assert_array_equal(mark, np.where(want, 3, 0))
         rows_marked = want.any(axis=1)
         columns = np.arange(n_cols)
@@ -251,9 +253,9 @@ def test_small_discs_and_their_evidence_equal_a_test_of_every_cell(resolution, x
         gx, gy = np.meshgrid(gx, gy)
         # Discs of any size are searched in their box: the radius and 3.7 times it.
         for evidence_radius in (radius, 3.7 * radius):
-            evidence_bound = label_kernel.squared_bound(evidence_radius)
-            evidence = label_kernel._hit_evidence(grid_free, xs, ys, x0, y0, resolution,
-                                                  evidence_radius, evidence_bound)
+            evidence_bound = squared_bound(evidence_radius)
+            evidence = scan_labels.hit_evidence(grid_free, xs, ys, x0, y0, resolution,
+                                                evidence_radius, evidence_bound)
             expected = [bool((grid_free
                               & ((gx - x) ** 2 + (gy - y) ** 2 <= evidence_bound)).any())
                         for x, y in zip(xs, ys)]
@@ -270,7 +272,8 @@ def test_small_discs_and_their_evidence_equal_a_test_of_every_cell(resolution, x
 def test_uncovered_bands_of_short_edges_hold_every_band_cell_beyond_the_ends(resolution):
     # Edges no longer than the radius are searched only along two thin strips beside them:
     # many such edges, so that cell centres fall in those strips, some exactly on a band side.
-    from dpn_navigator.core import label_kernel
+    from dpn_navigator.core._kernels import raster
+    from dpn_navigator.core.grid_geometry import squared_bound
     rng = np.random.default_rng(11)
     n_rows, n_cols, row0, col0 = 30, 30, 2, 5
     x0, y0 = 0.35, -0.8
@@ -282,7 +285,7 @@ def test_uncovered_bands_of_short_edges_hold_every_band_cell_beyond_the_ends(res
     strips = 0
     for case in range(4000):
         radius = float(rng.choice([0.6, 0.45, 1.1]))
-        bound = label_kernel.squared_bound(radius)
+        bound = squared_bound(radius)
         a = centre + rng.uniform(-0.6, 0.6, 2) * n_rows * resolution
         angle = rng.uniform(0.0, 2.0 * np.pi) if case % 4 else rng.integers(8) * np.pi / 4
         length = radius * rng.uniform(0.01, 1.0)
@@ -302,9 +305,9 @@ def test_uncovered_bands_of_short_edges_hold_every_band_cell_beyond_the_ends(res
             dx, dy = cx - end_x, cy - end_y
             near_ends |= dx * dx + dy * dy <= bound
         marked = np.zeros((n_rows, n_cols), dtype=bool)
-        label_kernel._mark_uncovered_edge_bands(marked, row0, col0, x0, y0, resolution,
-                                                np.array([a[0], b[0]]), np.array([a[1], b[1]]),
-                                                radius)
+        raster.mark_uncovered_edge_bands(marked, row0, col0, x0, y0, resolution,
+                                         np.array([a[0], b[0]]), np.array([a[1], b[1]]),
+                                         radius)
         assert not (marked & ~band).any()
         assert not (band & ~near_ends & ~marked).any()
         strips += int((band & ~near_ends).any())

@@ -30,8 +30,8 @@ import numpy as np
 
 from .ground_truth import near_any
 from ..core.cell_label import CellLabel, ScanInput
+from ..core.grid_geometry import squared_radius_bound
 from ..core.navigator import ReplanCause
-from ..core.scan_features import squared_radius_bound
 
 #: Replan classes, in column order.
 REPLAN_CLASSES = ('wall', 'wanderer', 'no_path_retry', 'other', 'yield')

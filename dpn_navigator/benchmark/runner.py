@@ -23,7 +23,10 @@ import time
 
 from .episode import run_episode, task_setup
 from .episode_log import EpisodeLog
-from ..core import jit
+from ..core.astar_search import warm_up_astar
+from ..core.costmap_grid import warm_up_costmap
+from ..core.label_grid import warm_up_label_update
+from ..core.planning_masks import warm_up_planning_masks
 
 
 @dataclass(frozen=True)
@@ -90,6 +93,25 @@ def _task_setup(map_key, index, task):
     return task_setup(_scenario(map_key, index), task, _wanderer_grid(map_key, index))
 
 
+#: The kernels an episode runs besides A* and the planning masks, by ``protocol.MAP_MODELS``.
+_MAP_MODEL_WARM_UPS = {'labels': (warm_up_label_update,), 'costmap': (warm_up_costmap,),
+                       'oracle': ()}
+
+
+def warm_up_kernels(map_model):
+    """
+    Compile (or load) the kernels an episode on ``map_model`` runs, before it starts.
+
+    A* and the planning masks (the navigator and the wanderers), and the kernels of the map
+    the navigator plans on; nothing of the other maps. Nearly free after the first episode.
+
+    """
+    if map_model not in _MAP_MODEL_WARM_UPS:
+        raise ValueError(f'unknown map model {map_model!r}; one of {sorted(_MAP_MODEL_WARM_UPS)}')
+    for warm_up in (warm_up_astar, warm_up_planning_masks) + _MAP_MODEL_WARM_UPS[map_model]:
+        warm_up()
+
+
 def run_spec(spec, index=None, navigator_options=None, detection=True, record_dir=None,
              map_model='labels'):
     """
@@ -122,7 +144,7 @@ def run_spec(spec, index=None, navigator_options=None, detection=True, record_di
     if not 0 <= spec.task < len(scenario.tasks):
         raise ValueError(f'map {spec.map_key!r} has {len(scenario.tasks)} tasks; there is no '
                          f'task {spec.task}')
-    jit.warm_up()
+    warm_up_kernels(map_model)
     recorder = None if record_dir is None else _episode_bag(spec, scenario, record_dir)
     try:
         result = run_episode(scenario, spec.task, spec.wanderers, spec.seed,

@@ -20,6 +20,8 @@ import enum
 
 import numpy as np
 
+from ._kernels import codes
+
 #: dtype of every label array.
 LABEL_DTYPE = np.uint8
 
@@ -27,18 +29,18 @@ LABEL_DTYPE = np.uint8
 class CellLabel(enum.IntEnum):
     """Label of one occupancy-grid cell; stored as ``LABEL_DTYPE``."""
 
-    NON_EXPLORED = 0
-    EXPLORED = 1
-    STEADY_OBSTACLE = 2
-    MOBILE_OBSTACLE = 3
+    NON_EXPLORED = codes.NON_EXPLORED
+    EXPLORED = codes.EXPLORED
+    STEADY_OBSTACLE = codes.STEADY_OBSTACLE
+    MOBILE_OBSTACLE = codes.MOBILE_OBSTACLE
 
 
 class ScanInput(enum.IntEnum):
     """The FSM input of one cell for one scan, ``2 * f1 + f2``."""
 
-    NONE = 0        # (f1, f2) = (0, 0)
-    INSIDE = 1      # (0, 1): inside the scan polygon, no hit near
-    HIT = 2         # (1, 0): within the safety radius of a laser hit point
+    NONE = codes.SCAN_NONE          # (f1, f2) = (0, 0)
+    INSIDE = codes.SCAN_INSIDE      # (0, 1): inside the scan polygon, no hit near
+    HIT = codes.SCAN_HIT            # (1, 0): within the safety radius of a laser hit point
 
 
 def _transition_table():
@@ -56,6 +58,21 @@ def _transition_table():
 
 #: ``TRANSITION[label, scan_input]`` is the next label, shape (4, 3), dtype ``LABEL_DTYPE``.
 TRANSITION = _transition_table()
+
+
+def _transition_by_code():
+    table = np.zeros(4 * len(CellLabel), dtype=LABEL_DTYPE)
+    for label in CellLabel:
+        for scan_input in ScanInput:
+            table[(label << 2) | scan_input] = TRANSITION[label, scan_input]
+    table.setflags(write=False)
+    return table
+
+
+#: `TRANSITION` flattened for one lookup, ``TRANSITION_BY_CODE[(label << 2) | scan_input]``,
+#: shape (16,), dtype ``LABEL_DTYPE``: the table the label kernels take as an argument (so that
+#: no kernel freezes the FSM into its machine code).
+TRANSITION_BY_CODE = _transition_by_code()
 
 #: Labels that planning treats as blocked (non-explored counts as free, the paper's rule).
 BLOCKED_LABELS = (CellLabel.STEADY_OBSTACLE, CellLabel.MOBILE_OBSTACLE)

@@ -26,9 +26,9 @@ of a SLAM map hides between them and its next hit looks like motion.
 
 import numpy as np
 
+from ._kernels import fine_evidence as fine_kernels
 from .grid_geometry import GridGeometry
-from .jit import kernel
-from .label_kernel import _moving_hits, surely_free_update
+from .label_kernel import surely_free_update
 
 
 class FineEvidence:
@@ -107,13 +107,14 @@ class FineEvidence:
         """
         vertices_x, vertices_y, hits_x, hits_y, hit_beams = points[:5]
         x0, y0 = self.geometry.origin
-        return _fine_moving_hits(self.seen_free, x0, y0, self.geometry.resolution,
-                                 np.ascontiguousarray(hits_x, dtype=np.float64),
-                                 np.ascontiguousarray(hits_y, dtype=np.float64),
-                                 np.ascontiguousarray(hit_beams, dtype=np.int64),
-                                 float(rule.segment_gap), float(rule.moving_object_size),
-                                 int(rule.object_min_hits), float(vertices_x[0]),
-                                 float(vertices_y[0]), vertices_x.shape[0] - 2)
+        return fine_kernels.fine_moving_hits(self.seen_free, x0, y0, self.geometry.resolution,
+                                             np.ascontiguousarray(hits_x, dtype=np.float64),
+                                             np.ascontiguousarray(hits_y, dtype=np.float64),
+                                             np.ascontiguousarray(hit_beams, dtype=np.int64),
+                                             float(rule.segment_gap), float(
+                                                 rule.moving_object_size),
+                                             int(rule.object_min_hits), float(vertices_x[0]),
+                                             float(vertices_y[0]), vertices_x.shape[0] - 2)
 
     def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max):
         """
@@ -135,28 +136,3 @@ class FineEvidence:
     def reset(self):
         """Forget all evidence."""
         self._seen_free[...] = False
-
-
-@kernel
-def _fine_moving_hits(seen_free, x0, y0, resolution, hits_x, hits_y, hit_beams, segment_gap,
-                      object_size, min_hits, laser_x, laser_y, beam_count):
-    """
-    `FineEvidence.moving_hits` compiled: each hit's fine cell looked up, then the object rule.
-
-    A hit's cell is ``GridGeometry.world_to_cell``'s, ``floor((x - x0) / resolution)``; hits
-    off the grid show nothing.
-    """
-    rows, cols = seen_free.shape
-    count = hits_x.shape[0]
-    evidence = np.zeros(count, dtype=np.bool_)
-    found = False
-    for k in range(count):
-        col = np.floor((hits_x[k] - x0) / resolution)
-        row = np.floor((hits_y[k] - y0) / resolution)
-        if 0.0 <= row < rows and 0.0 <= col < cols and seen_free[int(row), int(col)]:
-            evidence[k] = True
-            found = True
-    if not found:
-        return evidence
-    return _moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_size,
-                        min_hits, laser_x, laser_y, beam_count)

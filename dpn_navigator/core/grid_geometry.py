@@ -9,6 +9,7 @@ has its centre at ``(x0 + (j + 0.5) * res, y0 + (i + 0.5) * res)``.
 """
 
 from dataclasses import dataclass, field
+import functools
 import math
 
 import numpy as np
@@ -168,3 +169,26 @@ class GridGeometry:
         x_centres, _ = self.cell_to_world(0, np.arange(cols.start, cols.stop))
         _, y_centres = self.cell_to_world(np.arange(rows.start, rows.stop), 0)
         return np.asarray(x_centres, dtype=np.float64), np.asarray(y_centres, dtype=np.float64)
+
+
+def squared_radius_bound(radius):
+    """
+    Largest float ``t`` with ``sqrt(t) <= radius``, so that ``sqrt(s) <= radius`` iff ``s <= t``.
+
+    ``sqrt`` is correctly rounded and hence monotone, so the floats that pass eq. 2's test form
+    the interval ``[0, t]``; comparing squared distances with ``t`` gives the same answers
+    without a square root per cell.
+
+    """
+    bound = radius * radius
+    while math.sqrt(bound) > radius:
+        bound = math.nextafter(bound, -math.inf)
+    while math.sqrt(math.nextafter(bound, math.inf)) <= radius:
+        bound = math.nextafter(bound, math.inf)
+    return bound
+
+
+@functools.lru_cache(maxsize=64)
+def squared_bound(radius):
+    """Return ``squared_radius_bound(radius)``, remembered: a grid's radii never change."""
+    return squared_radius_bound(radius)

@@ -13,9 +13,9 @@ it. A plan therefore costs a pass over the changed cells and the search, not the
 
 import numpy as np
 
+from ._kernels import planning_masks as mask_kernels
 from .astar_search import astar_checked
 from .cell_label import CellLabel, LABEL_DTYPE
-from .jit import kernel
 
 
 def touches_blocked(blocked):
@@ -71,70 +71,6 @@ def touches_blocked_in(blocked, rows, cols):
     return near & ~padded[1:-1, 1:-1]
 
 
-#: Cells of a row compared at once before any is looked at alone.
-_CHUNK = 64
-
-
-@kernel
-def _refresh_blocked(labels, blocked, row_lo, row_hi, col_lo, col_hi, first_blocked, flipped):
-    """
-    Set ``blocked[rows, cols]`` to ``labels >= first_blocked``; list the cells that flipped.
-
-    Each ``_CHUNK`` cells of a row are first compared at once (a vectorised pass); ``flipped``
-    (int64) is grown as needed.
-    Returns the flat indices of the flipped cells and their count.
-    """
-    n_cols = labels.shape[1]
-    count = 0
-    for r in range(row_lo, row_hi):
-        label_row = labels[r, col_lo:col_hi]
-        blocked_row = blocked[r, col_lo:col_hi]
-        for start in range(0, label_row.shape[0], _CHUNK):
-            stop = min(start + _CHUNK, label_row.shape[0])
-            differ = False
-            for c in range(start, stop):
-                differ |= (label_row[c] >= first_blocked) != blocked_row[c]
-            if not differ:
-                continue
-            for c in range(start, stop):
-                now_blocked = label_row[c] >= first_blocked
-                if now_blocked != blocked_row[c]:
-                    blocked_row[c] = now_blocked
-                    if count == flipped.shape[0]:
-                        grown = np.empty(2 * count + 16, dtype=np.int64)
-                        grown[:count] = flipped[:count]
-                        flipped = grown
-                    flipped[count] = r * n_cols + col_lo + c
-                    count += 1
-    return flipped, count
-
-
-@kernel
-def _recost_around(blocked, cost, cells, proximity_cost):
-    """
-    Recompute ``cost`` on the cells of ``cells`` (flat indices) and their 8 neighbours.
-
-    A cell costs ``proximity_cost`` when it is free and a neighbour is blocked, else 0.
-    Returns the change in the number of cells with a cost.
-    """
-    n_rows, n_cols = blocked.shape
-    change = 0
-    for cell in cells:
-        row, col = cell // n_cols, cell % n_cols
-        for r in range(max(row - 1, 0), min(row + 2, n_rows)):
-            for c in range(max(col - 1, 0), min(col + 2, n_cols)):
-                touching = False
-                if not blocked[r, c]:
-                    for rr in range(max(r - 1, 0), min(r + 2, n_rows)):
-                        for cc in range(max(c - 1, 0), min(c + 2, n_cols)):
-                            touching |= blocked[rr, cc]
-                value = proximity_cost if touching else 0.0
-                if value != cost[r, c]:
-                    change += (value != 0.0) - (cost[r, c] != 0.0)
-                    cost[r, c] = value
-    return change
-
-
 def refresh_blocked(labels, blocked, rows, cols):
     """
     Bring ``blocked[rows, cols]`` up to ``blocked_mask(labels[rows, cols])``, in place.
@@ -170,9 +106,9 @@ def refresh_blocked(labels, blocked, rows, cols):
     col_lo, col_hi, _ = cols.indices(labels.shape[1])
     if row_hi <= row_lo or col_hi <= col_lo:
         return np.zeros(0, dtype=np.int64)
-    flipped, count = _refresh_blocked(labels, blocked, row_lo, row_hi, col_lo, col_hi,
-                                      LABEL_DTYPE(CellLabel.STEADY_OBSTACLE),
-                                      np.empty(256, dtype=np.int64))
+    flipped, count = mask_kernels.refresh_blocked(labels, blocked, row_lo, row_hi, col_lo, col_hi,
+                                                  LABEL_DTYPE(CellLabel.STEADY_OBSTACLE),
+                                                  np.empty(256, dtype=np.int64))
     return flipped[:count]
 
 
@@ -207,7 +143,7 @@ def recost_around(blocked, cost, cells, proximity_cost):
     cells = np.ascontiguousarray(cells, dtype=np.int64)
     if cells.size and not (0 <= cells.min() and cells.max() < blocked.size):
         raise ValueError(f'cells must be flat indices into a grid of {blocked.shape}')
-    return int(_recost_around(blocked, cost, cells, float(proximity_cost)))
+    return int(mask_kernels.recost_around(blocked, cost, cells, float(proximity_cost)))
 
 
 def warm_up_planning_masks():

@@ -15,23 +15,7 @@ import math
 import numpy as np
 
 from .cell_label import LABEL_DTYPE, ScanInput
-
-
-def squared_radius_bound(radius):
-    """
-    Largest float ``t`` with ``sqrt(t) <= radius``, so that ``sqrt(s) <= radius`` iff ``s <= t``.
-
-    ``sqrt`` is correctly rounded and hence monotone, so the floats that pass eq. 2's test form
-    the interval ``[0, t]``; comparing squared distances with ``t`` gives the same answers
-    without a square root per cell.
-
-    """
-    bound = radius * radius
-    while math.sqrt(bound) > radius:
-        bound = math.nextafter(bound, -math.inf)
-    while math.sqrt(math.nextafter(bound, math.inf)) <= radius:
-        bound = math.nextafter(bound, math.inf)
-    return bound
+from .grid_geometry import squared_radius_bound  # noqa: F401 (used here and re-exported)
 
 
 def hit_runs(geometry, rows, cols, centres, hits_x, hits_y, safety_radius, return_hits=False):

@@ -1,37 +1,44 @@
 """
-How the core's compiled kernels are built: numba settings, the on-disk cache, the warm-up.
+How the core's compiled kernels are built: numba settings, the on-disk cache.
 
-Every kernel of the core is a private function decorated with `kernel`, which is
-``numba.njit(cache=True, nogil=True)``: compiled to machine code on its first call, with no
+Every kernel is a function of this package (``core/_kernels``) decorated with `kernel`, which
+is ``numba.njit(cache=True, nogil=True)``: compiled to machine code on its first call, with no
 Python objects inside (so it releases the GIL), and saved to a cache on disk so that the next
 process loads it instead of compiling again.
 
-The cache lives in ``$NUMBA_CACHE_DIR`` when that is set (numba's own variable), otherwise in
+**The cache is keyed on every kernel source.** numba keys a cached kernel on its own source
+file's path and stamp only: a kernel that calls a kernel of another file, or freezes a global
+of another file, keeps its old machine code when that file changes. So the cache directory is
+``<base>/<digest>``, with ``digest`` (`sources_digest`) a hash of every source file of this
+package: an edit of any kernel, or of the label codes in ``codes.py``, moves every kernel to a
+new, empty directory and recompiles them all. Nothing outside this package is frozen into a
+kernel: the FSM table is an argument of the label kernels (``cell_label.TRANSITION_BY_CODE``).
+
+``base`` is ``$NUMBA_CACHE_DIR`` when that is set (numba's own variable), otherwise
 ``$XDG_CACHE_HOME/dpn_numba`` (``~/.cache/dpn_numba`` by default): an installed package's
 directory may be read-only, and numba's default is a ``__pycache__`` beside the source. When
 that place cannot be written either, numba's own fallback applies (a per-user directory, or
 no cache, with a warning).
 
-A node or the benchmark calls `warm_up` once at start, so that the first scan is not the one
-that waits for the compiler or the cache.
+Each process warms up the kernels it uses, once at start (the ``warm_up_*`` function of each
+part of the core), so that the first scan does not wait for the compiler or the cache.
 
 An installed package can ship its kernels compiled: ``compile_kernels`` (``ros2 run
 dpn_navigator compile_kernels``; ``make build`` runs it) compiles them for the installed copy
-of the sources into ``SHIPPED_CACHE``, next to this file, and at import this module copies
-what the cache in use lacks (or holds older) from there. A first start with an empty cache
-then loads the kernels instead of compiling them for about 25 CPU-s. The cache is keyed on the
-source files' paths and stamps and on the CPU, so kernels shipped for other sources or another
-machine are just compiled again.
+of the sources into ``SHIPPED_CACHE/<digest>``, next to this file, and at import this module
+copies what the cache in use lacks (or holds older) from there. A first start with an empty
+cache then loads the kernels instead of compiling them for about 25 CPU-s. Within a digest,
+numba still keys on the source files' paths and stamps and on the CPU, so kernels shipped for
+another copy of the sources or another machine are just compiled again.
 
 """
 
+import hashlib
 import os
 from pathlib import Path
 import shutil
-import subprocess
 import sys
 import tempfile
-import time
 
 #: Sub-directory of the user's cache directory that holds the compiled kernels.
 CACHE_SUBDIR = 'dpn_numba'
@@ -69,21 +76,71 @@ def _writable_dir(path):
     return True
 
 
-#: Where `compile_kernels` puts the kernels it compiles for this copy of the package.
+#: Where ``compile_kernels`` puts the kernels it compiles for this copy of the package (in a
+#: sub-directory named by `sources_digest`).
 SHIPPED_CACHE = Path(__file__).resolve().parent / 'kernel_cache'
+
+#: Characters of the hex digest that name a cache directory.
+DIGEST_LENGTH = 16
+
+
+def sources_digest(directory=None):
+    """
+    Return a hash of every kernel source: the name of the cache directory they compile into.
+
+    Parameters
+    ----------
+    directory : path-like, optional
+        The kernels package (this file's directory by default).
+
+    Returns
+    -------
+    digest : str
+        The first `DIGEST_LENGTH` hex digits of the SHA-256 of every ``*.py`` file of
+        ``directory``, names and bytes, in name order.
+
+    """
+    directory = Path(__file__).resolve().parent if directory is None else Path(directory)
+    digest = hashlib.sha256()
+    for path in sorted(directory.glob('*.py')):
+        digest.update(path.name.encode('utf-8') + b'\0')
+        digest.update(path.read_bytes() + b'\0')
+    return digest.hexdigest()[:DIGEST_LENGTH]
+
+
+#: The digest of this copy of the kernel sources.
+SOURCES_DIGEST = sources_digest()
+
+
+def keyed_cache_dir(base, digest=SOURCES_DIGEST):
+    """
+    Return ``base/digest``, or ``base`` itself when it is already the directory of ``digest``.
+
+    A process started with ``NUMBA_CACHE_DIR`` set by another (a worker, ``compile_kernels``'s
+    child) gets the keyed directory as it is, not a directory nested in it.
+
+    """
+    base = Path(base)
+    return base if base.name == digest else base / digest
 
 
 def _configure_cache():
-    """Point numba's cache at `default_cache_dir` unless ``NUMBA_CACHE_DIR`` says otherwise."""
-    if not os.environ.get('NUMBA_CACHE_DIR'):
-        path = default_cache_dir()
-        if not _writable_dir(path):
-            return
-        # Read at import by numba, and by its cache locators each time a kernel is defined.
-        os.environ['NUMBA_CACHE_DIR'] = str(path)
-        if 'numba' in sys.modules:
-            sys.modules['numba'].config.CACHE_DIR = str(path)
-    seed_cache(SHIPPED_CACHE, os.environ['NUMBA_CACHE_DIR'])
+    """
+    Point numba's cache at ``<base>/<digest>`` (see the module's docstring); seed it.
+
+    ``base`` is ``NUMBA_CACHE_DIR`` when set, else `default_cache_dir`. Nothing changes when
+    that directory cannot be written (numba's own fallback applies).
+
+    """
+    base = os.environ.get('NUMBA_CACHE_DIR') or default_cache_dir()
+    path = keyed_cache_dir(base)
+    if not _writable_dir(path):
+        return
+    # Read at import by numba, and by its cache locators each time a kernel is defined.
+    os.environ['NUMBA_CACHE_DIR'] = str(path)
+    if 'numba' in sys.modules:
+        sys.modules['numba'].config.CACHE_DIR = str(path)
+    seed_cache(keyed_cache_dir(SHIPPED_CACHE), path)
 
 
 def seed_cache(source, target):
@@ -150,55 +207,3 @@ def kernel(func):
 def cache_dir():
     """Return the directory numba caches kernels in now (``''`` when it chose itself)."""
     return numba.config.CACHE_DIR
-
-
-def warm_up():
-    """
-    Compile (or load from the cache) every kernel of the core with a tiny call.
-
-    Returns
-    -------
-    seconds : float
-        Wall time it took [s]: the compile time with an empty cache, the load time with a
-        warm one, nearly 0 when the kernels were ready already.
-
-    """
-    from .astar_search import warm_up_astar
-    from .costmap_grid import warm_up_costmap
-    from .label_grid import warm_up_label_update
-    from .map_values import warm_up_map_values
-    from .planning_masks import warm_up_planning_masks
-    started = time.perf_counter()
-    warm_up_astar()
-    warm_up_label_update()
-    warm_up_costmap()
-    warm_up_map_values()
-    warm_up_planning_masks()
-    return time.perf_counter() - started
-
-
-def compile_kernels(directory=SHIPPED_CACHE):
-    """
-    Compile every kernel into ``directory``, the cache a first start copies from.
-
-    Runs `warm_up` in a fresh process with ``NUMBA_CACHE_DIR`` set to ``directory``: kernels
-    whose cached code matches the sources are loaded, the others compiled.
-
-    Parameters
-    ----------
-    directory : path-like
-        Default `SHIPPED_CACHE`, beside this package's sources.
-
-    Returns
-    -------
-    seconds : float
-        Wall time of the fresh process's `warm_up` [s].
-
-    """
-    os.makedirs(directory, exist_ok=True)
-    env = dict(os.environ, NUMBA_CACHE_DIR=str(directory))
-    code = f'import sys; sys.path.insert(0, {str(Path(__file__).resolve().parents[2])!r}); ' \
-        'from dpn_navigator.core import jit; print(jit.warm_up())'
-    result = subprocess.run([sys.executable, '-c', code], env=env, check=True,
-                            capture_output=True, text=True)
-    return float(result.stdout.split()[-1])
