@@ -236,42 +236,6 @@ class Wanderers:
             self._anchors[i] = (int(rr[k]), int(cc[k]))
             ok &= np.hypot(xs - xs[k], ys - ys[k]) >= apart
 
-    def script(self, i, waypoints):
-        """
-        Put wanderer ``i`` on a fixed route: at the first waypoint, facing the second.
-
-        It then drives from waypoint to waypoint as along a path of its own (stopping for the
-        Husky and the others ahead as always, with the longest patience of its configuration);
-        at the last one it waits that long and picks a random goal again. For scripted scenes
-        in tests.
-
-        Parameters
-        ----------
-        i : int
-            Which wanderer.
-        waypoints : sequence of (float, float)
-            At least two map-frame points [m]; the first must lie in a clear cell.
-
-        Raises
-        ------
-        ValueError
-            For fewer than two waypoints, or a first one off the clear cells.
-
-        """
-        points = [(float(x), float(y)) for x, y in waypoints]
-        if len(points) < 2:
-            raise ValueError(f'a scripted route needs two waypoints or more, got {len(points)}')
-        anchor = self.grid.cell_of(*points[0])
-        if anchor is None or not self.grid.clear[anchor]:
-            raise ValueError(f'the first waypoint {points[0]} is not in a clear cell')
-        self.positions[i] = points[0]
-        self.yaws[i] = math.atan2(points[1][1] - points[0][1], points[1][0] - points[0][0])
-        self._paths[i] = points[1:]
-        self._anchors[i] = anchor
-        self._centring[i] = False
-        self._stopped[i] = 0.0
-        self._patience[i] = self.config.patience_range[1]
-
     def step(self, dt, husky_xy):
         """
         Advance every wanderer by one time step.
