@@ -248,9 +248,9 @@ class Navigator:
     config : NavigatorConfig
     grid : LabelGrid-like, optional
         The map to plan on, in place of the ``LabelGrid`` built from ``config``: any object
-        with ``LabelGrid``'s ``geometry``, ``labels``, ``last_window``, ``update`` and
-        ``blocked`` (the benchmark's reference navigators: ``CostmapGrid``, ``OracleGrid``),
-        and optionally ``settle`` (then its ``update`` takes ``defer_evidence``).
+        with ``LabelGrid``'s ``geometry``, ``labels``, ``last_window`` and ``update`` (the
+        benchmark's reference navigators: ``CostmapGrid``, ``OracleGrid``), and optionally
+        ``settle`` (then its ``update`` takes ``defer_evidence``).
 
     Attributes
     ----------
