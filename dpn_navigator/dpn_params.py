@@ -90,21 +90,6 @@ FLOAT_PARAMETERS = {
                           (0.0, 1.0), True),
     'turn_sweep_spot_distance': (0.6, 'Farthest place the turn sweep moves the robot to for a '
                                  'blocked turn [m]; 0: it waits.', (0.0, 5.0), True),
-    'yield_corridor_width': (0.0, 'Head-on yield: a moving object coming head-on where the '
-                             'route to it runs through a corridor narrower than this, wall to '
-                             'wall, sends the robot to a passing place until it has passed [m]; '
-                             '0: off.', (0.0, 100.0), True),
-    'yield_trigger_distance': (8.0, 'Head-on yield: yield to objects at most this far away '
-                               'along the route to them [m].', (0.0, 1000.0), True),
-    'yield_side_clearance': (1.5, 'Head-on yield: a passing place lies at least this far from '
-                             'the corridor line; no object this close to it lets the robot go '
-                             '[m].', (0.0, 100.0), True),
-    'yield_search_distance': (12.0, 'Head-on yield: longest route to a passing place over '
-                              'known free cells [m].', (0.0, 1000.0), True),
-    'yield_wait_max': (30.0, 'Head-on yield: leave the state at the latest this long after it '
-                       'started [s].', (0.0, 3600.0), True),
-    'yield_approach_speed': (0.1, 'Head-on yield: least speed of an object towards the robot '
-                             'to yield to it [m/s].', (0.0, 10.0), True),
     'goal_x': (2.0, 'Goal x in the map frame [m]; NaN: wait for a goal on goal_pose.',
                None, True),
     'goal_y': (18.0, 'Goal y in the map frame [m]; NaN: wait for a goal on goal_pose.',
@@ -237,12 +222,6 @@ def declare_parameters(node):
         turn_sweep_memory=values['turn_sweep_memory'],
         turn_sweep_margin=values['turn_sweep_margin'],
         turn_sweep_spot_distance=values['turn_sweep_spot_distance'],
-        yield_corridor_width=values['yield_corridor_width'],
-        yield_trigger_distance=values['yield_trigger_distance'],
-        yield_side_clearance=values['yield_side_clearance'],
-        yield_search_distance=values['yield_search_distance'],
-        yield_wait_max=values['yield_wait_max'],
-        yield_approach_speed=values['yield_approach_speed'],
         laser_offset=(values['laser_x'], values['laser_y'], values['laser_yaw']),
         follower=follower)
     goal = None

@@ -11,13 +11,6 @@ beyond the Husky's radius) it stops, and likewise for another wanderer close ahe
 wanderer that stays stopped longer than its patience picks a new goal and plans around what
 blocks it, so none is stuck for long.
 
-With ``mutual_yield`` on, two wanderers that stop for each other (typically head-on in a
-passage) do not both wait out their patience: the one with the higher index gives way at once.
-It takes a new goal it can reach without passing the other and that lies off the other's
-remaining path (``yield_path_margin`` away from it); the other keeps its path and starts its
-patience afresh. A wanderer already giving way does not give way again (in a knot of three it
-waits out its patience as without the option).
-
 Everything here is plain Python + numpy, with no pybullet; the world copies the poses into
 the physics engine. All randomness comes from the generator passed in, so a seed fixes the
 wanderers' spawn points, speeds, goals and therefore trajectories.
@@ -32,7 +25,6 @@ from dpn_navigator.core.pose2d import wrap_angle
 import numpy as np
 
 from .clear_paths import block_disc, plan_path, turning_points
-from .free_space import label_components
 from .husky import HUSKY_RADIUS
 
 #: The Pioneer 3-AT model.
@@ -66,19 +58,6 @@ class WandererConfig:
         Preferred straight-line distance to a new goal [m].
     spawn_distance : float
         Least distance between a spawn point and the Husky's start [m].
-    mutual_yield : bool
-        When two wanderers stop for each other, the one with the higher index gives way at
-        once (see the module's notes). Off by default: every seeded world then moves exactly
-        as it did before the option existed.
-    yield_path_margin : float
-        Least distance from the goal of a wanderer giving way to the remaining path of the one
-        it gives way to [m]; with ``mutual_yield`` only.
-
-    Raises
-    ------
-    ValueError
-        For a ``mutual_yield`` that is not a bool or a ``yield_path_margin`` that is not a
-        finite number of 0 or more.
 
     """
 
@@ -91,53 +70,6 @@ class WandererConfig:
     patience_range: tuple = (1.5, 3.0)
     goal_distance_range: tuple = (3.0, 15.0)
     spawn_distance: float = 3.0
-    mutual_yield: bool = False
-    yield_path_margin: float = 1.0
-
-    def __post_init__(self):
-        if not isinstance(self.mutual_yield, bool):
-            raise ValueError(f'mutual_yield must be True or False, got {self.mutual_yield!r}')
-        margin = self.yield_path_margin
-        if isinstance(margin, bool) or not isinstance(margin, (int, float)) or \
-                not math.isfinite(margin) or margin < 0.0:
-            raise ValueError(f'yield_path_margin must be a finite distance of 0 m or more, got '
-                             f'{margin!r}')
-
-
-def distance_to_polyline(xs, ys, points):
-    """
-    Distance from points to a polyline.
-
-    Parameters
-    ----------
-    xs, ys : (K,) ndarray of float64
-        The points [m].
-    points : (S + 1, 2) ndarray of float64
-        The polyline's vertices [m], one or more (a single vertex is a point).
-
-    Returns
-    -------
-    distance : (K,) ndarray of float64
-        Distance from each point to the nearest point of the polyline [m].
-
-    Examples
-    --------
-    >>> distance_to_polyline(np.array([1.0, 3.0]), np.array([1.0, 0.0]),
-    ...                      np.array([[0.0, 0.0], [2.0, 0.0]])).tolist()
-    [1.0, 1.0]
-
-    """
-    points = np.asarray(points, dtype=np.float64).reshape(-1, 2)
-    if len(points) == 0:
-        raise ValueError('the polyline needs one vertex or more')
-    start = points[:-1] if len(points) > 1 else points
-    end = points[1:] if len(points) > 1 else points
-    ex, ey = (end - start).T                                  # (S,) segment vectors
-    px = np.asarray(xs, dtype=np.float64)[:, np.newaxis] - start[:, 0]   # (K, S)
-    py = np.asarray(ys, dtype=np.float64)[:, np.newaxis] - start[:, 1]
-    length2 = ex * ex + ey * ey
-    along = np.clip((px * ex + py * ey) / np.where(length2 > 0.0, length2, 1.0), 0.0, 1.0)
-    return np.hypot(px - along * ex, py - along * ey).min(axis=1, initial=np.inf)
 
 
 class Wanderers:
@@ -167,9 +99,6 @@ class Wanderers:
         Walking speeds [m/s].
     goals_reached, replans : int
         Goals reached, and new goals picked because a wanderer was blocked or had no path.
-    yields : int
-        Times a wanderer gave way to another (``WandererConfig.mutual_yield``); counted in
-        ``replans`` too.
 
     """
 
@@ -186,7 +115,6 @@ class Wanderers:
         self.speeds = rng.uniform(*config.speed_range, count)
         self.goals_reached = 0
         self.replans = 0
-        self.yields = 0
         self._blocked = ~grid.clear
         # During a step the state lives in plain floats, much cheaper than numpy scalars; the
         # arrays are brought up to date at its end.
@@ -209,10 +137,6 @@ class Wanderers:
         # Time stopped (or without a path), and how long to bear it before a new goal [s].
         self._stopped = [0.0] * count
         self._patience = [0.0] * count
-        # The wanderer each one stopped for at its last look-out (-1: none or the Husky), and
-        # the one each is giving way to (-1: none); with `mutual_yield` only.
-        self._stopped_for = [-1] * count
-        self._giving_way_to = [-1] * count
         self._spawn(husky_xy)
 
     def _spawn(self, husky_xy):
@@ -235,42 +159,6 @@ class Wanderers:
             self.yaws[i] = self.rng.uniform(-math.pi, math.pi)
             self._anchors[i] = (int(rr[k]), int(cc[k]))
             ok &= np.hypot(xs - xs[k], ys - ys[k]) >= apart
-
-    def script(self, i, waypoints):
-        """
-        Put wanderer ``i`` on a fixed route: at the first waypoint, facing the second.
-
-        It then drives from waypoint to waypoint as along a path of its own (stopping for the
-        Husky and the others ahead as always, with the longest patience of its configuration);
-        at the last one it waits that long and picks a random goal again. For scripted scenes
-        in tests.
-
-        Parameters
-        ----------
-        i : int
-            Which wanderer.
-        waypoints : sequence of (float, float)
-            At least two map-frame points [m]; the first must lie in a clear cell.
-
-        Raises
-        ------
-        ValueError
-            For fewer than two waypoints, or a first one off the clear cells.
-
-        """
-        points = [(float(x), float(y)) for x, y in waypoints]
-        if len(points) < 2:
-            raise ValueError(f'a scripted route needs two waypoints or more, got {len(points)}')
-        anchor = self.grid.cell_of(*points[0])
-        if anchor is None or not self.grid.clear[anchor]:
-            raise ValueError(f'the first waypoint {points[0]} is not in a clear cell')
-        self.positions[i] = points[0]
-        self.yaws[i] = math.atan2(points[1][1] - points[0][1], points[1][0] - points[0][0])
-        self._paths[i] = points[1:]
-        self._anchors[i] = anchor
-        self._centring[i] = False
-        self._stopped[i] = 0.0
-        self._patience[i] = self.config.patience_range[1]
 
     def step(self, dt, husky_xy):
         """
@@ -325,14 +213,11 @@ class Wanderers:
         ux, uy = dx / dist, dy / dist
         blocker = None if self._centring[i] else self._blocker(i, ux, uy, husky_xy)
         if blocker is not None:
-            if self.config.mutual_yield and self._yield_to(i, blocker, husky_xy):
-                return turn != 0.0
             self._stopped[i] += dt
             if self._stopped[i] >= self._patience[i]:
                 self._new_goal(i, husky_xy, blocker)
             return turn != 0.0
         self._stopped[i] = 0.0
-        self._stopped_for[i] = -1
         step = min(self._speeds[i] * dt, dist)
         if step >= dist:
             self._xy[i] = [tx, ty]
@@ -357,97 +242,12 @@ class Wanderers:
                 return ox, oy, self.radius
         return None
 
-    def _yield_to(self, i, blocker, husky_xy):
-        """
-        Apply `mutual_yield` to wanderer ``i`` stopped for ``blocker``; True when it gave way.
-
-        Wanderer ``i`` gives way when ``blocker`` is wanderer ``j`` with a lower index that
-        stopped for ``i`` at its own last look-out (``j`` itself gives way to ``i`` on its own
-        turn when the indices are the other way round), unless ``i`` is already giving way:
-        then it waits out its patience as without the option, so that three or more in a knot
-        cannot pass the turn round for ever. ``j`` starts its patience afresh.
-        """
-        j = self._wanderer_at(blocker)
-        self._stopped_for[i] = j
-        if j < 0:
-            return False
-        if self._stopped_for[j] != i or j > i or self._giving_way_to[i] >= 0:
-            return False
-        if not self._give_way(i, j, husky_xy):
-            return False
-        self._stopped[j] = 0.0
-        self._stopped_for[i] = -1
-        return True
-
-    def _wanderer_at(self, blocker):
-        """Return the index of the wanderer whose circle is ``blocker``, or -1 (the Husky)."""
-        if blocker[2] != self.radius:
-            return -1
-        for j, (ox, oy) in enumerate(self._xy):
-            if ox == blocker[0] and oy == blocker[1]:
-                return j
-        return -1
-
-    def _give_way(self, i, j, husky_xy):
-        """
-        Send wanderer ``i`` to a goal off wanderer ``j``'s way; return True when it has a path.
-
-        The goal lies in the window of `_pick_goal`, in the part of it ``i`` reaches without
-        passing ``j`` or the Husky (their circles blocked as for a stopped wanderer), and at
-        least ``yield_path_margin`` from ``j``'s remaining path; preferably
-        ``goal_distance_range`` away. When there is none, nothing changes.
-        """
-        cfg = self.config
-        anchor = self.grid.cell_of(*self._xy[i])
-        own_cell = anchor is not None and bool(self.grid.clear[anchor])
-        if not own_cell:
-            anchor = self._anchors[i]
-        blocked = self._blocked.copy()
-        geometry = self.grid.geometry
-        for cx, cy, radius in ((husky_xy[0], husky_xy[1], HUSKY_RADIUS),
-                               (*self._xy[j], self.radius)):
-            block_disc(blocked, geometry, cx, cy, radius + cfg.clearance)
-        if blocked[anchor]:
-            return False
-        lo, hi = cfg.goal_distance_range
-        ax, ay = self.grid.centre(*anchor)
-        rows, cols = geometry.cell_window(ax - hi, ax + hi, ay - hi, ay + hi)
-        components, _ = label_components(~blocked[rows, cols])
-        reachable = components == components[anchor[0] - rows.start, anchor[1] - cols.start]
-        rr, cc = np.nonzero(reachable)
-        rr += rows.start
-        cc += cols.start
-        xs, ys = geometry.cell_to_world(rr, cc)
-        path_j = np.array([self._xy[j]] + self._paths[j], dtype=np.float64)
-        off_way = distance_to_polyline(xs, ys, path_j) >= cfg.yield_path_margin
-        rr, cc, xs, ys = rr[off_way], cc[off_way], xs[off_way], ys[off_way]
-        dist = np.hypot(xs - ax, ys - ay)
-        pool = np.flatnonzero((dist >= lo) & (dist <= hi))
-        if len(pool) == 0:
-            pool = np.flatnonzero(dist > 0.0)
-        if len(pool) == 0:
-            return False
-        k = int(pool[self.rng.integers(len(pool))])
-        path = plan_path(geometry, blocked, anchor, (int(rr[k]), int(cc[k])))
-        if path is None:
-            return False
-        self._paths[i] = [self.grid.centre(*cell) for cell in turning_points(path)]
-        self._centring[i] = own_cell
-        self._stopped[i] = 0.0
-        self._patience[i] = self.rng.uniform(*cfg.patience_range)
-        self._giving_way_to[i] = j
-        self.replans += 1
-        self.yields += 1
-        return True
-
     def _reach_waypoint(self, i):
         tx, ty = self._paths[i].pop(0)
         self._anchors[i] = self.grid.cell_of(tx, ty)
         self._centring[i] = False
         if not self._paths[i]:
             self.goals_reached += 1
-            self._stopped_for[i] = -1
-            self._giving_way_to[i] = -1
 
     def _new_goal(self, i, husky_xy, blocker):
         """
@@ -464,8 +264,6 @@ class Wanderers:
         """
         cfg = self.config
         self._stopped[i] = 0.0
-        self._stopped_for[i] = -1
-        self._giving_way_to[i] = -1
         self._patience[i] = self.rng.uniform(*cfg.patience_range)
         anchor = self.grid.cell_of(*self._xy[i])
         own_cell = anchor is not None and bool(self.grid.clear[anchor])

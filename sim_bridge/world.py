@@ -222,23 +222,6 @@ class World:
         """Return True on ticks that fall on the scan rate (tick 0 included)."""
         return self._tick % self.config.ticks_per_scan == 0
 
-    def script_wanderer(self, i, waypoints):
-        """
-        Send wanderer ``i`` along fixed waypoints, from the first (see `Wanderers.script`).
-
-        Parameters
-        ----------
-        i : int
-            Which wanderer.
-        waypoints : sequence of (float, float)
-            Map-frame points [m], at least two.
-
-        """
-        self._wanderers.script(i, waypoints)
-        self._place_wanderer(i)
-        self._stale_ray_twins.discard(i)
-        self._scan = None
-
     # -- stepping ---------------------------------------------------------------------------
 
     def set_command(self, v, omega):

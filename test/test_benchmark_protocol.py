@@ -4,7 +4,7 @@ import csv
 from pathlib import Path
 
 from dpn_navigator.benchmark.episode_log import (COLUMNS, DETECTION_COLUMNS, EpisodeLog,
-                                                 PREVIOUS_COLUMNS, read_log, row_key)
+                                                 read_log, row_key)
 from dpn_navigator.benchmark.protocol import (episode_seed, MAX_WANDERERS, NAVIGATORS,
                                               plan_episodes, PROFILES, resolve_maps)
 from dpn_navigator.benchmark.report import (cell_stats, map_order, save_success_figure,
@@ -63,13 +63,8 @@ def test_navigator_variants_are_valid_configs():
     assert NAVIGATORS['dpn'] == {}
     paper = NavigatorConfig(width=10.0, height=10.0, **NAVIGATORS['paper'])
     assert paper.obstacle_proximity_cost == 0.0 and paper.forget_obstacles_after == 0.0
-    # The paper's FSM exactly: no label rule on, and no head-on yield.
+    # The paper's FSM exactly: no label rule on.
     assert paper.label_rule() == PAPER_RULE
-    assert not paper.yield_config().enabled
-    assert not NavigatorConfig(width=10.0, height=10.0).yield_config().enabled   # off for now
-    dpn_yield = NavigatorConfig(width=10.0, height=10.0, **NAVIGATORS['dpn_yield'])
-    assert dpn_yield.yield_config().enabled
-    assert dpn_yield.label_rule() == NavigatorConfig(width=10.0, height=10.0).label_rule()
     # The turn sweep: on in dpn and the reference navigators (dpn's follower), off in paper
     # and dpn_no_sweep.
     shipped = NavigatorConfig(width=10.0, height=10.0)
@@ -89,10 +84,8 @@ def test_the_nodes_paper_params_file_is_the_benchmarks_paper_navigator():
     assert paper == NAVIGATORS['paper']
     shipped = yaml.safe_load((config / 'dpn.yaml').read_text())['/**/dpn']['ros__parameters']
     assert set(paper) <= set(shipped)
-    # Each one is on in the dpn file, but the head-on yield state, off by default for now.
-    off_for_now = ('yield_corridor_width',)
-    assert all(shipped[name] > 0.0 for name in paper if name not in off_for_now)
-    assert all(shipped[name] == paper[name] == 0.0 for name in off_for_now)
+    # Each one is on in the dpn file.
+    assert all(shipped[name] > 0.0 for name in paper)
 
 
 def test_plan_is_the_cross_product_without_repeats():
@@ -188,20 +181,6 @@ def test_log_rejects_foreign_or_broken_files(tmp_path, text, match):
     with pytest.raises(ValueError, match=match):
         read_log(path)
     with pytest.raises(ValueError, match=match):
-        EpisodeLog(path)
-
-
-def test_a_log_of_the_version_before_the_yield_columns_reads_but_is_not_appended_to(tmp_path):
-    shipped = (Path(__file__).resolve().parents[1] / 'docs' / 'benchmark' / 'compare' / 'dpn'
-               / 'episodes.csv')
-    rows = read_log(shipped)
-    assert len(rows) == 102
-    assert all(row['yields'] == 0 and row['replans_yield'] == 0 for row in rows)
-    assert all(isinstance(row['replans'], int) for row in rows)
-    path = tmp_path / 'episodes.csv'
-    path.write_text(','.join(PREVIOUS_COLUMNS) + '\n')
-    assert read_log(path) == []
-    with pytest.raises(ValueError, match='version before'):
         EpisodeLog(path)
 
 

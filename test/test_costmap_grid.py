@@ -13,7 +13,7 @@ import subprocess
 import sys
 
 from dpn_navigator.core._kernels.costmap import clear_rays
-from dpn_navigator.core.cell_label import CellLabel, ScanInput
+from dpn_navigator.core.cell_label import blocked_mask, CellLabel, ScanInput
 from dpn_navigator.core.costmap_grid import (any_in_blocks, bresenham_cells,
                                              CostmapConfig, CostmapGrid, inflate,
                                              layer_geometry_for)
@@ -100,7 +100,7 @@ def test_a_hit_marks_its_cell_lethal_and_clears_the_cells_before_it():
     assert costmap.known_free[10, 2:10].all() and not costmap.known_free[10, 10]
     assert not costmap.known_free[10, 11:].any() and not costmap.known_free[9].any()
     # Inflated to 0.6 m between cell centres: the cell and its four neighbours.
-    blocked = costmap.blocked()
+    blocked = blocked_mask(costmap.labels)
     assert_array_equal(np.argwhere(blocked), [[9, 10], [10, 9], [10, 10], [10, 11], [11, 10]])
     assert costmap.labels[10, 5] == CellLabel.EXPLORED
     assert costmap.labels[20, 20] == CellLabel.NON_EXPLORED
@@ -305,10 +305,11 @@ def test_a_finer_layer_keeps_a_corridor_open_that_half_metre_cells_close():
         costmap.update((1.0, 5.25, 0.0), ranges, -1.5, 0.01, 0.1, 30.0, safety_radius=0.6)
     # The hit cells' centres: y = 4.75 and 5.75 at 0.5 m, both 0.5 m from row 10's centre
     # (y = 5.25); y = 4.55 and 5.95 at 0.1 m, 0.7 m from it.
-    assert closed.blocked()[10, 4:16].all()
-    assert not open_.blocked()[10, 4:16].any()
+    assert blocked_mask(closed.labels)[10, 4:16].all()
+    open_blocked = blocked_mask(open_.labels)
+    assert not open_blocked[10, 4:16].any()
     assert (open_.labels[10, 4:16] == CellLabel.EXPLORED).all()
-    assert open_.blocked()[9, 4:16].all() and open_.blocked()[11, 4:16].all()
+    assert open_blocked[9, 4:16].all() and open_blocked[11, 4:16].all()
 
 
 @pytest.mark.parametrize('layer_resolution', [0.3, 0.0, -0.1, 1.0, math.nan])

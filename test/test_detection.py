@@ -215,12 +215,10 @@ def test_replans_by_cause():
                     [[1.5, 1.5]])
     m.record_replan(ReplanCause.NO_PATH_RETRY, None, None, labels, [])
     m.record_replan(ReplanCause.OTHER, path, before, labels, [])
-    m.record_replan(ReplanCause.YIELD, path, before, labels, [])
-    m.record_replan(ReplanCause.YIELD, path, before, labels, [])
     m.record_replan(ReplanCause.NONE, path, before, labels, [])
     result = m.result()
     assert (result.replans_wall, result.replans_wanderer, result.replans_no_path_retry,
-            result.replans_other, result.replans_yield) == (3, 1, 1, 1, 2)
+            result.replans_other) == (3, 1, 1, 1)
 
 
 def test_meter_refuses_a_belt_of_another_shape():
@@ -243,8 +241,7 @@ def detection_row(wanderers, scans, visible, true, **extra):
            'steady_ghosts_mean': 0.0, 'mobile_ghost_scan_share': 0.0,
            'steady_ghost_scan_share': 0.0, 'mobile_ghosts_end': 0, 'steady_ghosts_end': 0,
            'replans_wall': 1, 'replans_wanderer': 2, 'replans_no_path_retry': 0,
-           'replans_other': 1, 'replans_yield': 0, 'wall_time': 10.0,
-           'detection_wall_time': 0.5}
+           'replans_other': 1, 'wall_time': 10.0, 'detection_wall_time': 0.5}
     row.update(extra)
     return row
 
@@ -259,8 +256,7 @@ def test_detection_stats_pool_counts_and_weigh_ghosts_by_scans():
     assert stats.precision == pytest.approx(9 / 100)   # pooled, not (0.9 + 0.0) / 2
     assert stats.recall == 0.25 and stats.wall_mobile_share == pytest.approx(2 / 20)
     assert stats.mobile_ghosts == pytest.approx((100 * 1.0 + 300 * 3.0) / 400)
-    assert stats.replans == {'wall': 1.0, 'wanderer': 2.0, 'no_path_retry': 0.0, 'other': 1.0,
-                             'yield': 0.0}
+    assert stats.replans == {'wall': 1.0, 'wanderer': 2.0, 'no_path_retry': 0.0, 'other': 1.0}
     assert stats.cost_share == pytest.approx(0.05)
     assert detection_stats(rows[2:]) is None
 
@@ -270,7 +266,7 @@ def test_detection_table_and_figure(tmp_path):
     text = detection_markdown({'paper': rows})
     assert '| paper | 0 | 1 | - | - | 10.0 |' in text        # undefined ratios: '-'
     assert '| paper | 5 | 1 | 0.50 | - | 10.0 | 0.0 (0) |' in text
-    assert '1.0 / 2.0 / 0.0 / 1.0 / 0.0 | 5.0 |' in text
+    assert '1.0 / 2.0 / 0.0 / 1.0 | 5.0 |' in text
     assert 'No episode with detection measures.' in detection_markdown(
         {'dpn': [detection_row(0, None, None, None)]})
     save_detection_figure(tmp_path / 'detection.png', {'paper': rows, 'dpn': rows})

@@ -88,9 +88,7 @@ def test_detection_measures_do_not_change_the_episode(back_and_forth):
     assert detection.scans == round(measured.time * 10)     # 10 Hz, up to the time limit
     assert 0 < measured.detection_wall_time < 25.0
     assert (detection.replans_wall + detection.replans_wanderer
-            + detection.replans_no_path_retry + detection.replans_other
-            + detection.replans_yield) == measured.replans
-    assert measured.yields == detection.replans_yield == 0         # the state is off
+            + detection.replans_no_path_retry + detection.replans_other) == measured.replans
     assert 0.0 <= detection.mobile_precision <= 1.0
     assert 0.0 <= detection.wanderer_hit_recall <= 1.0
     assert 0 <= detection.wall_cells_ever_mobile <= detection.wall_cells_seen

@@ -11,6 +11,7 @@ from dpn_navigator.benchmark.ground_truth import wall_belt
 from dpn_navigator.benchmark.oracle_grid import OracleGrid
 from dpn_navigator.benchmark.protocol import MAP_MODELS, NAVIGATORS, resolve_maps
 from dpn_navigator.core import CellLabel, GridGeometry, NavigatorConfig
+from dpn_navigator.core.cell_label import blocked_mask
 from dpn_navigator.core.costmap_grid import CostmapGrid
 import numpy as np
 from numpy.testing import assert_array_equal
@@ -47,7 +48,7 @@ def test_oracle_labels_walls_steady_and_wanderers_mobile():
     grid.set_wanderers(np.zeros((0, 2)))
     grid.update((0.0, 0.0, 0.0), [1.0], safety_radius=0.6, **ONE_BEAM)
     assert not (grid.labels == M).any() and (grid.labels[:, 0] == S).all()
-    assert_array_equal(grid.blocked(), grid.labels == S)
+    assert_array_equal(blocked_mask(grid.labels), grid.labels == S)
 
 
 def test_oracle_wanderer_on_a_wall_keeps_it_steady():

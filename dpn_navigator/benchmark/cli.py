@@ -51,8 +51,7 @@ def build_parser():
                         help='wanderer counts, 0 to 10')
     parser.add_argument('--repeats', type=int, help='repetitions of each configuration')
     parser.add_argument('--navigator', choices=sorted(NAVIGATORS), default='dpn',
-                        help='dpn: as shipped; dpn_yield: dpn with the head-on yield state '
-                             'on (docs/method.md); dpn_no_sweep: dpn with the turn sweep off '
+                        help='dpn: as shipped; dpn_no_sweep: dpn with the turn sweep off '
                              "(docs/safety.md); paper: without this project's additions "
                              '(A* proximity cost, forgetting unseen obstacles when stuck, the '
                              'label rules of docs/detection.md); costmap: a Nav2-style '

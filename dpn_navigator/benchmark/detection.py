@@ -14,7 +14,7 @@ wanderers, and counts (definitions in ``docs/detection.md``):
 - **ghosts**: mobile and steady obstacle cells that neither a wall's belt nor a wanderer within
   ``R + r`` explains, over the whole grid, per scan and at the end;
 - **replans by cause**: the grid's flag raised by a wall or by a wanderer, no-path retries and
-  the rest, and the head-on yield state's routes and plans.
+  the rest.
 
 Precision and recall are pooled: counts are summed over the scans (and over episodes in the
 summary), then divided once. The work per scan is bounded by the scan window, except the ghost
@@ -34,7 +34,7 @@ from ..core.grid_geometry import squared_radius_bound
 from ..core.navigator import ReplanCause
 
 #: Replan classes, in column order.
-REPLAN_CLASSES = ('wall', 'wanderer', 'no_path_retry', 'other', 'yield')
+REPLAN_CLASSES = ('wall', 'wanderer', 'no_path_retry', 'other')
 
 
 @dataclass(frozen=True)
@@ -66,9 +66,8 @@ class DetectionResult:
         Share of scans with at least one ghost cell of the label.
     mobile_ghosts_end, steady_ghosts_end : int
         Ghost cells after the last scan.
-    replans_wall, replans_wanderer, replans_no_path_retry, replans_other, replans_yield : int
-        Paths planned, by cause (``yield``: routes to a passing place and the plans after
-        yielding, ``ReplanCause.YIELD``).
+    replans_wall, replans_wanderer, replans_no_path_retry, replans_other : int
+        Paths planned, by cause.
 
     """
 
@@ -92,7 +91,6 @@ class DetectionResult:
     replans_wanderer: int
     replans_no_path_retry: int
     replans_other: int
-    replans_yield: int
 
     def as_row(self):
         """Return the measures as a flat dict, ratios rounded to 4 decimals."""
@@ -291,8 +289,6 @@ class DetectionMeter:
             self._replans['no_path_retry'] += 1
         elif cause is ReplanCause.OTHER:
             self._replans['other'] += 1
-        elif cause is ReplanCause.YIELD:
-            self._replans['yield'] += 1
         else:
             after = labels[path[:, 0], path[:, 1]]
             turned = ((path_labels_before < CellLabel.STEADY_OBSTACLE)
@@ -324,4 +320,4 @@ class DetectionMeter:
             mobile_ghosts_end=self._ghosts_now[0], steady_ghosts_end=self._ghosts_now[1],
             replans_wall=self._replans['wall'], replans_wanderer=self._replans['wanderer'],
             replans_no_path_retry=self._replans['no_path_retry'],
-            replans_other=self._replans['other'], replans_yield=self._replans['yield'])
+            replans_other=self._replans['other'])

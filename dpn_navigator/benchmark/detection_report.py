@@ -151,8 +151,7 @@ def detection_markdown(rows_by_navigator):
              'counted as steady).', '',
              '| navigator | wanderers | episodes | precision | recall | walls mobile % | '
              'mobile ghosts / scan (scans %) | steady ghosts / scan (scans %) | ghosts at end '
-             'mobile / steady | replans wall / wanderer / no-path retry / other / yield | '
-             'cost % |',
+             'mobile / steady | replans wall / wanderer / no-path retry / other | cost % |',
              '|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|']
     measured = False
     for navigator, rows in rows_by_navigator.items():

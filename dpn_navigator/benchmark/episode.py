@@ -67,9 +67,6 @@ class EpisodeResult:
     forgets : int
         Times the navigator, stuck with no path, forgot the obstacles out of view
         (``NavigatorConfig.forget_obstacles_after``).
-    yields : int
-        Times the navigator went to a passing place to let a moving obstacle pass
-        (``NavigatorConfig.yield_corridor_width``).
     wall_contacts, wanderer_contacts : int
         Contact events of the Husky (``ContactLog``).
     walls_labelled_mobile : int
@@ -97,7 +94,6 @@ class EpisodeResult:
     shortest_path: float
     replans: int
     forgets: int
-    yields: int
     wall_contacts: int
     wanderer_contacts: int
     walls_labelled_mobile: int
@@ -401,7 +397,7 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
         success=reached and not contacts.events, failure=failure, time=round(end_time, 3),
         time_limit=round(time_limit, 3), path_length=round(travelled, 3),
         shortest_path=round(shortest, 3), replans=navigator.replans,
-        forgets=navigator.forgets, yields=navigator.yields,
+        forgets=navigator.forgets,
         wall_contacts=contacts.wall_events, wanderer_contacts=contacts.wanderer_events,
         walls_labelled_mobile=walls_mobile, ghost_obstacles=ghosts,
         detection=None if meter is None else meter.result(),

@@ -13,7 +13,7 @@ Columns (`COLUMNS`), per episode:
 - ``task``, ``wanderers``, ``repetition``, ``seed``: the episode's key;
 - ``success`` (1 or 0), ``failure`` (empty, ``collision``, ``no_path`` or ``timeout``);
 - ``time`` and ``time_limit`` [s, simulated], ``path_length`` and ``shortest_path`` [m],
-  ``replans``, ``forgets``, ``yields``, ``wall_contacts``, ``wanderer_contacts``,
+  ``replans``, ``forgets``, ``wall_contacts``, ``wanderer_contacts``,
   ``walls_labelled_mobile``, ``ghost_obstacles``: see ``dpn_navigator.benchmark.episode``;
 - `DETECTION_COLUMNS`: the map measured as a detector (``dpn_navigator.benchmark.detection``,
   defined in ``docs/detection.md``); a ratio with a zero denominator is an empty field, and
@@ -35,19 +35,13 @@ DETECTION_COLUMNS = DETECTION_FIELDS
 #: The log's columns, in file order.
 COLUMNS = ('map', 'number', 'family', 'task', 'wanderers', 'repetition', 'seed', 'success',
            'failure', 'time', 'time_limit', 'path_length', 'shortest_path', 'replans',
-           'forgets', 'yields', 'wall_contacts', 'wanderer_contacts', 'walls_labelled_mobile',
+           'forgets', 'wall_contacts', 'wanderer_contacts', 'walls_labelled_mobile',
            'ghost_obstacles') + DETECTION_COLUMNS + ('wall_time', 'detection_wall_time')
-#: Columns added with the head-on yield state. A log of the version before (the logs shipped
-#: in docs/benchmark) reads with none: ``yields`` 0, ``replans_yield`` 0 where measured.
-ADDED_COLUMNS = ('yields', 'replans_yield')
-#: The columns of a log of the version before.
-PREVIOUS_COLUMNS = tuple(column for column in COLUMNS if column not in ADDED_COLUMNS)
 #: Columns that identify an episode.
 KEY_COLUMNS = ('map', 'task', 'wanderers', 'repetition', 'seed')
 #: Integer columns (parsed by `read_log`).
 INT_COLUMNS = ('task', 'wanderers', 'repetition', 'seed', 'success', 'replans', 'forgets',
-               'yields', 'wall_contacts', 'wanderer_contacts', 'walls_labelled_mobile',
-               'ghost_obstacles')
+               'wall_contacts', 'wanderer_contacts', 'walls_labelled_mobile', 'ghost_obstacles')
 #: Float columns (parsed by `read_log`).
 FLOAT_COLUMNS = ('time', 'time_limit', 'path_length', 'shortest_path', 'wall_time')
 #: Detection columns holding counts (int); the others hold float. Empty fields read as None.
@@ -81,31 +75,21 @@ def read_log(path):
     Raises
     ------
     ValueError
-        If the header is neither `COLUMNS` nor `PREVIOUS_COLUMNS` (a log of another version or
-        another tool) or a complete row does not parse.
+        If the header is not `COLUMNS` (a log of another version or another tool) or a
+        complete row does not parse.
 
     """
-    header, rows = _read(path)
-    if header == PREVIOUS_COLUMNS:
-        for row in rows:
-            row['yields'] = 0
-            row['replans_yield'] = None if row['scans'] is None else 0
-    return rows
-
-
-def _read(path):
-    """Read a log of this version or the one before; return its header and rows."""
     try:
         with open(path, newline='', encoding='utf-8') as stream:
             text = stream.read()
     except FileNotFoundError:
-        return COLUMNS, []
+        return []
     if not text:
-        return COLUMNS, []
+        return []
     complete = text[:text.rfind('\n') + 1]
     reader = csv.reader(io.StringIO(complete))
     header = tuple(next(reader, None) or ())
-    if header not in (COLUMNS, PREVIOUS_COLUMNS):
+    if header != COLUMNS:
         raise ValueError(f'{os.fspath(path)!r} is not an episode log of this version: its '
                          f'header is {list(header)!r}, expected {list(COLUMNS)}; use another '
                          '--out')
@@ -115,23 +99,20 @@ def _read(path):
             raise ValueError(f'{os.fspath(path)!r} line {line_number}: {len(values)} fields, '
                              f'expected {len(header)}')
         try:
-            rows.append(_parse_row(dict(zip(header, values)), header))
+            rows.append(_parse_row(dict(zip(header, values))))
         except ValueError as exc:
             raise ValueError(f'{os.fspath(path)!r} line {line_number}: {exc}') from exc
-    return header, rows
+    return rows
 
 
-def _parse_row(row, header=COLUMNS):
+def _parse_row(row):
     """Convert one row's strings to the column types; raise ValueError when one does not fit."""
     for column in INT_COLUMNS:
-        if column in header:
-            row[column] = int(row[column])
+        row[column] = int(row[column])
     for column in FLOAT_COLUMNS:
         row[column] = float(row[column])
     row['number'] = int(row['number']) if row['number'] else None
     for column in DETECTION_COLUMNS + ('detection_wall_time',):
-        if column not in header:
-            continue
         text = row[column]
         if not text:
             row[column] = None
@@ -159,18 +140,13 @@ class EpisodeLog:
     Raises
     ------
     ValueError
-        If an existing file is not a log of this version (see `read_log`; a log of the version
-        before reads, but is not appended to).
+        If an existing file is not a log of this version (see `read_log`).
 
     """
 
     def __init__(self, path):
         self.path = path
-        header, self.rows = _read(path)
-        if header != COLUMNS:
-            raise ValueError(f'{os.fspath(path)!r} is an episode log of the version before '
-                             f'(without the columns {", ".join(ADDED_COLUMNS)}): use another '
-                             '--out')
+        self.rows = read_log(path)
         with open(path, 'a+b') as stream:
             stream.seek(0)
             data = stream.read()

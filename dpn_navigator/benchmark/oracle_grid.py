@@ -111,7 +111,3 @@ class OracleGrid(ChangeTrackers):
             return False
         rr, cc = path[:, 0], path[:, 1]
         return bool((~blocked_mask(before[rr, cc]) & blocked_mask(self.labels[rr, cc])).any())
-
-    def blocked(self):
-        """Cells planning avoids, ``(H, W)`` bool."""
-        return blocked_mask(self.labels)

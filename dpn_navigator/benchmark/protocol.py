@@ -24,22 +24,18 @@ import numpy as np
 #: conservative free space, object-level relabelling and ghost expiry, and the turn sweep).
 #: The two reference navigators (`MAP_MODELS`) plan on another map with dpn's planner and
 #: follower, the turn sweep included; they forget nothing (the costmap has no decay, the oracle
-#: nothing to forget). ``dpn_yield`` is dpn with the head-on yield state on
-#: (``NavigatorConfig.yield_corridor_width``, off by default); paper names it off, so that it
-#: stays the paper's method whatever the default. ``dpn_no_sweep`` is dpn with the turn sweep
-#: off (``NavigatorConfig.turn_sweep_memory``, on by default), as shipped before 25 November;
-#: paper names it off too.
+#: nothing to forget). ``dpn_no_sweep`` is dpn with the turn sweep off
+#: (``NavigatorConfig.turn_sweep_memory``, on by default), as shipped before 25 November; paper
+#: turns it off too.
 NAVIGATORS = {
     'dpn': {},
-    'dpn_yield': {'yield_corridor_width': 2.5},
     'dpn_no_sweep': {'turn_sweep_memory': 0.0},
     'paper': {'obstacle_proximity_cost': 0.0, 'forget_obstacles_after': 0.0,
               'free_evidence_radius': 0.0, 'moving_object_size': 0.0, 'object_min_hits': 0,
               'fine_evidence_resolution': 0.0, 'fine_evidence_radius': 0.0, 'mobile_expiry': 0.0,
               'track_confirm_time': 0.0, 'track_still_distance': 0.0, 'track_exclusive': False,
               'trail_distance': 0.0, 'object_memory': 0.0,
-              'object_memory_short_segments': False, 'turn_sweep_memory': 0.0,
-              'yield_corridor_width': 0.0},
+              'object_memory_short_segments': False, 'turn_sweep_memory': 0.0},
     'costmap': {'forget_obstacles_after': 0.0},
     'oracle': {'forget_obstacles_after': 0.0},
 }
@@ -47,8 +43,8 @@ NAVIGATORS = {
 #: The map each ``--navigator`` plans on: ``labels`` (the paper's labelled grid,
 #: ``LabelGrid``), ``costmap`` (Nav2's obstacle and inflation layers, ``CostmapGrid``) or
 #: ``oracle`` (the true walls and wanderers, ``OracleGrid``).
-MAP_MODELS = {'dpn': 'labels', 'dpn_no_sweep': 'labels', 'dpn_yield': 'labels', 'paper': 'labels',
-              'costmap': 'costmap', 'oracle': 'oracle'}
+MAP_MODELS = {'dpn': 'labels', 'dpn_no_sweep': 'labels', 'paper': 'labels', 'costmap': 'costmap',
+              'oracle': 'oracle'}
 
 #: A ``--maps`` range of map numbers, e.g. ``1-34``.
 _NUMBER_RANGE = re.compile(r'\d+-\d+')

@@ -468,10 +468,6 @@ class CostmapGrid(ChangeTrackers):
         return np.where(self._lethal_cells, CellLabel.STEADY_OBSTACLE, np.where(
             self._free_cells, CellLabel.EXPLORED, CellLabel.NON_EXPLORED)).astype(LABEL_DTYPE)
 
-    def blocked(self):
-        """Cells planning avoids: the inflated lethal cells, ``(H, W)`` bool."""
-        return blocked_mask(self.labels)
-
     def reset(self):
         """Forget everything (Nav2's ``ClearEntireCostmap``)."""
         self.lethal.fill(False)

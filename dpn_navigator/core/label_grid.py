@@ -18,7 +18,7 @@ import math
 
 import numpy as np
 
-from .cell_label import blocked_mask, CellLabel, LABEL_DTYPE
+from .cell_label import CellLabel, LABEL_DTYPE
 from .fine_evidence import FineEvidence
 from .grid_geometry import GridGeometry
 from .label_kernel import (expire_listed, mark_free_window, scan_hits, scan_update,
@@ -715,17 +715,6 @@ class LabelGrid(ChangeTrackers):
         self._mobile_cells[:self._mobile_count] = cells
         self._earliest_hit = (float(self.last_hit.ravel()[cells].min()) if cells.shape[0]
                               else math.inf)
-
-    def blocked(self):
-        """
-        Cells that planning treats as blocked: steady and mobile obstacles.
-
-        Returns
-        -------
-        blocked : (rows, cols) ndarray of bool
-
-        """
-        return blocked_mask(self.labels)
 
     def reset(self):
         """Forget everything: every cell back to ``NON_EXPLORED``, no evidence kept."""

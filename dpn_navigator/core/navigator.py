@@ -4,13 +4,11 @@ The dynamic planner navigator without ROS: grid update, replanning and path foll
 Per scan the navigator folds the scan into its ``LabelGrid``, decides whether to replan (the
 grid's replan flag, no path yet, a blocked cell ahead on the path, the robot off its path, or a
 new goal), plans with A* on the partly known grid (non-explored counts as free) and turns the
-path into a velocity command. With the head-on yield state on (``yield_corridor_width``), a
-moving object coming head-on in a narrow corridor sends the robot to a passing place until it
-has passed (``head_on_yield``). The ROS node and the batch benchmark both drive this object.
+path into a velocity command. The ROS node and the batch benchmark both drive this object.
 
 """
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 import enum
 import math
 import time
@@ -19,7 +17,6 @@ import numpy as np
 
 from .astar_search import warm_up_astar
 from .cell_label import blocked_mask, CellLabel
-from .head_on_yield import HeadOnYield, YieldConfig
 from .label_grid import LabelGrid, LabelRule, warm_up_label_update
 from .path_follower import follow_path, FollowerConfig, STOP, VelocityCommand
 from .planning_masks import PlanningMasks, touches_blocked  # noqa: F401 (re-exported)
@@ -40,7 +37,6 @@ class NavigatorStatus(enum.Enum):
     ACTIVE = 'active'                # following a path to the goal
     GOAL_REACHED = 'goal_reached'    # inside the goal tolerance; stays until a new goal
     NO_PATH = 'no_path'              # no path on the current map; retried as the map changes
-    YIELDING = 'yielding'            # at or on the way to a passing place (head_on_yield)
 
 
 class ReplanCause(enum.Enum):
@@ -50,7 +46,6 @@ class ReplanCause(enum.Enum):
     FLAG = 'flag'                    # the grid's replan flag: a path cell turned obstacle
     NO_PATH_RETRY = 'no_path_retry'  # a retry while there was no path
     OTHER = 'other'                  # no path yet (new goal), a blocked cell ahead, off the path
-    YIELD = 'yield'                  # a route to a passing place, or the plan after yielding
 
 
 @dataclass(frozen=True)
@@ -148,23 +143,6 @@ class NavigatorConfig:
         Clearance the turn sweep keeps from the kept hits [m].
     turn_sweep_spot_distance : float
         Farthest place the turn sweep moves the robot to for a blocked turn [m]; 0: it waits.
-    yield_corridor_width : float
-        Head-on yield [m]: a moving object coming head-on where the route between it and the
-        robot runs through a corridor narrower than this sends the robot to a passing place
-        until it has passed; see ``head_on_yield``. 0: off (the default for now, and the
-        paper).
-    yield_trigger_distance : float
-        Yield to objects at most this far along the route to them [m].
-    yield_side_clearance : float
-        A passing place lies at least this far from the corridor line; an object this close to
-        the path ahead concerns the robot, and one this close to the passing place's junction,
-        or coming towards it this close to the route, keeps the robot waiting [m].
-    yield_search_distance : float
-        Longest route to a passing place over known free cells [m].
-    yield_wait_max : float
-        Leave the yield state at the latest this long after it started [s].
-    yield_approach_speed : float
-        Least speed of an object towards the robot, along the route, to yield to it [m/s].
     follower : FollowerConfig
         Speed limits and gains of the path follower.
 
@@ -201,12 +179,6 @@ class NavigatorConfig:
     turn_sweep_memory: float = 2.0
     turn_sweep_margin: float = 0.05
     turn_sweep_spot_distance: float = 0.6
-    yield_corridor_width: float = 0.0
-    yield_trigger_distance: float = 8.0
-    yield_side_clearance: float = 1.5
-    yield_search_distance: float = 12.0
-    yield_wait_max: float = 30.0
-    yield_approach_speed: float = 0.1
     follower: FollowerConfig = field(default_factory=FollowerConfig)
 
     def __post_init__(self):
@@ -225,7 +197,6 @@ class NavigatorConfig:
                 raise ValueError(f'{name} must be positive and finite, got {value!r}')
         check_pose(self.laser_offset, 'laser_offset')
         self.label_rule()                        # validates the label rule's fields
-        self.yield_config()                      # and the yield state's
 
     def label_rule(self):
         """Return the grid's ``LabelRule`` from the label fields of this configuration."""
@@ -243,15 +214,6 @@ class NavigatorConfig:
                          trail_distance=self.trail_distance,
                          object_memory=self.object_memory,
                          object_memory_short_segments=self.object_memory_short_segments)
-
-    def yield_config(self):
-        """Return the head-on yield state's ``YieldConfig`` from the ``yield_*`` fields."""
-        return YieldConfig(corridor_width=self.yield_corridor_width,
-                           trigger_distance=self.yield_trigger_distance,
-                           side_clearance=self.yield_side_clearance,
-                           search_distance=self.yield_search_distance,
-                           wait_max=self.yield_wait_max,
-                           approach_speed=self.yield_approach_speed)
 
 
 @dataclass(frozen=True)
@@ -289,9 +251,9 @@ class Navigator:
     config : NavigatorConfig
     grid : LabelGrid-like, optional
         The map to plan on, in place of the ``LabelGrid`` built from ``config``: any object
-        with ``LabelGrid``'s ``geometry``, ``labels``, ``last_window``, ``update`` and
-        ``blocked`` (the benchmark's reference navigators: ``CostmapGrid``, ``OracleGrid``),
-        and optionally ``settle`` (then its ``update`` takes ``defer_evidence``).
+        with ``LabelGrid``'s ``geometry``, ``labels``, ``last_window`` and ``update`` (the
+        benchmark's reference navigators: ``CostmapGrid``, ``OracleGrid``), and optionally
+        ``settle`` (then its ``update`` takes ``defer_evidence``).
 
     Attributes
     ----------
@@ -307,9 +269,6 @@ class Navigator:
     forgets : int
         How many times unseen obstacles were forgotten since the goal was set (see
         ``NavigatorConfig.forget_obstacles_after``).
-    yields : int
-        How many times the robot went to a passing place since the goal was set (see
-        ``NavigatorConfig.yield_corridor_width``).
 
     """
 
@@ -336,10 +295,6 @@ class Navigator:
         self.turn_sweep = None if config.turn_sweep_memory == 0.0 else TurnSweep(
             config.turn_sweep_memory, config.robot_length, config.robot_width,
             config.turn_sweep_margin, spot_distance=config.turn_sweep_spot_distance)
-        yield_config = config.yield_config()
-        self._yield = (HeadOnYield(yield_config, self.grid.geometry, config.safety_radius,
-                                   config.follower) if yield_config.enabled else None)
-        self.yields = 0
 
     def set_goal(self, x, y):
         """
@@ -365,14 +320,12 @@ class Navigator:
         self._next_retry = -math.inf
         self._no_path_since = None
         self._spell_forgets = 0
-        self._reset_yield()
 
     def clear_goal(self):
         """Drop the goal; the robot stops."""
         self.goal = None
         self.path = None
         self._path_xy = None
-        self._reset_yield()
         self.status = NavigatorStatus.IDLE
         self.reason = 'no goal'
 
@@ -503,13 +456,6 @@ class Navigator:
             return NavigatorOutput(STOP, self.status, self.reason)
         if self.status is NavigatorStatus.GOAL_REACHED:
             return NavigatorOutput(STOP, self.status, self.reason)
-        if self._yield is not None:
-            out = self._decide_yield(stamp, pose)
-            if out is not None:
-                if self.turn_sweep is None:
-                    return out
-                return replace(out, command=self.turn_sweep.check(out.command, pose,
-                                                                  self._obstacle_at))
         replanned = False
         cause = ReplanCause.NONE
         if replan_flag or self._path_is_stale(pose):
@@ -538,64 +484,6 @@ class Navigator:
         if self.turn_sweep is not None:
             command = self.turn_sweep.check(command, pose, self._obstacle_at)
         return NavigatorOutput(command, self.status, self.reason, replanned, cause)
-
-    def _decide_yield(self, stamp, pose):
-        """
-        Enter, follow or leave the head-on yield state; None when the robot does not yield.
-
-        The map's motion tracks are the moving objects; a map without them (``CostmapGrid``,
-        ``OracleGrid``) never yields.
-        """
-        self._yield.observe(stamp, pose, getattr(self.grid, 'tracks', None))
-        footprint = self._footprint(pose)
-        replanned = False
-        if self.status is not NavigatorStatus.YIELDING:
-            route = self._yield.start(stamp, pose, self.grid.labels, self._path_xy,
-                                      self.status is NavigatorStatus.NO_PATH, footprint)
-            if route is None:
-                return None
-            self.yields += 1
-            self.status = NavigatorStatus.YIELDING
-            self._no_path_since = None
-            self._spell_forgets = 0
-            self._set_route(route)
-            replanned = True
-        step = self._yield.step(stamp, pose, self.grid.labels, footprint)
-        if step.route is not None:
-            self._set_route(step.route)
-            replanned = True
-        if not step.done:
-            self.reason = step.reason
-            return NavigatorOutput(step.command, self.status, self.reason, replanned,
-                                   ReplanCause.YIELD if replanned else ReplanCause.NONE)
-        self.status = NavigatorStatus.ACTIVE
-        self.reason = ''
-        self.path = None
-        self._path_xy = None
-        self._plan(pose)
-        if self.path is None:
-            self._next_retry = stamp + self.config.no_path_retry_period
-            self._no_path_since = stamp
-            return NavigatorOutput(STOP, self.status, self.reason, True, ReplanCause.YIELD)
-        command = follow_path(pose, self._path_xy, self.config.follower)
-        if command.goal_reached:
-            self.status = NavigatorStatus.GOAL_REACHED
-            self.reason = 'inside the goal tolerance'
-            command = STOP
-        return NavigatorOutput(command, self.status, self.reason, True, ReplanCause.YIELD)
-
-    def _set_route(self, route):
-        """Make a route to a passing place the navigator's path (it counts as a plan)."""
-        self.replans += 1
-        self.path = route
-        x, y = self.grid.geometry.cell_to_world(route[:, 0], route[:, 1])
-        self._path_xy = np.column_stack((x, y))
-
-    def _reset_yield(self):
-        """Leave the yield state and forget its count (a new goal)."""
-        self.yields = 0
-        if self._yield is not None:
-            self._yield.reset()
 
     def _path_is_stale(self, pose):
         """Tell whether there is no path, a cell ahead on it is blocked, or the robot left it."""
