@@ -1,0 +1,1 @@
+"""The reference navigators' maps: a Nav2-style costmap and the oracle."""

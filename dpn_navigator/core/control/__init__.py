@@ -1,0 +1,1 @@
+"""From a path to velocity commands: the path follower, the turn sweep."""

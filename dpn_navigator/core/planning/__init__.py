@@ -1,0 +1,1 @@
+"""Planning on the labelled grid: the blocked and cost masks, A*."""

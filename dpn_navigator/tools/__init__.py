@@ -1,0 +1,1 @@
+"""Command-line tools: compile_kernels, the demo, the figures."""
