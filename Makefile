@@ -9,23 +9,26 @@
 #                compiled into the installed package, so a node's first start loads them
 #                (about 25 CPU-s the first time, under 1 s when the sources did not change)
 #   make test    build, then colcon test (pytest output on the console) and colcon test-result;
-#                fails if any test fails or errors
+#                fails if any test fails or errors. Every test runs, the slow ones too: this is
+#                what CI runs (.ci/run)
+#   make test-fast  the same without the tests marked slow (pytest -m 'not slow'; each takes
+#                more than about 10 s), for the edit-test loop
 #   make demo    build, then one episode over ROS 2: the pybullet world (back_and_forth, 3
 #                wanderers, headless) and the dpn navigator as separate processes; prints the
-#                outcome and writes out/demo/*.png (DEMO_ARGS: see --help of dpn_navigator.demo)
-#   make bench   build, then python benchmarks/bench_core.py $(BENCH_ARGS) with the package
+#                outcome and writes out/demo/*.png (DEMO_ARGS: see --help of dpn_navigator.tools.demo)
+#   make bench   build, then python tools/bench_core.py $(BENCH_ARGS) with the package
 #                importable
-#   make bench-ros  build, then python benchmarks/bench_ros.py: simulator real-time factor and
+#   make bench-ros  build, then python tools/bench_ros.py: simulator real-time factor and
 #                the dpn node's scan-to-map latency over ROS 2
 #   make benchmark  build, then the paper's test protocol without ROS: dpn-benchmark
 #                $(BENCHMARK_ARGS) (default: --profile smoke --out out/benchmark; see its --help)
-#   make fuzz    build, then python benchmarks/fuzz_ros.py $(FUZZ_ARGS): the nine failures of
+#   make fuzz    build, then python tools/fuzz_ros.py $(FUZZ_ARGS): the nine failures of
 #                issue 11 and 9,000 hypothesis-drawn messages to both node processes over DDS;
 #                prints counters, crashes and exit codes (docs/safety.md)
-#   make soak    build, then python benchmarks/soak_ros.py $(SOAK_ARGS): both nodes with 10
+#   make soak    build, then python tools/soak_ros.py $(SOAK_ARGS): both nodes with 10
 #                wanderers for 10 minutes (--minutes), new goals as goals are reached; prints
 #                the RSS growth of each process [MB/h]
-#   make faults  build, then python benchmarks/faults_ros.py $(FAULTS_ARGS): 20 trials each
+#   make faults  build, then python tools/faults_ros.py $(FAULTS_ARGS): 20 trials each
 #                of the time from the last message to the first zero command (sensors stop on
 #                wall time, on sim time, the world killed) and of SIGINT/SIGTERM exits
 #   make clean   remove build/ install/ log/;  make distclean  also removes .venv/
@@ -66,6 +69,8 @@ export ROS_DOMAIN_ID ?= 42
 
 COLCON := $(VENV_BIN)/colcon
 COLCON_BUILD_ARGS ?=
+# Extra arguments of colcon test (make test-fast sets them).
+COLCON_TEST_ARGS ?=
 BENCH_ARGS ?=
 BENCHMARK_ARGS ?= --profile smoke --out out/benchmark
 DEMO_ARGS ?=
@@ -75,7 +80,7 @@ FAULTS_ARGS ?=
 # Sets AMENT_PREFIX_PATH, PYTHONPATH and the rest for the installed package.
 SOURCE_INSTALL := source $(ROOT)/install/setup.bash
 
-.PHONY: setup build test demo bench bench-ros benchmark fuzz soak faults clean distclean help
+.PHONY: setup build test test-fast demo bench bench-ros benchmark fuzz soak faults clean distclean help
 
 help:
 	@sed -n '1,/^$$/s/^# \{0,1\}//p' $(ROOT)/Makefile
@@ -125,10 +130,10 @@ build: setup
 # the per-test report is printed, and either failing fails the target. The last line is a plain
 # "colcon: N passed, N failed, N skipped".
 test: build
-	@echo '$(COLCON) test --event-handlers console_direct+ && $(COLCON) test-result --verbose'
+	@echo '$(COLCON) test --event-handlers console_direct+ $(COLCON_TEST_ARGS) && $(COLCON) test-result --verbose'
 	@cd $(ROOT); \
 	set +e; \
-	$(COLCON) test --event-handlers console_direct+; \
+	$(COLCON) test --event-handlers console_direct+ $(COLCON_TEST_ARGS); \
 	test_rc=$$?; \
 	$(COLCON) test-result --verbose | tee build/test-result.txt; \
 	result_rc=$$?; \
@@ -141,27 +146,30 @@ test: build
 	  exit 1; \
 	fi
 
+test-fast: COLCON_TEST_ARGS = --pytest-args -m 'not slow'
+test-fast: test
+
 demo: build
-	cd $(ROOT) && $(SOURCE_INSTALL) && python -m dpn_navigator.demo $(DEMO_ARGS)
+	cd $(ROOT) && $(SOURCE_INSTALL) && python -m dpn_navigator.tools.demo $(DEMO_ARGS)
 
 bench: build
-	cd $(ROOT) && $(SOURCE_INSTALL) && python benchmarks/bench_core.py $(BENCH_ARGS)
+	cd $(ROOT) && $(SOURCE_INSTALL) && python tools/bench_core.py $(BENCH_ARGS)
 
 bench-ros: build
-	cd $(ROOT) && $(SOURCE_INSTALL) && python benchmarks/bench_ros.py $(BENCH_ROS_ARGS)
+	cd $(ROOT) && $(SOURCE_INSTALL) && python tools/bench_ros.py $(BENCH_ROS_ARGS)
 
 benchmark: build
 	cd $(ROOT) && $(SOURCE_INSTALL) && \
 	  $(ROOT)/install/dpn_navigator/lib/dpn_navigator/dpn-benchmark $(BENCHMARK_ARGS)
 
 fuzz: build
-	cd $(ROOT) && $(SOURCE_INSTALL) && python benchmarks/fuzz_ros.py $(FUZZ_ARGS)
+	cd $(ROOT) && $(SOURCE_INSTALL) && python tools/fuzz_ros.py $(FUZZ_ARGS)
 
 soak: build
-	cd $(ROOT) && $(SOURCE_INSTALL) && python benchmarks/soak_ros.py $(SOAK_ARGS)
+	cd $(ROOT) && $(SOURCE_INSTALL) && python tools/soak_ros.py $(SOAK_ARGS)
 
 faults: build
-	cd $(ROOT) && $(SOURCE_INSTALL) && python benchmarks/faults_ros.py $(FAULTS_ARGS)
+	cd $(ROOT) && $(SOURCE_INSTALL) && python tools/faults_ros.py $(FAULTS_ARGS)
 
 clean:
 	rm -rf $(ROOT)/build $(ROOT)/install $(ROOT)/log

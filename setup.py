@@ -32,9 +32,9 @@ PACKAGE_NAME = 'dpn_navigator'
 
 #: Console scripts of ``dpn_navigator``; setup.cfg installs them to ``lib/dpn_navigator``.
 CONSOLE_SCRIPTS = [
-    'dpn = dpn_navigator.dpn_node:main',
+    'dpn = dpn_navigator.ros.dpn_node:main',
     'dpn-benchmark = dpn_navigator.benchmark.cli:main',
-    'compile_kernels = dpn_navigator.compile_kernels:main',
+    'compile_kernels = dpn_navigator.tools.compile_kernels:main',
 ]
 
 #: Console scripts of the other ROS packages this distribution registers in the ament index,

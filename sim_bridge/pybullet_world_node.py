@@ -24,15 +24,15 @@ can.
 import math
 
 from diagnostic_msgs.msg import DiagnosticStatus
-from dpn_navigator.command_publisher import command_to_velocity, command_type
-from dpn_navigator.conversions import make_laser_scan, pose_to_odometry, seconds_to_time
-from dpn_navigator.core.astar_search import warm_up_astar
-from dpn_navigator.diagnostics import diagnostic_status, DiagnosticsPublisher
-from dpn_navigator.names import DEFAULT_NAMESPACE
-from dpn_navigator.parameter_declaration import declare_number
-from dpn_navigator.qos import COMMAND_QOS, SENSOR_QOS
-from dpn_navigator.sim_clock import guard_clock
-from dpn_navigator.spin import run_node
+from dpn_navigator.core.planning.astar_search import warm_up_astar
+from dpn_navigator.ros.command_publisher import command_to_velocity, command_type
+from dpn_navigator.ros.conversions import make_laser_scan, pose_to_odometry, seconds_to_time
+from dpn_navigator.ros.diagnostics import diagnostic_status, DiagnosticsPublisher
+from dpn_navigator.ros.names import DEFAULT_NAMESPACE
+from dpn_navigator.ros.parameter_declaration import declare_number
+from dpn_navigator.ros.qos import COMMAND_QOS, SENSOR_QOS
+from dpn_navigator.ros.sim_clock import guard_clock
+from dpn_navigator.ros.spin import run_node
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import IntegerRange, ParameterDescriptor
 from rclpy.node import Node

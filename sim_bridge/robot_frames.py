@@ -17,9 +17,9 @@ from dataclasses import dataclass
 import math
 
 from dpn_navigator.core.pose2d import compose, wrap_angle
-from dpn_navigator.names import TF_STATIC_TOPIC, TF_TOPIC
-from dpn_navigator.qos import TF_QOS, TF_STATIC_QOS
-from dpn_navigator.tf_messages import tf_message, transform_stamped
+from dpn_navigator.ros.names import TF_STATIC_TOPIC, TF_TOPIC
+from dpn_navigator.ros.qos import TF_QOS, TF_STATIC_QOS
+from dpn_navigator.ros.tf_messages import tf_message, transform_stamped
 from tf2_msgs.msg import TFMessage
 
 

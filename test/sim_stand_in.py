@@ -3,8 +3,8 @@
 import time
 
 from builtin_interfaces.msg import Time
-from dpn_navigator.conversions import make_laser_scan, pose_to_odometry
-from dpn_navigator.qos import COMMAND_QOS, SENSOR_QOS
+from dpn_navigator.ros.conversions import make_laser_scan, pose_to_odometry
+from dpn_navigator.ros.qos import COMMAND_QOS, SENSOR_QOS
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 import numpy as np
@@ -26,7 +26,7 @@ def room_navigator(context, use_sim_time=True, *more_overrides):
     ``more_overrides`` (``Parameter``) set other parameters.
 
     """
-    from dpn_navigator.dpn_node import DpnNode
+    from dpn_navigator.ros.dpn_node import DpnNode
     overrides = [Parameter('map_width', value=12.0), Parameter('map_height', value=12.0),
                  Parameter('goal_x', value=10.0), Parameter('goal_y', value=6.0),
                  Parameter('laser_x', value=0.0),

@@ -21,7 +21,7 @@ Prints Markdown tables of medians, old and new timed interleaved in one run, wit
 Not a test: it reports numbers. CPU time (``time.process_time``) is reported besides wall
 time where a shared machine makes wall time noise.
 
-Run with ``make bench`` or ``python benchmarks/bench_core.py [--quick] [--only PART]``.
+Run with ``make bench`` or ``python tools/bench_core.py [--quick] [--only PART]``.
 
 """
 
@@ -40,20 +40,20 @@ import time
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, '..', 'test'))
+sys.path[:0] = [os.path.join(HERE, '..', 'test'), os.path.join(HERE, '..', 'test', 'reference')]
 
 from astar_reference import reference_astar  # noqa: E402, I100
 from builtin_interfaces.msg import Time  # noqa: E402
-from dpn_navigator.conversions import labels_to_occupancy_grid  # noqa: E402
-from dpn_navigator.conversions import OccupancyGridBuffer  # noqa: E402
 from dpn_navigator.core import astar, LabelGrid, path_cost  # noqa: E402
 from dpn_navigator.core._kernels import jit  # noqa: E402
 from dpn_navigator.core.cell_label import blocked_mask  # noqa: E402
-from dpn_navigator.core.label_grid import PAPER_RULE  # noqa: E402
-from dpn_navigator.core.map_values import warm_up_map_values  # noqa: E402
+from dpn_navigator.core.mapping.label_grid import PAPER_RULE  # noqa: E402
+from dpn_navigator.core.mapping.map_values import warm_up_map_values  # noqa: E402
 from dpn_navigator.core.navigator import Navigator, NavigatorConfig  # noqa: E402
 from dpn_navigator.core.navigator import warm_up_navigator  # noqa: E402
-from dpn_navigator.core.planning_masks import touches_blocked  # noqa: E402
+from dpn_navigator.core.planning.planning_masks import touches_blocked  # noqa: E402
+from dpn_navigator.ros.conversions import labels_to_occupancy_grid  # noqa: E402
+from dpn_navigator.ros.conversions import OccupancyGridBuffer  # noqa: E402
 from grid_worlds import maze_grid, random_grid  # noqa: E402
 from literal_reference import literal_update, tuple_astar  # noqa: E402
 from numpy_label_grid import NumpyExtrasLabelGrid, NumpyLabelGrid  # noqa: E402
@@ -264,10 +264,10 @@ def kernel_start_seconds(tree=None):
             'wall0, cpu0 = now()\n'
             'try:\n'
             '    from dpn_navigator.core.navigator import warm_up_navigator\n'
-            '    from dpn_navigator.core.map_values import warm_up_map_values\n'
+            '    from dpn_navigator.core.mapping.map_values import warm_up_map_values\n'
             '    warm_ups = (warm_up_navigator, warm_up_map_values)\n'
             'except ImportError:  # a tree from before the kernel leaf\n'
-            '    from dpn_navigator.core.jit import warm_up\n'
+            '    from dpn_navigator.core._kernels.jit import warm_up\n'
             '    warm_ups = (warm_up,)\n'
             'wall1, cpu1 = now()\n'
             'for warm_up in warm_ups:\n'
@@ -327,7 +327,7 @@ def record_astar_calls(maps, wanderers):
 
     """
     from dpn_navigator.benchmark.episode import run_episode
-    from dpn_navigator.core import planning_masks
+    from dpn_navigator.core.planning import planning_masks
     from sim_bridge import clear_paths
     from sim_bridge.scenario import load_scenario
     calls = {'navigator': [], 'wanderers': []}
@@ -505,7 +505,7 @@ def import_old_core(tree):
     Returns
     -------
     module
-        The old tree's ``dpn_navigator.core.label_grid``.
+        The old tree's ``dpn_navigator.core.mapping.label_grid``.
 
     """
     source = os.path.join(tree, 'dpn_navigator')
@@ -515,7 +515,10 @@ def import_old_core(tree):
     shutil.copytree(source, os.path.join(copy, 'dpn_old_tree'),
                     ignore=shutil.ignore_patterns('__pycache__', 'kernel_cache'))
     sys.path.insert(0, copy)
-    return importlib.import_module('dpn_old_tree.core.label_grid')
+    try:
+        return importlib.import_module('dpn_old_tree.core.mapping.label_grid')
+    except ImportError:         # a tree from before core/mapping/
+        return importlib.import_module('dpn_old_tree.core.label_grid')
 
 
 def bench_against_tree(tree, rng, repeats):

@@ -13,7 +13,7 @@ processes (world, navigator, monitor with its recorder) per simulated second: ov
 episodes differ run to run, so the cost is compared per simulated second. Not a test: it
 reports numbers.
 
-Run with ``python benchmarks/bench_record.py [--rounds 3] [--maps back_and_forth maze]``
+Run with ``python tools/bench_record.py [--rounds 3] [--maps back_and_forth maze]``
 (after ``make build`` and ``source install/setup.bash``).
 
 """
@@ -80,7 +80,7 @@ def cpu_seconds():
 def bench_demo(rounds, scratch):
     """Run the demo plain and recorded, interleaved; print CPU per simulated second."""
     import rclpy
-    from dpn_navigator.demo import run_episode as run_demo
+    from dpn_navigator.tools.demo import run_episode as run_demo
     per_second = {False: [], True: []}
     sizes = []
     for round_index in range(rounds):

@@ -20,7 +20,7 @@ Benchmark of the two nodes over ROS 2: simulator speed and scan-to-map latency.
    imported instead of the installed one.
 
 Not a test: it prints Markdown tables. Run with ``make bench-ros`` (``BENCH_ROS_ARGS``), or
-``python benchmarks/bench_ros.py [--latency-only] [--cells 200 2000] [--old-tree DIR]``.
+``python tools/bench_ros.py [--latency-only] [--cells 200 2000] [--old-tree DIR]``.
 
 """
 
@@ -39,9 +39,10 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent / 'test'))
 
 from diagnostic_msgs.msg import DiagnosticStatus  # noqa: E402, I100
-from dpn_navigator.conversions import make_laser_scan, pose_to_odometry  # noqa: E402
-from dpn_navigator.demo import installed_executable, ros_environment, stop_nodes  # noqa: E402
-from dpn_navigator.qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS  # noqa: E402
+from dpn_navigator.ros.conversions import make_laser_scan, pose_to_odometry  # noqa: E402
+from dpn_navigator.ros.qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS  # noqa: E402
+from dpn_navigator.tools.demo import (installed_executable, ros_environment,  # noqa: E402
+                                      stop_nodes)
 from map_msgs.msg import OccupancyGridUpdate  # noqa: E402
 from nav_msgs.msg import OccupancyGrid, Odometry  # noqa: E402
 import numpy as np  # noqa: E402

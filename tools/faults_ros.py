@@ -29,9 +29,10 @@ import time
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent / 'test'))
 
-from dpn_navigator.demo import (installed_executable, navigator_arguments,  # noqa: E402, I100
-                                ros_environment, start_nodes, stop_nodes)
-from dpn_navigator.qos import COMMAND_QOS, SENSOR_QOS  # noqa: E402
+from dpn_navigator.ros.qos import COMMAND_QOS, SENSOR_QOS  # noqa: E402
+from dpn_navigator.tools.demo import (installed_executable,  # noqa: E402, I100
+                                      navigator_arguments, ros_environment, start_nodes,
+                                      stop_nodes)
 from geometry_msgs.msg import Twist  # noqa: E402
 from nav_msgs.msg import Odometry  # noqa: E402
 import rclpy  # noqa: E402

@@ -29,10 +29,10 @@ sys.path.insert(0, str(HERE.parent / 'test'))
 
 from builtin_interfaces.msg import Time  # noqa: E402, I100
 from diagnostic_msgs.msg import DiagnosticStatus  # noqa: E402
-from dpn_navigator.conversions import make_laser_scan, pose_to_odometry  # noqa: E402
-from dpn_navigator.demo import (installed_executable, ros_environment,  # noqa: E402
-                                start_nodes, stop_nodes)
-from dpn_navigator.qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS  # noqa: E402
+from dpn_navigator.ros.conversions import make_laser_scan, pose_to_odometry  # noqa: E402
+from dpn_navigator.ros.qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS  # noqa: E402
+from dpn_navigator.tools.demo import (installed_executable, ros_environment,  # noqa: E402
+                                      start_nodes, stop_nodes)
 from geometry_msgs.msg import PoseStamped, Quaternion, Twist  # noqa: E402
 from hypothesis import given, HealthCheck, settings, strategies as st  # noqa: E402
 from message_strategies import DBL_MAX, dpn_messages, twists  # noqa: E402

@@ -19,8 +19,8 @@ import tempfile
 import time
 
 from diagnostic_msgs.msg import DiagnosticStatus
-from dpn_navigator.demo import start_nodes, stop_nodes
-from dpn_navigator.qos import COMMAND_QOS, LATCHED_QOS
+from dpn_navigator.ros.qos import COMMAND_QOS, LATCHED_QOS
+from dpn_navigator.tools.demo import start_nodes, stop_nodes
 from geometry_msgs.msg import PoseStamped
 import numpy as np
 import rclpy

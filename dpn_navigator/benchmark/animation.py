@@ -1,7 +1,7 @@
 """
 An animated GIF of an episode, frame by frame in the style of the paper's Fig. 9.
 
-Each frame is one `snapshots.Snapshot` drawn by ``dpn_navigator.figures.draw_map``, as in the
+Each frame is one `snapshots.Snapshot` drawn by ``dpn_navigator.tools.figures.draw_map``, as in the
 strip: explored white, steady obstacles black, mobile obstacles grey, non-explored shaded, the
 planned path red, the executed path yellow, the wanderers red circles, with the simulated time
 in the title. Written with matplotlib's Pillow writer (Pillow comes with matplotlib).
@@ -46,7 +46,7 @@ def save_animation(path, snapshots, resolution, origin, goal=None, wanderer_radi
 
     """
     from matplotlib.animation import PillowWriter
-    from .. import figures  # selects the Agg backend before pyplot is imported
+    from ..tools import figures  # selects the Agg backend before pyplot is imported
     if not snapshots:
         raise ValueError('no snapshots to animate')
     if not (math.isfinite(fps) and fps > 0.0):

@@ -281,7 +281,7 @@ def save_compare_figure(path, rows_by_navigator, subject='dpn', reference='oracl
         The ratio panel is drawn when both are present.
 
     """
-    from .. import figures  # selects the Agg backend before pyplot is imported
+    from ..tools import figures  # selects the Agg backend before pyplot is imported
     pyplot = figures.pyplot
     names = [name for name, rows in rows_by_navigator.items() if rows]
     if not names:

@@ -194,7 +194,7 @@ def save_detection_figure(path, rows_by_navigator, title='Detection against wand
         Figure title.
 
     """
-    from .. import figures  # selects the Agg backend before pyplot is imported
+    from ..tools import figures  # selects the Agg backend before pyplot is imported
     pyplot = figures.pyplot
     curves = {}
     for navigator, rows in rows_by_navigator.items():

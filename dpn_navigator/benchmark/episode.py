@@ -25,11 +25,11 @@ import time
 
 import numpy as np
 
+from .baselines.costmap_grid import CostmapConfig, CostmapGrid
+from .baselines.oracle_grid import OracleGrid
 from .detection import DETECTION_FIELDS, DetectionMeter
 from .ground_truth import wall_belt, wanderer_hit_points
-from .oracle_grid import OracleGrid
 from ..core import astar, CellLabel, Navigator, NavigatorConfig, NavigatorStatus, path_cost
-from ..core.costmap_grid import CostmapConfig, CostmapGrid
 from ..core.grid_geometry import GridGeometry
 from ..core.pose2d import compose
 

@@ -27,12 +27,12 @@ from rosgraph_msgs.msg import Clock
 from sim_bridge.robot_frames import FrameNames, laser_mount_transforms, robot_transforms
 from sim_bridge.wanderer_markers import wanderer_markers
 
-from ..bag_writer import BagWriter
-from ..conversions import (labels_to_occupancy_grid, make_laser_scan, pose_to_odometry,
-                           seconds_to_time)
-from ..names import TF_STATIC_TOPIC, TF_TOPIC
-from ..navigator_markers import extend_trail, markers_due, navigator_markers
-from ..recorded_topics import episode_topics, node_topic
+from ..recording.bag_writer import BagWriter
+from ..recording.recorded_topics import episode_topics, node_topic
+from ..ros.conversions import (labels_to_occupancy_grid, make_laser_scan, pose_to_odometry,
+                               seconds_to_time)
+from ..ros.names import TF_STATIC_TOPIC, TF_TOPIC
+from ..ros.navigator_markers import extend_trail, markers_due, navigator_markers
 
 
 def episode_bag_name(spec):
@@ -65,7 +65,7 @@ class EpisodeBagRecorder:
 
     Raises
     ------
-    dpn_navigator.bag_writer.BagPathError
+    dpn_navigator.recording.bag_writer.BagPathError
         When ``path`` exists or cannot be written.
 
     """

@@ -220,7 +220,7 @@ def save_success_figure(path, rows, title='Success rate per map'):
         Figure title.
 
     """
-    from .. import figures  # selects the Agg backend before pyplot is imported
+    from ..tools import figures  # selects the Agg backend before pyplot is imported
     pyplot = figures.pyplot
     if not rows:
         raise ValueError('no episodes to draw')

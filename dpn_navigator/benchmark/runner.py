@@ -21,12 +21,12 @@ import os
 from pathlib import Path
 import time
 
+from .baselines.costmap_grid import warm_up_costmap
 from .episode import run_episode, task_setup
 from .episode_log import EpisodeLog
-from ..core.astar_search import warm_up_astar
-from ..core.costmap_grid import warm_up_costmap
-from ..core.label_grid import warm_up_label_update
-from ..core.planning_masks import warm_up_planning_masks
+from ..core.mapping.label_grid import warm_up_label_update
+from ..core.planning.astar_search import warm_up_astar
+from ..core.planning.planning_masks import warm_up_planning_masks
 
 
 @dataclass(frozen=True)
@@ -177,11 +177,11 @@ def check_bag_folders(specs, record_dir):
 
     Raises
     ------
-    dpn_navigator.bag_writer.BagPathError
+    dpn_navigator.recording.bag_writer.BagPathError
         When a bag folder exists already or ``record_dir`` cannot be written.
 
     """
-    from ..bag_writer import check_bag_path
+    from ..recording.bag_writer import check_bag_path
     from .episode_bag import episode_bag_name
     for spec in specs:
         check_bag_path(Path(record_dir) / episode_bag_name(spec))

@@ -4,7 +4,7 @@ Snapshots of an episode's map, and the paper's Fig. 9 strip of them.
 `EpisodeRecorder` is a ``recorder`` for `run_episode`: it keeps the executed path at every scan
 and a `Snapshot` of the labelled map, planned path and wanderers every ``period`` simulated
 seconds (and at the last scan). `save_strip_figure` draws a few of them side by side, coloured
-as in the paper's Fig. 9 (see ``dpn_navigator.figures``).
+as in the paper's Fig. 9 (see ``dpn_navigator.tools.figures``).
 
 """
 
@@ -149,7 +149,7 @@ def save_strip_figure(path, snapshots, resolution, origin, goal=None, wanderer_r
         Figure title.
 
     """
-    from .. import figures  # selects the Agg backend before pyplot is imported
+    from ..tools import figures  # selects the Agg backend before pyplot is imported
     pyplot = figures.pyplot
     if not snapshots:
         raise ValueError('no snapshots to draw')

@@ -6,13 +6,13 @@ benchmark and other tools can drive the same code.
 
 """
 
-from .astar_search import astar, path_cost
 from .cell_label import CellLabel, OCCUPANCY_VALUE
+from .control.path_follower import follow_path, FollowerConfig, VelocityCommand
 from .grid_geometry import GridGeometry
-from .label_grid import LabelGrid
+from .mapping.label_grid import LabelGrid
 from .navigator import Navigator, NavigatorConfig, NavigatorOutput, NavigatorStatus
 from .navigator import ReplanCause
-from .path_follower import follow_path, FollowerConfig, VelocityCommand
+from .planning.astar_search import astar, path_cost
 
 __all__ = [
     'astar', 'CellLabel', 'follow_path', 'FollowerConfig', 'GridGeometry', 'LabelGrid',

@@ -15,15 +15,15 @@ import time
 
 import numpy as np
 
-from .astar_search import warm_up_astar
 from .cell_label import blocked_mask, CellLabel
-from .label_grid import LabelGrid, LabelRule, warm_up_label_update
-from .path_follower import follow_path, FollowerConfig, STOP, VelocityCommand
-from .planning_masks import PlanningMasks, touches_blocked  # noqa: F401 (re-exported)
-from .planning_masks import warm_up_planning_masks
+from .control.path_follower import follow_path, FollowerConfig, STOP, VelocityCommand
+from .control.turn_sweep import TurnSweep
+from .mapping.label_grid import LabelGrid, LabelRule, warm_up_label_update
+from .planning.astar_search import warm_up_astar
+from .planning.planning_masks import PlanningMasks, touches_blocked  # noqa: F401 (re-exported)
+from .planning.planning_masks import warm_up_planning_masks
 from .pose2d import compose
 from .scan_polygon import check_pose, scan_points
-from .turn_sweep import TurnSweep
 
 
 #: Forgetting unseen obstacles keeps those within this many safety radii of the robot.

@@ -16,8 +16,8 @@ from tf2_msgs.msg import TFMessage
 from visualization_msgs.msg import MarkerArray
 
 from .bag_writer import BagTopic
-from .names import DEFAULT_NAMESPACE, DIAGNOSTICS_TOPIC, TF_STATIC_TOPIC, TF_TOPIC
-from .qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS, TF_QOS, TF_STATIC_QOS
+from ..ros.names import DEFAULT_NAMESPACE, DIAGNOSTICS_TOPIC, TF_STATIC_TOPIC, TF_TOPIC
+from ..ros.qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS, TF_QOS, TF_STATIC_QOS
 
 
 def node_topic(name):

@@ -5,7 +5,7 @@ Record the topics of running nodes into a bag, as ``ros2 bag record`` does.
 ``raw=True`` (the callback gets the CDR bytes as they came over DDS, with no deserialising), and
 writes each message at its arrival time on the node's clock: simulated time when the node runs
 with ``use_sim_time``, as ``ros2 bag record --use-sim-time`` does. The demo runs one in its
-monitor process (``python -m dpn_navigator.demo --record DIR``).
+monitor process (``python -m dpn_navigator.tools.demo --record DIR``).
 
 """
 

@@ -19,10 +19,10 @@ from sensor_msgs.msg import LaserScan
 from std_msgs.msg import ColorRGBA
 from visualization_msgs.msg import Marker
 
-from .core.cell_label import CellLabel, OCCUPANCY_MOBILE_OBSTACLE, OCCUPANCY_VALUE
-from .core.map_values import MapValues
-from .core.pose2d import quaternion_yaw
-from .core.scan_polygon import check_pose
+from ..core.cell_label import CellLabel, OCCUPANCY_MOBILE_OBSTACLE, OCCUPANCY_VALUE
+from ..core.mapping.map_values import MapValues
+from ..core.pose2d import quaternion_yaw
+from ..core.scan_polygon import check_pose
 
 
 def yaw_to_quaternion(yaw):

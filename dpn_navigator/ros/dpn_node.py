@@ -38,11 +38,6 @@ from .cmd_vel_monitor import CommandTopicMonitor
 from .command_publisher import CommandPublisher
 from .conversions import (laser_scan_fields, OccupancyGridBuffer, odometry_to_pose,
                           pose_to_odometry, stamp_to_seconds)
-from .core import Navigator, NavigatorStatus
-from .core.map_values import warm_up_map_values
-from .core.navigator import warm_up_navigator
-from .core.pose_history import PoseHistory
-from .core.scan_polygon import check_scan
 from .diagnostics import diagnostic_status, DiagnosticsPublisher
 from .dpn_params import declare_parameters
 from .names import DEFAULT_NAMESPACE
@@ -52,6 +47,11 @@ from .safety_params import declare_safety_parameters
 from .sensor_watchdog import SensorWatchdog, steady_arrival_time
 from .sim_clock import guard_clock
 from .spin import run_node
+from ..core import Navigator, NavigatorStatus
+from ..core.mapping.map_values import warm_up_map_values
+from ..core.navigator import warm_up_navigator
+from ..core.pose_history import PoseHistory
+from ..core.scan_polygon import check_scan
 
 WATCHDOG_PERIOD = 0.02          # steady clock [s]: first zero command <= sensor_timeout + this
 STOP_ACK_TIMEOUT = 0.2          # wait this long for the last zero command's delivery [s]

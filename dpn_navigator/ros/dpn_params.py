@@ -12,9 +12,9 @@ import math
 
 from rcl_interfaces.msg import IntegerRange, ParameterDescriptor
 
-from .core import FollowerConfig, GridGeometry, NavigatorConfig
-from .core.cell_label import OCCUPANCY_MOBILE_OBSTACLE
 from .parameter_declaration import declare_number
+from ..core import FollowerConfig, GridGeometry, NavigatorConfig
+from ..core.cell_label import OCCUPANCY_MOBILE_OBSTACLE
 
 BIG = 1e6   # bound of the "any value" ranges [m]
 #: Most grid cells a node may ask for (2048 x 2048): the grid and A*'s arrays stay in memory and

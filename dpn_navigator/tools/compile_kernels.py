@@ -15,7 +15,7 @@ import subprocess
 import sys
 import time
 
-from .core._kernels import jit
+from ..core._kernels import jit
 
 
 def warm_up_all():
@@ -28,11 +28,11 @@ def warm_up_all():
         Wall time it took [s].
 
     """
-    from .core.astar_search import warm_up_astar
-    from .core.costmap_grid import warm_up_costmap
-    from .core.label_grid import warm_up_label_update
-    from .core.map_values import warm_up_map_values
-    from .core.planning_masks import warm_up_planning_masks
+    from ..core.planning.astar_search import warm_up_astar
+    from ..benchmark.baselines.costmap_grid import warm_up_costmap
+    from ..core.mapping.label_grid import warm_up_label_update
+    from ..core.mapping.map_values import warm_up_map_values
+    from ..core.planning.planning_masks import warm_up_planning_masks
     started = time.perf_counter()
     for warm_up in (warm_up_astar, warm_up_label_update, warm_up_costmap, warm_up_map_values,
                     warm_up_planning_masks):

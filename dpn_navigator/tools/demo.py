@@ -9,7 +9,7 @@ final map with the planned and executed paths. With ``--record DIR`` a recorder 
 same process writes every topic of both nodes into the rosbag2 MCAP bag DIR
 (docs/recording.md).
 
-``make demo`` runs ``python -m dpn_navigator.demo`` on back_and_forth with 3 wanderers.
+``make demo`` runs ``python -m dpn_navigator.tools.demo`` on back_and_forth with 3 wanderers.
 
 """
 
@@ -36,11 +36,11 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 from visualization_msgs.msg import MarkerArray
 
-from .bag_writer import BagPathError, BagWriter
-from .conversions import marker_points, occupancy_grid_values, odometry_to_pose
-from .qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS
-from .recorded_topics import system_topics
-from .topic_recorder import TopicRecorder
+from ..recording.bag_writer import BagPathError, BagWriter
+from ..recording.recorded_topics import system_topics
+from ..recording.topic_recorder import TopicRecorder
+from ..ros.conversions import marker_points, occupancy_grid_values, odometry_to_pose
+from ..ros.qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS
 
 
 def installed_executable(package, name):
@@ -318,7 +318,7 @@ def run_episode(scenario_name='back_and_forth', task=0, wanderers=3, seed=0,
 
 
 def main(argv=None):
-    """Run the demo episode and report it: ``python -m dpn_navigator.demo``."""
+    """Run the demo episode and report it: ``python -m dpn_navigator.tools.demo``."""
     parser = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
     parser.add_argument('--scenario', default='back_and_forth')
     parser.add_argument('--task', type=int, default=0)

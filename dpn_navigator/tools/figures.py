@@ -15,8 +15,8 @@ from matplotlib.colors import ListedColormap  # noqa: E402
 from matplotlib.patches import Circle  # noqa: E402
 import numpy as np  # noqa: E402
 
-from .core.cell_label import (OCCUPANCY_FREE, OCCUPANCY_MOBILE_OBSTACLE,  # noqa: E402
-                              OCCUPANCY_STEADY_OBSTACLE, OCCUPANCY_UNKNOWN)
+from ..core.cell_label import (OCCUPANCY_FREE, OCCUPANCY_MOBILE_OBSTACLE,  # noqa: E402
+                               OCCUPANCY_STEADY_OBSTACLE, OCCUPANCY_UNKNOWN)
 
 #: Colour per OccupancyGrid value, in the order of ``_VALUES``.
 _VALUES = (OCCUPANCY_UNKNOWN, OCCUPANCY_FREE, OCCUPANCY_MOBILE_OBSTACLE,

@@ -16,7 +16,7 @@ import subprocess
 from dpn_navigator.benchmark.episode_log import (COLUMNS, DETECTION_COLUMNS, FAILURES,
                                                  read_log, row_key)
 from dpn_navigator.benchmark.protocol import plan_episodes, PROFILES
-from dpn_navigator.demo import installed_executable
+from dpn_navigator.tools.demo import installed_executable
 import pytest
 
 #: The smoke profile on two maps: 1 task, 0/5/10 wanderers, 1 repetition, so 6 episodes.

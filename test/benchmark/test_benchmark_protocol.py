@@ -11,7 +11,7 @@ from dpn_navigator.benchmark.report import (cell_stats, map_order, save_success_
                                             success_matrix, summary_markdown)
 from dpn_navigator.benchmark.snapshots import EpisodeRecorder, pick_snapshots, Snapshot
 from dpn_navigator.core import NavigatorConfig
-from dpn_navigator.core.label_grid import PAPER_RULE
+from dpn_navigator.core.mapping.label_grid import PAPER_RULE
 import numpy as np
 import pytest
 from sim_bridge.scenario import IndexEntry
@@ -79,7 +79,7 @@ def test_navigator_variants_are_valid_configs():
 
 
 def test_the_nodes_paper_params_file_is_the_benchmarks_paper_navigator():
-    config = Path(__file__).resolve().parents[1] / 'config'
+    config = Path(__file__).resolve().parents[2] / 'config'
     paper = yaml.safe_load((config / 'dpn_paper.yaml').read_text())['/**/dpn']['ros__parameters']
     assert paper == NAVIGATORS['paper']
     shipped = yaml.safe_load((config / 'dpn.yaml').read_text())['/**/dpn']['ros__parameters']

@@ -12,11 +12,11 @@ import math
 import subprocess
 import sys
 
+from dpn_navigator.benchmark.baselines.costmap_grid import (any_in_blocks, bresenham_cells,
+                                                            CostmapConfig, CostmapGrid, inflate,
+                                                            layer_geometry_for)
 from dpn_navigator.core._kernels.costmap import clear_rays
 from dpn_navigator.core.cell_label import blocked_mask, CellLabel, ScanInput
-from dpn_navigator.core.costmap_grid import (any_in_blocks, bresenham_cells,
-                                             CostmapConfig, CostmapGrid, inflate,
-                                             layer_geometry_for)
 from dpn_navigator.core.grid_geometry import GridGeometry
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -355,7 +355,7 @@ def test_bad_scan_leaves_the_costmap_unchanged():
 
 
 def test_core_module_needs_no_ros():
-    code = ('import sys; import dpn_navigator.core.costmap_grid; '
+    code = ('import sys; import dpn_navigator.benchmark.baselines.costmap_grid; '
             "assert 'rclpy' not in sys.modules")
     subprocess.run([sys.executable, '-c', code], check=True)
 

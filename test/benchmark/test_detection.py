@@ -8,13 +8,13 @@ from dpn_navigator.benchmark.detection_report import (detection_markdown, detect
 from dpn_navigator.benchmark.ground_truth import near_any, wall_belt, wanderer_hit_points
 from dpn_navigator.core import CellLabel, GridGeometry, ReplanCause
 from dpn_navigator.core.cell_label import ScanInput
-from dpn_navigator.core.scan_features import scan_input
 from dpn_navigator.core.scan_polygon import ScanPoints
 from hypothesis import given, settings
 from hypothesis import strategies as st
 import numpy as np
 from numpy.testing import assert_array_equal
 import pytest
+from scan_features import scan_input
 
 N, E, S, M = (CellLabel.NON_EXPLORED, CellLabel.EXPLORED, CellLabel.STEADY_OBSTACLE,
               CellLabel.MOBILE_OBSTACLE)

@@ -6,13 +6,13 @@ The oracle plans on the true walls and wanderers; the costmap on Nav2-style laye
 
 """
 
+from dpn_navigator.benchmark.baselines.costmap_grid import CostmapGrid
+from dpn_navigator.benchmark.baselines.oracle_grid import OracleGrid
 from dpn_navigator.benchmark.episode import build_map, run_episode
 from dpn_navigator.benchmark.ground_truth import wall_belt
-from dpn_navigator.benchmark.oracle_grid import OracleGrid
 from dpn_navigator.benchmark.protocol import MAP_MODELS, NAVIGATORS, resolve_maps
 from dpn_navigator.core import CellLabel, GridGeometry, NavigatorConfig
 from dpn_navigator.core.cell_label import blocked_mask
-from dpn_navigator.core.costmap_grid import CostmapGrid
 import numpy as np
 from numpy.testing import assert_array_equal
 import pytest

@@ -17,8 +17,8 @@ import subprocess
 import sys
 
 from astar_reference import reference_astar
-from dpn_navigator.core import astar_search as astar_module
-from dpn_navigator.core.astar_search import astar, path_cost
+from dpn_navigator.core.planning import astar_search as astar_module
+from dpn_navigator.core.planning.astar_search import astar, path_cost
 from grid_worlds import maze_grid, random_grid
 from hypothesis import event, given, settings
 from hypothesis import strategies as st

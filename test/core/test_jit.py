@@ -113,7 +113,7 @@ def test_warm_up_by_need_compiles_only_what_a_process_uses():
                 'vars(module).items() if isinstance(value, CPUDispatcher) and value.signatures'
                 ' and value.__module__ == name))')
     # The pybullet world's wanderers plan with A* and nothing else of the core.
-    out = run_python('from dpn_navigator.core.astar_search import warm_up_astar; '
+    out = run_python('from dpn_navigator.core.planning.astar_search import warm_up_astar; '
                      'warm_up_astar(); ' + compiled)
     assert out.strip() == str(['astar.largest_if_finite_and_non_negative', 'astar.search'])
     # A navigator on the labelled grid compiles none of the costmap's kernels.

@@ -4,8 +4,8 @@ import dataclasses
 import math
 
 from dpn_navigator.core.cell_label import CellLabel, OCCUPANCY_VALUE, TRANSITION
-from dpn_navigator.core.label_grid import LabelGrid, LabelRule, PAPER_RULE
-from dpn_navigator.core.label_kernel import surely_free_update
+from dpn_navigator.core.mapping.label_grid import LabelGrid, LabelRule, PAPER_RULE
+from dpn_navigator.core.mapping.label_update import surely_free_update
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from literal_reference import FSM, literal_update, literal_update_with_rule

@@ -11,7 +11,7 @@ paper's rule and the navigator's default rule, and compare every array after eve
 import math
 
 from dpn_navigator.core.cell_label import CellLabel
-from dpn_navigator.core.label_grid import LabelGrid, LabelRule, PAPER_RULE
+from dpn_navigator.core.mapping.label_grid import LabelGrid, LabelRule, PAPER_RULE
 from dpn_navigator.core.navigator import NavigatorConfig
 import numpy as np
 from numpy.testing import assert_array_equal
@@ -98,10 +98,10 @@ def test_mobile_list_follows_forgetting_and_reset():
 
 
 def test_planning_masks_equal_the_full_recompute_at_every_plan(monkeypatch):
-    from dpn_navigator.core import planning_masks
+    from dpn_navigator.core.planning import planning_masks
     from dpn_navigator.core.cell_label import blocked_mask
     from dpn_navigator.core.navigator import Navigator
-    from dpn_navigator.core.planning_masks import touches_blocked
+    from dpn_navigator.core.planning.planning_masks import touches_blocked
     config = NavigatorConfig(width=30.0, height=30.0, mobile_expiry=0.5,
                              forget_obstacles_after=1.0)
     navigator = Navigator(config)

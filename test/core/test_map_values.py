@@ -1,7 +1,7 @@
 """Tests of core.map_values: the compiled box refresh against the numpy conversion."""
 
 from dpn_navigator.core.cell_label import CellLabel, OCCUPANCY_VALUE
-from dpn_navigator.core.map_values import MapValues
+from dpn_navigator.core.mapping.map_values import MapValues
 from hypothesis import given, strategies as st
 import numpy as np
 from numpy.testing import assert_array_equal

@@ -3,10 +3,10 @@
 import math
 
 from dpn_navigator.core.cell_label import CellLabel
-from dpn_navigator.core.label_grid import LabelGrid, LabelRule
-from dpn_navigator.core.motion_tracks import MotionTracks, TrackConfig
-from dpn_navigator.core.moving_objects import scan_segments
+from dpn_navigator.core.mapping.label_grid import LabelGrid, LabelRule
+from dpn_navigator.core.mapping.motion_tracks import MotionTracks, TrackConfig
 from dpn_navigator.core.navigator import NavigatorConfig
+from moving_objects import scan_segments
 import numpy as np
 from numpy.testing import assert_array_equal
 from numpy_label_grid import NumpyExtrasLabelGrid

@@ -6,9 +6,9 @@ import math
 from dpn_navigator.core.cell_label import CellLabel, ScanInput
 from dpn_navigator.core.grid_geometry import GridGeometry
 from dpn_navigator.core.grid_geometry import squared_radius_bound
-from dpn_navigator.core.label_grid import LabelGrid, LabelRule
+from dpn_navigator.core.mapping.label_grid import LabelGrid, LabelRule
+from dpn_navigator.core.mapping.object_memory import ObjectMemory
 from dpn_navigator.core.navigator import NavigatorConfig
-from dpn_navigator.core.object_memory import ObjectMemory
 import numpy as np
 from numpy.testing import assert_array_equal
 from numpy_label_grid import NumpyExtrasLabelGrid

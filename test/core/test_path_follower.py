@@ -2,7 +2,7 @@
 
 import math
 
-from dpn_navigator.core.path_follower import follow_path, FollowerConfig
+from dpn_navigator.core.control.path_follower import follow_path, FollowerConfig
 from hypothesis import given, settings
 from hypothesis import strategies as st
 import numpy as np

@@ -1,7 +1,8 @@
 """Tests of the compiled refresh of core.planning_masks against the whole-grid numpy masks."""
 
 from dpn_navigator.core.cell_label import blocked_mask, CellLabel
-from dpn_navigator.core.planning_masks import recost_around, refresh_blocked, touches_blocked
+from dpn_navigator.core.planning.planning_masks import (recost_around, refresh_blocked,
+                                                        touches_blocked)
 from hypothesis import given, strategies as st
 import numpy as np
 from numpy.testing import assert_array_equal

@@ -4,13 +4,13 @@ import math
 
 from dpn_navigator.core.grid_geometry import GridGeometry
 from dpn_navigator.core.grid_geometry import squared_radius_bound
-from dpn_navigator.core.scan_features import hit_runs
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from literal_reference import literal_f1
 import numpy as np
 from numpy.testing import assert_array_equal
 import pytest
+from scan_features import hit_runs
 
 
 def runs_to_mask(starts, ends, shape):

@@ -3,11 +3,11 @@
 import math
 
 from dpn_navigator.core import Navigator, NavigatorConfig
-from dpn_navigator.core.path_follower import STOP, VelocityCommand
+from dpn_navigator.core.control.path_follower import STOP, VelocityCommand
+from dpn_navigator.core.control.turn_sweep import (advance_hits, find_turn_place, seen_through,
+                                                   sweep_hits, TurnSweep)
 from dpn_navigator.core.pose2d import wrap_angle
 from dpn_navigator.core.scan_polygon import scan_points
-from dpn_navigator.core.turn_sweep import (advance_hits, find_turn_place, seen_through,
-                                           sweep_hits, TurnSweep)
 import numpy as np
 import pytest
 from scan_scenes import ANGLE_INCREMENT, ANGLE_MIN, RANGE_MIN, ray_cast

@@ -24,7 +24,7 @@ from pathlib import Path
 from ament_flake8.main import main_with_errors
 import pytest
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 NOT_OURS = ('.venv', 'build', 'install', 'log')
 
 

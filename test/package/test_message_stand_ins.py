@@ -13,7 +13,7 @@ which fixes its hash the same way.
 
 from pathlib import Path
 
-from dpn_navigator.qos import TF_QOS
+from dpn_navigator.ros.qos import TF_QOS
 from rclpy.node import Node
 from tf2_msgs.msg import TFMessage
 
@@ -40,7 +40,7 @@ def test_tf_message_carries_transforms():
 
 
 def test_the_stand_in_is_hidden_from_colcon_and_keeps_the_standard_definition():
-    fallback = Path(__file__).resolve().parents[1] / 'fallback'
+    fallback = Path(__file__).resolve().parents[2] / 'fallback'
     # colcon (and rosdep) never crawl it, so an apt Jazzy workspace uses the real tf2_msgs.
     assert (fallback / 'COLCON_IGNORE').is_file()
     definition = (fallback / 'tf2_msgs' / 'msg' / 'TFMessage.msg').read_text()
@@ -53,7 +53,7 @@ def test_the_map_msgs_stand_in_keeps_the_standard_definition():
     assert OccupancyGridUpdate.get_fields_and_field_types() == {
         'header': 'std_msgs/Header', 'x': 'int32', 'y': 'int32', 'width': 'uint32',
         'height': 'uint32', 'data': 'sequence<int8>'}
-    fallback = Path(__file__).resolve().parents[1] / 'fallback'
+    fallback = Path(__file__).resolve().parents[2] / 'fallback'
     definition = (fallback / 'map_msgs' / 'msg' / 'OccupancyGridUpdate.msg').read_text()
     assert definition.split() == ['std_msgs/Header', 'header', 'int32', 'x', 'int32', 'y',
                                   'uint32', 'width', 'uint32', 'height', 'int8[]', 'data']

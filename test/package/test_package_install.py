@@ -22,7 +22,7 @@ from ament_index_python.packages import get_package_share_directory
 from ament_index_python.packages import get_packages_with_prefixes
 import pytest
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 PACKAGE = 'dpn_navigator'
 #: Every name the distribution registers in the ament index.
 INDEXED_PACKAGES = ('dpn_navigator', 'sim_bridge')

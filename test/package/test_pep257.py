@@ -24,7 +24,7 @@ from pathlib import Path
 from ament_pep257.main import main
 import pytest
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 NOT_OURS = ('.venv', 'build', 'install', 'log')
 
 

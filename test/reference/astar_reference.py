@@ -6,7 +6,7 @@ name, `reference_astar`, and for using the core's own input checks, step costs a
 diagonal cost: plain Python over flat cell indices, with numpy working out for the whole grid
 up front which moves are legal from each cell, and the heuristic. The tests check
 that the kernel returns the very same path (not only the same cost) on every instance, and
-``benchmarks/bench_core.py`` times the two against each other.
+``tools/bench_core.py`` times the two against each other.
 
 Cells are ``(row, col)``, row-major. A move goes to one of the eight neighbours of a cell; it
 costs 1 along a row or column and sqrt(2) along a diagonal. A diagonal move from ``(r, c)`` to
@@ -21,8 +21,9 @@ import math
 
 # Input checks and the fixed-point diagonal cost are the core's own: what this twin checks is
 # the search.
-from dpn_navigator.core.astar_search import (_as_blocked_grid, _as_cell, _as_cell_cost,
-                                             _fixed_point_diagonal_cost, ORTHOGONAL_STEP_COST)
+from dpn_navigator.core.planning.astar_search import (_as_blocked_grid, _as_cell, _as_cell_cost,
+                                                      _fixed_point_diagonal_cost,
+                                                      ORTHOGONAL_STEP_COST)
 import numpy as np
 
 # Bit k of a cell's orthogonal (diagonal) move mask is set when move k of this tuple is legal.

@@ -31,10 +31,9 @@ with the polygon's perimeter, not with the window's area.
 
 import math
 
+from dpn_navigator.core.cell_label import ScanInput
 import numpy as np
-
-from .cell_label import ScanInput
-from .scan_features import hit_runs, run_cover
+from scan_features import hit_runs, run_cover
 
 #: Slack of the candidate boxes [m]: far more than the rounding of their bounds.
 _BOX_SLACK = 1e-6

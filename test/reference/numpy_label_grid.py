@@ -15,15 +15,15 @@ numpy around it: the oracle of their compiled versions.
 
 from dpn_navigator.core.cell_label import blocked_mask, CellLabel, LABEL_DTYPE, ScanInput
 from dpn_navigator.core.cell_label import TRANSITION
-from dpn_navigator.core.fine_evidence import FineEvidence
-from dpn_navigator.core.free_evidence import surely_free
-from dpn_navigator.core.label_grid import LabelGrid, LabelRule
-from dpn_navigator.core.moving_objects import moving_object_hits
-from dpn_navigator.core.scan_features import hit_runs, run_cover, scan_input
+from dpn_navigator.core.mapping.fine_evidence import FineEvidence
+from dpn_navigator.core.mapping.label_grid import LabelGrid, LabelRule
 from dpn_navigator.core.scan_polygon import scan_points
+from free_evidence import surely_free
+from moving_objects import moving_object_hits
 import numpy as np
 from numpy_motion_tracks import NumpyMotionTracks
 from numpy_object_memory import NumpyObjectMemory
+from scan_features import hit_runs, run_cover, scan_input
 
 # TRANSITION flattened for one-step lookup with index (label << 2) | scan_input.
 _TRANSITION_BY_CODE = np.zeros(4 * len(CellLabel), dtype=LABEL_DTYPE)
@@ -54,7 +54,7 @@ class NumpyFineEvidence(FineEvidence):
 
     The grid has only the conservative free space on and is updated with safety radius
     ``radius``; its ``seen_free`` is the evidence, and its moving hits are found in numpy.
-    The oracle of ``label_kernel.surely_free_update`` and of the kernel
+    The oracle of ``label_update.surely_free_update`` and of the kernel
     ``_kernels.fine_evidence.fine_moving_hits``.
     """
 

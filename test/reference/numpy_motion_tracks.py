@@ -11,8 +11,8 @@ compare the compiled tracks with it, track for track and hit for hit.
 
 import math
 
-from dpn_navigator.core.motion_tracks import OBJECT_MIN_HITS
-from dpn_navigator.core.moving_objects import scan_segments
+from dpn_navigator.core.mapping.motion_tracks import OBJECT_MIN_HITS
+from moving_objects import scan_segments
 import numpy as np
 
 

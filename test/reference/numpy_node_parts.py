@@ -15,13 +15,13 @@ is on the same scans and compare what the two publish.
 
 from array import array
 
-from dpn_navigator.conversions import (line_strip_marker, occupancy_values,
-                                       OccupancyGridBuffer, sphere_marker, yaw_to_quaternion)
 from dpn_navigator.core.cell_label import blocked_mask
-from dpn_navigator.core.planning_masks import _grown, PlanningMasks
+from dpn_navigator.core.planning.planning_masks import _grown, PlanningMasks
 from dpn_navigator.core.pose2d import compose
 from dpn_navigator.core.scan_polygon import check_pose, scan_points
-from dpn_navigator.navigator_markers import GREEN, NavigatorMarkers, RED, YELLOW
+from dpn_navigator.ros.conversions import (line_strip_marker, occupancy_values,
+                                           OccupancyGridBuffer, sphere_marker, yaw_to_quaternion)
+from dpn_navigator.ros.navigator_markers import GREEN, NavigatorMarkers, RED, YELLOW
 from geometry_msgs.msg import PoseStamped
 from map_msgs.msg import OccupancyGridUpdate
 from nav_msgs.msg import Path

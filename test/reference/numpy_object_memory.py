@@ -8,9 +8,9 @@ forgetting as array operations (``numpy_label_grid.NumpyExtrasLabelGrid`` runs i
 """
 
 from dpn_navigator.core.cell_label import CellLabel, ScanInput
-from dpn_navigator.core.object_memory import ObjectMemory
-from dpn_navigator.core.scan_features import hit_runs
+from dpn_navigator.core.mapping.object_memory import ObjectMemory
 import numpy as np
+from scan_features import hit_runs
 
 
 def run_cells(starts, ends):

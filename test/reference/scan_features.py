@@ -12,10 +12,9 @@ Positions below are flat indices into the window, ``local_row * n_cols + local_c
 
 import math
 
+from dpn_navigator.core.cell_label import LABEL_DTYPE, ScanInput
+from dpn_navigator.core.grid_geometry import squared_radius_bound  # noqa: F401 (re-exported)
 import numpy as np
-
-from .cell_label import LABEL_DTYPE, ScanInput
-from .grid_geometry import squared_radius_bound  # noqa: F401 (used here and re-exported)
 
 
 def hit_runs(geometry, rows, cols, centres, hits_x, hits_y, safety_radius, return_hits=False):

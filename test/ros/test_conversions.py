@@ -4,14 +4,14 @@ from array import array
 import math
 
 from builtin_interfaces.msg import Time
-from dpn_navigator.conversions import (apply_occupancy_grid_update, labels_to_occupancy_grid,
-                                       laser_scan_fields,
-                                       line_strip_marker, make_laser_scan, marker_points,
-                                       occupancy_grid_values, OccupancyGridBuffer,
-                                       odometry_to_pose,
-                                       pose_to_odometry, quaternion_to_yaw, sphere_marker,
-                                       twist_to_velocity, velocity_to_twist, yaw_to_quaternion)
 from dpn_navigator.core import CellLabel
+from dpn_navigator.ros.conversions import (apply_occupancy_grid_update, labels_to_occupancy_grid,
+                                           laser_scan_fields,
+                                           line_strip_marker, make_laser_scan, marker_points,
+                                           occupancy_grid_values, OccupancyGridBuffer,
+                                           odometry_to_pose,
+                                           pose_to_odometry, quaternion_to_yaw, sphere_marker,
+                                           twist_to_velocity, velocity_to_twist, yaw_to_quaternion)
 from geometry_msgs.msg import Quaternion
 from map_msgs.msg import OccupancyGridUpdate
 import numpy as np
@@ -183,8 +183,8 @@ def test_markers():
 def test_navigator_markers_built_once_per_change_equal_a_fresh_build():
     # The node's cached markers against navigator_markers on every scan of a run: the path
     # replaced now and then, the trail growing and started over, the goal set and changed.
-    from dpn_navigator.navigator_markers import (extend_trail, navigator_markers,
-                                                 NavigatorMarkers)
+    from dpn_navigator.ros.navigator_markers import (extend_trail, navigator_markers,
+                                                     NavigatorMarkers)
     rng = np.random.default_rng(4)
     cached = NavigatorMarkers('map', min_period=0.0)
     trail, path, goal = [], None, None
@@ -205,7 +205,7 @@ def test_navigator_markers_built_once_per_change_equal_a_fresh_build():
 
 @pytest.mark.parametrize('min_period', [0.0, 0.2])
 def test_marker_schedule_sends_every_replan_late_at_most(min_period):
-    from dpn_navigator.navigator_markers import markers_due, NavigatorMarkers
+    from dpn_navigator.ros.navigator_markers import markers_due, NavigatorMarkers
     schedule = NavigatorMarkers(min_period=min_period)
     last, sent, replans = -math.inf, [], []
     for step in range(60):

@@ -5,12 +5,12 @@ from pathlib import Path as FilePath
 import time
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
-from dpn_navigator.conversions import (apply_occupancy_grid_update,
-                                       labels_to_occupancy_grid, make_laser_scan,
-                                       marker_points, occupancy_grid_values, pose_to_odometry)
 from dpn_navigator.core.cell_label import CellLabel
-from dpn_navigator.dpn_node import DpnNode
-from dpn_navigator.qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS
+from dpn_navigator.ros.conversions import (apply_occupancy_grid_update,
+                                           labels_to_occupancy_grid, make_laser_scan,
+                                           marker_points, occupancy_grid_values, pose_to_odometry)
+from dpn_navigator.ros.dpn_node import DpnNode
+from dpn_navigator.ros.qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS
 from geometry_msgs.msg import PoseStamped, Twist, TwistStamped
 from map_msgs.msg import OccupancyGridUpdate
 from nav_msgs.msg import OccupancyGrid, Odometry, Path
@@ -23,7 +23,7 @@ from scan_scenes import ANGLE_INCREMENT, ANGLE_MIN, RANGE_MIN, ray_cast
 from sensor_msgs.msg import LaserScan
 from visualization_msgs.msg import MarkerArray
 
-REPO = FilePath(__file__).resolve().parents[1]
+REPO = FilePath(__file__).resolve().parents[2]
 RANGE_MAX = 10.0
 POSE = (2.0, 6.0, 0.0)
 

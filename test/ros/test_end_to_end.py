@@ -12,9 +12,9 @@ import subprocess
 
 from bag_reading import read_bag, stamp_ns
 from diagnostic_msgs.msg import DiagnosticArray
-from dpn_navigator.demo import installed_executable, ros_environment, run_episode, stop_nodes
-from dpn_navigator.qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS, TF_QOS, TF_STATIC_QOS
-from dpn_navigator.recorded_topics import system_topics
+from dpn_navigator.recording.recorded_topics import system_topics
+from dpn_navigator.ros.qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS, TF_QOS, TF_STATIC_QOS
+from dpn_navigator.tools.demo import installed_executable, ros_environment, run_episode, stop_nodes
 from nav_msgs.msg import OccupancyGrid, Path
 import numpy as np
 import pytest

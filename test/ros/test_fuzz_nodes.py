@@ -12,7 +12,7 @@ by ``test_safety_cases.py``; here they are among the drawn values (``NASTY_FLOAT
 import math
 
 from builtin_interfaces.msg import Time
-from dpn_navigator.conversions import make_laser_scan, pose_to_odometry
+from dpn_navigator.ros.conversions import make_laser_scan, pose_to_odometry
 from hypothesis import given, HealthCheck, settings
 from hypothesis.stateful import (invariant, rule, RuleBasedStateMachine,
                                  run_state_machine_as_test)

@@ -11,7 +11,7 @@ import re
 
 import yaml
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 LAUNCH = REPO / 'launch' / 'dpn_sim.launch.py'
 
 
@@ -34,7 +34,7 @@ def test_launch_file_names_the_real_executables_and_config_files():
     assert ('sim_bridge', 'pybullet_world') in nodes
     assert ('dpn_navigator', 'dpn') in nodes
     setup = (REPO / 'setup.py').read_text()
-    assert "'dpn = dpn_navigator.dpn_node:main'" in setup
+    assert "'dpn = dpn_navigator.ros.dpn_node:main'" in setup
     assert "'pybullet_world = sim_bridge.pybullet_world_node:main'" in setup
     files = [s for s in literal_strings(tree) if s.endswith(('.yaml', '.rviz'))]
     assert sorted(files) == ['dpn.rviz', 'dpn.yaml', 'pybullet_world.yaml']
@@ -46,8 +46,8 @@ def test_launch_file_names_the_real_executables_and_config_files():
 
 def dpn_parameter_defaults():
     """Return every parameter the ``dpn`` node declares, with its code default."""
-    from dpn_navigator.dpn_params import FLOAT_PARAMETERS, OTHER_PARAMETERS
-    from dpn_navigator.safety_params import INTEGER_PARAMETERS
+    from dpn_navigator.ros.dpn_params import FLOAT_PARAMETERS, OTHER_PARAMETERS
+    from dpn_navigator.ros.safety_params import INTEGER_PARAMETERS
     tables = {**FLOAT_PARAMETERS, **OTHER_PARAMETERS, **INTEGER_PARAMETERS}
     return {name: spec[0] for name, spec in tables.items()}
 

@@ -13,8 +13,8 @@ timings); and the hits the turn sweep keeps.
 from array import array
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
-from dpn_navigator.conversions import make_laser_scan, pose_to_odometry, seconds_to_time
-from dpn_navigator.dpn_node import DpnNode
+from dpn_navigator.ros.conversions import make_laser_scan, pose_to_odometry, seconds_to_time
+from dpn_navigator.ros.dpn_node import DpnNode
 import numpy as np
 from numpy.testing import assert_array_equal
 from numpy_node_parts import numpy_node

@@ -5,8 +5,8 @@ from pathlib import Path
 import time
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
-from dpn_navigator.conversions import odometry_to_pose, quaternion_to_yaw, velocity_to_twist
-from dpn_navigator.qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS, TF_QOS, TF_STATIC_QOS
+from dpn_navigator.ros.conversions import odometry_to_pose, quaternion_to_yaw, velocity_to_twist
+from dpn_navigator.ros.qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS, TF_QOS, TF_STATIC_QOS
 from geometry_msgs.msg import Twist, TwistStamped
 from nav_msgs.msg import Odometry
 from node_harness import executor_for
@@ -149,7 +149,7 @@ def test_commands_are_clamped_rejected_when_not_finite_and_time_out(world):
 
 
 def test_code_defaults_are_those_of_the_parameter_file(ros_context):
-    config = Path(__file__).resolve().parents[1] / 'config' / 'pybullet_world.yaml'
+    config = Path(__file__).resolve().parents[2] / 'config' / 'pybullet_world.yaml'
     values = yaml.safe_load(config.read_text())['/**/pybullet_world']['ros__parameters']
     node = PybulletWorldNode(context=ros_context)
     try:

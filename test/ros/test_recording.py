@@ -13,18 +13,18 @@ from pathlib import Path
 
 from ament_index_python.packages import get_package_share_directory, PackageNotFoundError
 from bag_reading import log_times, read_bag, stamp_ns
-from dpn_navigator.bag_writer import (BagPathError, BagTopic, BagWriter, check_bag_path,
-                                      message_type_name)
 from dpn_navigator.benchmark import runner
 from dpn_navigator.benchmark.episode import run_episode
 from dpn_navigator.benchmark.episode_bag import episode_bag_name, EpisodeBagRecorder
 from dpn_navigator.benchmark.protocol import EpisodeSpec
-from dpn_navigator.conversions import (labels_to_occupancy_grid, make_laser_scan,
-                                       seconds_to_time)
 from dpn_navigator.core import OCCUPANCY_VALUE
-from dpn_navigator.qos import LATCHED_QOS, SENSOR_QOS
-from dpn_navigator.recorded_topics import episode_topics, system_topics
-from dpn_navigator.topic_recorder import TopicRecorder
+from dpn_navigator.recording.bag_writer import (BagPathError, BagTopic, BagWriter, check_bag_path,
+                                                message_type_name)
+from dpn_navigator.recording.recorded_topics import episode_topics, system_topics
+from dpn_navigator.recording.topic_recorder import TopicRecorder
+from dpn_navigator.ros.conversions import (labels_to_occupancy_grid, make_laser_scan,
+                                           seconds_to_time)
+from dpn_navigator.ros.qos import LATCHED_QOS, SENSOR_QOS
 from nav_msgs.msg import OccupancyGrid
 import numpy as np
 import pytest
@@ -286,7 +286,7 @@ def test_topic_recorder_records_what_nodes_publish(ros_context, tmp_path):
 
 
 def test_demo_refuses_an_existing_bag_before_starting(tmp_path, capsys):
-    from dpn_navigator import demo
+    from dpn_navigator.tools import demo
     (tmp_path / 'bag').mkdir()
     with pytest.raises(SystemExit) as exit_info:
         demo.main(['--record', str(tmp_path / 'bag'), '--out', str(tmp_path / 'out')])
@@ -299,7 +299,7 @@ def test_demo_refuses_an_existing_bag_before_starting(tmp_path, capsys):
 
 # -- the Foxglove layout -----------------------------------------------------------------------
 
-LAYOUT = Path(__file__).resolve().parents[1] / 'config' / 'dpn_foxglove_layout.json'
+LAYOUT = Path(__file__).resolve().parents[2] / 'config' / 'dpn_foxglove_layout.json'
 
 
 def _panel_ids(tree):

@@ -9,12 +9,12 @@ import math
 import time
 
 from builtin_interfaces.msg import Time
-from dpn_navigator.conversions import (make_laser_scan, odometry_to_pose, pose_to_odometry,
-                                       quaternion_to_yaw)
 from dpn_navigator.core import Navigator, NavigatorConfig, NavigatorStatus
-from dpn_navigator.dpn_node import DpnNode
-from dpn_navigator.dpn_params import MAX_GRID_CELLS
-from dpn_navigator.qos import COMMAND_QOS
+from dpn_navigator.ros.conversions import (make_laser_scan, odometry_to_pose, pose_to_odometry,
+                                           quaternion_to_yaw)
+from dpn_navigator.ros.dpn_node import DpnNode
+from dpn_navigator.ros.dpn_params import MAX_GRID_CELLS
+from dpn_navigator.ros.qos import COMMAND_QOS
 from geometry_msgs.msg import Quaternion, Twist
 from node_harness import executor_for, spin_until
 import numpy as np

@@ -1,7 +1,7 @@
 """Tests of the two-clock sensor watchdog and the command-topic monitor, without ROS."""
 
-from dpn_navigator.cmd_vel_monitor import CommandTopicMonitor
-from dpn_navigator.sensor_watchdog import SensorWatchdog, steady_arrival_time
+from dpn_navigator.ros.cmd_vel_monitor import CommandTopicMonitor
+from dpn_navigator.ros.sensor_watchdog import SensorWatchdog, steady_arrival_time
 import pytest
 
 

@@ -12,7 +12,7 @@ import signal
 import subprocess
 import time
 
-from dpn_navigator.demo import installed_executable, ros_environment, start_nodes, stop_nodes
+from dpn_navigator.tools.demo import installed_executable, ros_environment, start_nodes, stop_nodes
 
 PAIRS_PER_BATCH = 5
 BATCHES = 2
@@ -83,7 +83,7 @@ def test_absurd_grid_parameters_end_in_one_error_line(ros_domain_id):
 
 
 def test_a_stop_signal_is_taken_once_and_later_ones_are_ignored():
-    from dpn_navigator.spin import StopRequest
+    from dpn_navigator.ros.spin import StopRequest
     saved = {signum: signal.getsignal(signum) for signum in (signal.SIGINT, signal.SIGTERM)}
     try:
         stop = StopRequest()

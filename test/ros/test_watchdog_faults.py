@@ -10,7 +10,7 @@ delivery, on the wall clock: under 0.5 s.
 
 import time
 
-from dpn_navigator.dpn_node import WATCHDOG_PERIOD
+from dpn_navigator.ros.dpn_node import WATCHDOG_PERIOD
 from node_harness import executor_for, spin_until
 import pytest
 from sim_stand_in import room_navigator, SimulatorStandIn

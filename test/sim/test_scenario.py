@@ -24,7 +24,7 @@ from sim_bridge.scenarios.generate import write_scenarios
 from sim_bridge.tasks import DEFAULT_TASK_CLEARANCE, draw_tasks
 
 # The real maps beside the checkout (../shared/maps), read when present, never shipped.
-SHARED_MAPS = next((folder for folder in (Path(__file__).resolve().parents[2] / 'shared' / 'maps',
+SHARED_MAPS = next((folder for folder in (Path(__file__).resolve().parents[3] / 'shared' / 'maps',
                                           Path('/work/shared/maps')) if folder.is_dir()),
                    Path('/work/shared/maps'))
 SCENARIOS = INDEX_PATH.parent

@@ -37,10 +37,10 @@ import math
 
 import numpy as np
 
-from ._kernels import costmap as costmap_kernels
-from .cell_label import blocked_mask, CellLabel, LABEL_DTYPE, ScanInput
-from .grid_geometry import GridGeometry
-from .label_grid import ChangeTrackers, check_update
+from ...core._kernels import costmap as costmap_kernels
+from ...core.cell_label import blocked_mask, CellLabel, LABEL_DTYPE, ScanInput
+from ...core.grid_geometry import GridGeometry
+from ...core.mapping.label_grid import ChangeTrackers, check_update
 
 #: Nav2 Jazzy's ``obstacle_max_range`` and ``raytrace_max_range`` in ``nav2_params.yaml`` [m].
 NAV2_OBSTACLE_MAX_RANGE = 2.5

@@ -12,10 +12,10 @@ what the map, the wanderers and the time limit allow.
 
 import numpy as np
 
-from .ground_truth import near_any
-from ..core.cell_label import blocked_mask, CellLabel, LABEL_DTYPE
-from ..core.grid_geometry import GridGeometry
-from ..core.label_grid import ChangeTrackers, check_path
+from ..ground_truth import near_any
+from ...core.cell_label import blocked_mask, CellLabel, LABEL_DTYPE
+from ...core.grid_geometry import GridGeometry
+from ...core.mapping.label_grid import ChangeTrackers, check_path
 
 _EMPTY_WINDOW = (slice(0, 0), slice(0, 0), np.zeros((0, 0), dtype=LABEL_DTYPE))
 

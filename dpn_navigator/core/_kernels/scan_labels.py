@@ -9,7 +9,8 @@ import math
 
 import numpy as np
 
-from .codes import EXPLORED, MOBILE_OBSTACLE, NON_EXPLORED, SCAN_HIT, SCAN_INSIDE, SCAN_NONE, STEADY_OBSTACLE
+from .codes import (EXPLORED, MOBILE_OBSTACLE, NON_EXPLORED, SCAN_HIT, SCAN_INSIDE, SCAN_NONE,
+                    STEADY_OBSTACLE)
 from .jit import kernel
 from .raster import disc_box, fill_inside, mark_discs, mark_uncovered_edge_bands
 

@@ -18,7 +18,7 @@ import math
 
 import numpy as np
 
-from .pose2d import wrap_angle
+from ..pose2d import wrap_angle
 
 
 @dataclass(frozen=True)

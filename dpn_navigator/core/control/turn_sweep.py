@@ -38,7 +38,7 @@ import math
 import numpy as np
 
 from .path_follower import STOP, VelocityCommand
-from .pose2d import wrap_angle
+from ..pose2d import wrap_angle
 
 #: Angle between two tested poses of a sweep [rad] (a 0.6 m corner moves 3 cm).
 SWEEP_STEP = 0.05

@@ -1,1 +1,6 @@
-"""The labelled grid: the per-scan label update and the parts of its rule; labels change only here."""
+"""
+The labelled grid: the per-scan label update and the parts of its rule.
+
+Labels change only here, through ``LabelGrid`` (update, settle, forget).
+
+"""

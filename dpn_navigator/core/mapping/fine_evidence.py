@@ -13,7 +13,7 @@ Here a second grid of ``resolution`` cells keeps the same evidence with its own 
 one scan's polygon. A hit whose fine cell is surely free lies at least ``radius`` minus half
 the fine cell's diagonal inside space one scan saw empty, and shows motion. The evidence is
 exactly the ``seen_free`` of a ``LabelGrid`` of the fine cells with only the conservative free
-space on, computed without its labels (``label_kernel.surely_free_update``) and tested against
+space on, computed without its labels (``label_update.surely_free_update``) and tested against
 the literal twin and the numpy twin.
 
 Only space within ``max_range`` of the laser is marked: the scan goes into the fine grid with
@@ -26,9 +26,9 @@ of a SLAM map hides between them and its next hit looks like motion.
 
 import numpy as np
 
-from ._kernels import fine_evidence as fine_kernels
-from .grid_geometry import GridGeometry
-from .label_kernel import surely_free_update
+from .label_update import surely_free_update
+from .._kernels import fine_evidence as fine_kernels
+from ..grid_geometry import GridGeometry
 
 
 class FineEvidence:
@@ -90,13 +90,13 @@ class FineEvidence:
         """
         Return the hits of objects this evidence shows moving (``moving_object_hits``).
 
-        `evidence` and the object rule's ``label_kernel._moving_hits`` in one compiled call.
+        `evidence` and the object rule's ``_kernels.scan_labels.moving_hits`` in one compiled call.
 
         Parameters
         ----------
         points : tuple
             ``(vertices_x, vertices_y, hits_x, hits_y, hit_beams, ...)`` of the scan, as
-            ``label_kernel.scan_hits`` returns them; read before `update` with that scan.
+            ``label_update.scan_hits`` returns them; read before `update` with that scan.
         rule : LabelRule
             Its ``segment_gap``, ``moving_object_size`` and ``object_min_hits``.
 
@@ -123,7 +123,7 @@ class FineEvidence:
         The laser's pose and the scan as ``LabelGrid.update`` takes them, checked. Exactly the
         ``seen_free`` of a ``LabelGrid`` of the fine cells with only
         ``free_evidence_radius = radius`` on, updated with safety radius ``radius`` and
-        ``range_max`` capped at ``max_range`` (``label_kernel.surely_free_update``).
+        ``range_max`` capped at ``max_range`` (``label_update.surely_free_update``).
         """
         surely_free_update(self.seen_free, self.geometry, pose, ranges, angle_min,
                            angle_increment, range_min, self.capped_range_max(range_min, range_max),

@@ -18,15 +18,14 @@ import math
 
 import numpy as np
 
-from .cell_label import CellLabel, LABEL_DTYPE
 from .fine_evidence import FineEvidence
-from .grid_geometry import GridGeometry
-from .label_kernel import (expire_listed, mark_free_window, scan_hits, scan_update,
-                           squared_bound)
+from .label_update import expire_listed, mark_free_window, scan_hits, scan_update, squared_bound
 from .motion_tracks import MotionTracks, TrackConfig
 from .object_memory import ObjectMemory
-from .scan_polygon import check_pose, check_scan
 from .trail_marks import update_trails
+from ..cell_label import CellLabel, LABEL_DTYPE
+from ..grid_geometry import GridGeometry
+from ..scan_polygon import check_pose, check_scan
 
 _EMPTY_WINDOW = (slice(0, 0), slice(0, 0), np.zeros((0, 0), dtype=LABEL_DTYPE))
 
@@ -278,7 +277,7 @@ class LabelRule:
 
     def kernel_arguments(self):
         """
-        Return the rule as the label kernel takes it (``label_kernel.scan_update``).
+        Return the rule as the label kernel takes it (``label_update.scan_update``).
 
         Returns
         -------
@@ -443,7 +442,7 @@ class LabelGrid(ChangeTrackers):
     Notes
     -----
     An update is one compiled kernel over the window the scan reaches
-    (``label_kernel.scan_update``); nothing is done over the whole grid. The ghost expiry
+    (``label_update.scan_update``); nothing is done over the whole grid. The ghost expiry
     keeps a list of the cells it has seen become mobile and visits only those, and only when
     the earliest hit among them is ``mobile_expiry`` old. Code that writes ``labels`` or
     ``last_hit`` itself (tests, a forgetting navigator) calls `labels_changed` afterwards.

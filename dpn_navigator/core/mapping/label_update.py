@@ -24,15 +24,15 @@ The work grows with the beams and the window's cells, never with the grid.
 
 import numpy as np
 
-from ._kernels import scan_labels as label_kernels
-from .cell_label import CellLabel, ScanInput, TRANSITION, TRANSITION_BY_CODE
-from .grid_geometry import squared_bound
+from .._kernels import scan_labels as label_kernels
+from ..cell_label import CellLabel, ScanInput, TRANSITION, TRANSITION_BY_CODE
+from ..grid_geometry import squared_bound
 
 # The update writes f2 cells as explored and leaves cells without input alone, under every
 # rule, without looking the table up: the paper's FSM says so for every label.
 if not ((TRANSITION[:, ScanInput.INSIDE] == CellLabel.EXPLORED).all()
         and (TRANSITION[:, ScanInput.NONE] == np.arange(len(CellLabel))).all()):
-    raise ImportError('label_kernel expects f2 cells to become explored and cells without '
+    raise ImportError('label_update expects f2 cells to become explored and cells without '
                       'input to keep their label (cell_label.TRANSITION)')
 
 #: `scan_update` without extra moving hits.

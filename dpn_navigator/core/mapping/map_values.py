@@ -13,8 +13,8 @@ changed values.
 
 import numpy as np
 
-from ._kernels import map_values as map_value_kernels
-from .cell_label import CellLabel, LABEL_DTYPE
+from .._kernels import map_values as map_value_kernels
+from ..cell_label import CellLabel, LABEL_DTYPE
 
 
 class MapValues:

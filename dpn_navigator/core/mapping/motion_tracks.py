@@ -41,7 +41,7 @@ import math
 
 import numpy as np
 
-from ._kernels import motion_tracks as track_kernels
+from .._kernels import motion_tracks as track_kernels
 
 
 #: Fewest hits of a scan segment that is a small object (``MotionTracks.hit_object``).

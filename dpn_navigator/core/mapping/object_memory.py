@@ -38,9 +38,9 @@ and list for list.
 
 import numpy as np
 
-from ._kernels import object_memory as memory_kernels
-from .cell_label import CellLabel, ScanInput
-from .grid_geometry import squared_bound
+from .._kernels import object_memory as memory_kernels
+from ..cell_label import CellLabel, ScanInput
+from ..grid_geometry import squared_bound
 
 #: Entries of the list of provisional cells at first; it doubles when full.
 _INITIAL_LIST = 256

@@ -12,9 +12,9 @@ the numpy implementation it replaced is the oracle of the tests
 
 """
 
-from ._kernels import trails as trail_kernels
-from .cell_label import CellLabel, ScanInput
-from .grid_geometry import squared_bound
+from .._kernels import trails as trail_kernels
+from ..cell_label import CellLabel, ScanInput
+from ..grid_geometry import squared_bound
 
 _EXPLORED = int(CellLabel.EXPLORED)
 _MOBILE = int(CellLabel.MOBILE_OBSTACLE)

@@ -9,7 +9,7 @@ With ``cut_corners=False`` it is forbidden when either is blocked, so that a rob
 the path centre to centre never passes a blocked cell closer than half a cell's diagonal.
 The target of every move must be free.
 
-The search is a compiled kernel (numba, see `dpn_navigator.core.jit`) that works out the legal
+The search is a compiled kernel (numba, ``core/_kernels/astar.py``) that works out the legal
 moves and the heuristic of each cell as it reaches it, so a call costs about as much as the
 cells it expands, not the size of the grid.
 
@@ -20,7 +20,7 @@ import operator
 
 import numpy as np
 
-from ._kernels import astar as astar_kernels
+from .._kernels import astar as astar_kernels
 
 
 #: Cost of a move along a row or a column [cells].

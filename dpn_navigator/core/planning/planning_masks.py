@@ -13,9 +13,9 @@ it. A plan therefore costs a pass over the changed cells and the search, not the
 
 import numpy as np
 
-from ._kernels import planning_masks as mask_kernels
 from .astar_search import astar_checked
-from .cell_label import CellLabel, LABEL_DTYPE
+from .._kernels import planning_masks as mask_kernels
+from ..cell_label import CellLabel, LABEL_DTYPE
 
 
 def touches_blocked(blocked):
