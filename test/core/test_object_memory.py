@@ -3,6 +3,7 @@
 import dataclasses
 import math
 
+from changed_cells import assert_box_holds, ChangedCells
 from dpn_navigator.core.cell_label import CellLabel, ScanInput
 from dpn_navigator.core.grid_geometry import GridGeometry
 from dpn_navigator.core.grid_geometry import squared_radius_bound
@@ -300,6 +301,7 @@ def test_compiled_object_memory_equals_the_numpy_one_on_hall_sequences(
     fast = LabelGrid(size, size, resolution, rule=rule)
     reference = NumpyExtrasLabelGrid(size, size, resolution, rule=rule)
     trackers = (fast.change_tracker(), reference.change_tracker())
+    changed = (ChangedCells(fast.labels), ChangedCells(reference.labels))
     middle = fast.labels.shape[0] // 2
     path = np.array([[middle, c] for c in range(2 * middle)])
     for args, stamp in scans:
@@ -310,7 +312,8 @@ def test_compiled_object_memory_equals_the_numpy_one_on_hall_sequences(
         assert_array_equal(fast.object_memory.provisional,
                            reference.object_memory.provisional)
         assert fast.object_memory.forgotten == reference.object_memory.forgotten
-        assert trackers[0].take() == trackers[1].take()
+        for tracker, cells in zip(trackers, changed):     # a literal diff, not each other
+            assert_box_holds(tracker.take(), cells.take())
     assert fast.object_memory.forgotten > 0
     assert fast.object_memory.anchored.any()
 
@@ -326,6 +329,7 @@ def test_deferred_evidence_gives_the_same_grid_on_hall_sequences(resolution, see
     size, scans = crossing_boxes(resolution, seed, 60)
     now, deferred = (LabelGrid(size, size, resolution, rule=rule) for _ in range(2))
     trackers = (now.change_tracker(), deferred.change_tracker())
+    changed = (ChangedCells(now.labels), ChangedCells(deferred.labels))
     moving = stale_entries = 0
     for step, (args, stamp) in enumerate(scans):
         assert now.update(*args, stamp=stamp) == deferred.update(*args, stamp=stamp,
@@ -333,7 +337,8 @@ def test_deferred_evidence_gives_the_same_grid_on_hall_sequences(resolution, see
         assert_array_equal(deferred.labels, now.labels)
         assert_array_equal(deferred.last_hit, now.last_hit)
         assert_array_equal(deferred.cell_track, now.cell_track)
-        assert trackers[0].take() == trackers[1].take()
+        for tracker, cells in zip(trackers, changed):     # a literal diff, not each other
+            assert_box_holds(tracker.take(), cells.take())
         if step % 3:
             deferred.settle()
             assert_array_equal(deferred.seen_free, now.seen_free)
@@ -352,3 +357,14 @@ def test_deferred_evidence_gives_the_same_grid_on_hall_sequences(resolution, see
     assert now.object_memory.forgotten > 0
     assert deferred.object_memory.forgotten == now.object_memory.forgotten
     assert stale_entries > 0                # a listed cell anchored later came up
+
+
+def test_the_literal_change_oracle_catches_a_box_too_small():
+    labels = np.zeros((4, 5), dtype=np.uint8)
+    cells = ChangedCells(labels)
+    labels[1, 3] = 2
+    changed = cells.take()
+    assert_box_holds((slice(1, 2), slice(3, 4), False), changed)
+    with pytest.raises(AssertionError, match='1 changed cells outside'):
+        assert_box_holds((slice(0, 1), slice(0, 5), False), changed)
+    assert cells.take()[0].size == 0                  # taken: nothing changed since
