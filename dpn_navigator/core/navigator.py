@@ -8,7 +8,7 @@ path into a velocity command. The ROS node and the batch benchmark both drive th
 
 """
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields, MISSING
 import enum
 import math
 import time
@@ -24,6 +24,7 @@ from .planning.planning_masks import PlanningMasks, touches_blocked  # noqa: F40
 from .planning.planning_masks import warm_up_planning_masks
 from .pose2d import compose
 from .scan_polygon import check_pose, scan_points
+from .settings import BIG, setting
 
 
 #: Forgetting unseen obstacles keeps those within this many safety radii of the robot.
@@ -53,132 +54,125 @@ class NavigatorConfig:
     """
     Everything the navigator needs to know before the first scan.
 
+    The fields declared with ``setting`` carry their unit, range and meaning on the field
+    (``settings.settings_of(NavigatorConfig)``): the ``dpn`` node declares its parameters from
+    them, and ``docs/ros_reference.md`` lists them. The label fields go to the grid's
+    ``LabelRule`` under the same names (``label_rule``), whose docstring says how each rule
+    works. The others:
+
     Attributes
     ----------
-    width, height : float
-        Size of the environment, ``W x H`` [m].
     origin : (float, float)
         Map-frame position of the environment's lower-left corner [m].
-    resolution : float
-        Grid cell side [m]; the paper uses 0.5.
-    safety_radius : float
-        f1's ``r`` [m]; the default is the Husky's circumscribed radius, ~0.6 m.
-    footprint_radius : float
-        Cells whose centre is this close to the robot are planned through even when labelled
-        as obstacles: the robot stands on them, so whatever was seen there has moved [m].
     laser_offset : (float, float, float)
         Laser pose on the robot base ``(x, y, yaw)`` [m, m, rad].
     max_path_deviation : float
         Replan when the robot is farther than this from its path [m].
-    obstacle_proximity_cost : float
-        Extra A* cost of entering a free cell that touches an obstacle cell (8-neighbourhood)
-        [cells]. It keeps the path a cell off obstacles where there is room, so that corner
-        cutting and turning in place do not bring the Husky's corners to a wall; narrow
-        corridors, where every cell touches one, are planned as before. 0 plans the paper's
-        plain shortest paths.
     no_path_retry_period : float
         While there is no path, plan again at most this often [s].
-    forget_obstacles_after : float
-        After this long with no path [s], the mobile-obstacle cells that the latest scan does
-        not see are forgotten (set back to explored, which they were before something moved
-        into them) and the robot plans again; after as long again with still no path, every
-        obstacle cell out of view (steady too, as a wanderer first seen in unexplored space is
-        labelled steady) goes back to non-explored. The cells the scan sees are labelled again
-        at once, and those within ``FORGET_KEEP_RADII`` safety radii (1.2 m) of the robot are
-        kept. Without it, a wanderer that blocked a corridor and then left it out of the
-        laser's view (behind the robot, round a corner) would block it for good. 0 turns it
-        off: the paper's navigator.
-    free_evidence_radius : float
-        Conservative free space [m]: explored -> mobile obstacle only for cells once surely
-        seen free (their disc of this radius inside one scan's polygon), else a steady
-        obstacle; see ``LabelRule``. 0: the paper's FSM.
-    moving_object_size : float
-        Object-level relabelling [m]: the steady cells of a scan segment's hits within this
-        distance of a hit in surely-free space become mobile; see ``LabelRule``. 0: off.
-    evidence_margin : float
-        A hit shows motion only within ``free_evidence_radius`` minus this of a cell surely
-        seen free [m]; see ``LabelRule``.
-    segment_gap : float
-        Consecutive hits farther apart than this belong to different objects [m].
-    object_min_hits : int
-        Thin things [hits]: a scan segment of fewer hits shows no motion and is not followed
-        (a post thinner than the beam spacing slips between the beams); see ``LabelRule``.
-        0: off.
-    fine_evidence_resolution, fine_evidence_radius, fine_evidence_range : float
-        Fine free evidence [m]: a hit also shows motion when its cell of a grid this fine was
-        once surely seen free with this radius, within this range of the laser; see
-        ``LabelRule``. Resolution and radius 0: off.
-    mobile_expiry : float
-        Ghost expiry [s]: mobile cells unconfirmed by any hit for this long and out of view go
-        back to explored; see ``LabelRule``. 0: off.
-    track_confirm_time : float
-        Motion tracks [s]: a compact, free-standing scan segment near an object seen to move
-        is that object while motion was seen within this long; see ``LabelRule``. 0: off.
-    track_still_distance : float
-        Still objects [m]: a compact segment this close to where a compact free-standing one
-        stood 0.8-1.5 s ago is not seen to move by the places left empty near it, nor
-        continues a track that never moved; see ``LabelRule``. 0: off.
-    track_exclusive : bool
-        Exclusive tracks: one scan segment per track and scan; see ``LabelRule``.
-    trail_distance : float
-        Trails [m]: out-of-view mobile cells whose object the scan sees at least this far away
-        go back to explored; see ``LabelRule``. 0: off.
-    object_memory : float
-        Object memory [s]: steady cells of small objects (scan segments up to 1 m, 3 hits or
-        more) that no longer segment has hit are forgotten after this long without a hit, out
-        of view; see ``LabelRule``. 0: off.
-    object_memory_short_segments : bool
-        Short segments in the object memory: steady cells that only segments of one or two
-        hits have hit (a wanderer glimpsed far off) are forgotten too; see ``LabelRule``.
-    robot_length, robot_width : float
-        The robot's footprint, centred on the base frame's origin [m]; the Husky A200 with
-        bumpers.
-    turn_sweep_memory : float
-        Turn sweep [s]: a turn in place is tested against the laser hits kept around the robot,
-        and replaced by a move to a place where it is clear, or held, when the robot's corners
-        would sweep into one; a kept hit counts for this long, and after that while the grid
-        labels its cell an obstacle; see ``turn_sweep``. 0: off (the follower's turn is sent
-        as it is; the paper).
-    turn_sweep_margin : float
-        Clearance the turn sweep keeps from the kept hits [m].
-    turn_sweep_spot_distance : float
-        Farthest place the turn sweep moves the robot to for a blocked turn [m]; 0: it waits.
     follower : FollowerConfig
         Speed limits and gains of the path follower.
 
     """
 
-    width: float
-    height: float
+    width: float = setting(MISSING, 'm', 'width W of the environment along x', 0.1, BIG)
+    height: float = setting(MISSING, 'm', 'height H of the environment along y', 0.1, BIG)
     origin: tuple = (0.0, 0.0)
-    resolution: float = 0.5
-    safety_radius: float = 0.6
-    footprint_radius: float = 0.35
+    resolution: float = setting(0.5, 'm', 'grid cell side (the paper: 0.5)', 0.01, 10.0)
+    safety_radius: float = setting(
+        0.6, 'm', "f1's r: cells this close to a laser hit are obstacles (the Husky's "
+        'circumscribed radius)', 0.0, 5.0)
+    footprint_radius: float = setting(
+        0.35, 'm', 'cells this close to the robot are planned through even when labelled '
+        'obstacles: the robot stands on them, so what was seen there has moved', 0.0, 2.0)
     laser_offset: tuple = (0.0, 0.0, 0.0)
     max_path_deviation: float = 1.0
-    obstacle_proximity_cost: float = 1.0
+    obstacle_proximity_cost: float = setting(
+        1.0, 'cells', 'extra A\\* cost of a free cell next to an obstacle (8-neighbourhood): '
+        "paths keep a cell off walls where there is room, so that the Husky's corners clear "
+        'them; 0: plain shortest paths (the paper)', 0.0, 100.0)
     no_path_retry_period: float = 0.5
-    forget_obstacles_after: float = 10.0
-    free_evidence_radius: float = 0.6
-    moving_object_size: float = 0.7
-    evidence_margin: float = 0.15
-    segment_gap: float = 0.3
-    object_min_hits: int = 3
-    fine_evidence_resolution: float = 0.1
-    fine_evidence_radius: float = 0.2
-    fine_evidence_range: float = 20.0
-    mobile_expiry: float = 3.0
-    track_confirm_time: float = 5.0
-    track_still_distance: float = 0.08
-    track_exclusive: bool = True
-    trail_distance: float = 1.2
-    object_memory: float = 5.0
-    object_memory_short_segments: bool = True
-    robot_length: float = 0.99
-    robot_width: float = 0.67
-    turn_sweep_memory: float = 2.0
-    turn_sweep_margin: float = 0.05
-    turn_sweep_spot_distance: float = 0.6
+    forget_obstacles_after: float = setting(
+        10.0, 's', 'with no path this long, forget the mobile cells out of view (back to '
+        'explored) and plan again; as long again with still no path, every obstacle cell out '
+        'of view goes back to non-explored; cells within 1.2 m of the robot are kept; 0: '
+        'never (the paper)', 0.0, 3600.0)
+    free_evidence_radius: float = setting(
+        0.6, 'm', 'conservative free space: explored -> mobile only for cells whose disc of '
+        'this radius once lay inside one scan polygon, else steady; 0: the paper '
+        '([detection](detection.md))', 0.0, 5.0)
+    moving_object_size: float = setting(
+        0.7, 'm', 'object-level relabelling: hit cells near a scan segment seen to move are '
+        'mobile, other hit cells steady; 0: off', 0.0, 10.0)
+    evidence_margin: float = setting(
+        0.15, 'm', 'a hit shows motion only within `free_evidence_radius` minus this of a '
+        'cell surely seen free', 0.0, 5.0)
+    segment_gap: float = setting(
+        0.3, 'm', 'consecutive laser hits farther apart than this are different objects',
+        0.01, 10.0)
+    object_min_hits: int = setting(
+        3, 'hits', 'thin things: a free-standing scan segment of fewer hits shows no motion, '
+        'starts and continues no motion track and is not remembered as a place an object '
+        'stood (a post thinner than about two beam spacings slips between the beams, so its '
+        'next hit looks like motion); 0: off (the paper)', 0, 1_000_000)
+    fine_evidence_resolution: float = setting(
+        0.1, 'm', 'fine free evidence: a laser hit also shows motion when its cell of a grid '
+        'this fine was once surely seen free (its disc of `fine_evidence_radius` inside one '
+        'scan polygon); 0 (with the radius 0): off, the paper; the fine grid covers the map '
+        'and may hold at most 8192 x 8192 cells (2 bytes each), else the node refuses to '
+        'start', 0.0, 5.0)
+    fine_evidence_radius: float = setting(
+        0.2, 'm', 'fine free evidence: a fine cell is surely free when its disc of this '
+        'radius lay inside one scan polygon; 0: off', 0.0, 5.0)
+    fine_evidence_range: float = setting(
+        20.0, 'm', 'fine free evidence: fine cells are marked surely free only within this '
+        'distance of the laser (640 beams over 180 degrees are 9.8 cm apart at 20 m, under a '
+        'fine cell; farther, a thin thing hides between two beams)', 0.01, 1000.0)
+    mobile_expiry: float = setting(
+        3.0, 's', 'mobile cells that no hit confirmed for this long and that are out of view '
+        'go back to explored; 0: never (the paper)', 0.0, 3600.0)
+    track_confirm_time: float = setting(
+        5.0, 's', 'motion tracks: a compact, free-standing scan segment near an object seen '
+        'to move is that object, mobile, while motion was seen within this long; 0: off '
+        '([method](method.md#the-dpn-label-rules-not-in-the-paper))', 0.0, 3600.0)
+    track_still_distance: float = setting(
+        0.08, 'm', 'still objects: a compact scan segment this close to where a compact '
+        'free-standing one stood 0.8-1.5 s ago stood still: the places left empty near it '
+        '(by a wanderer passing a post) do not show it moving, and it does not continue a '
+        'track that never moved 0.3 m; 0: off '
+        '([method](method.md#the-dpn-label-rules-not-in-the-paper))', 0.0, 10.0)
+    track_exclusive: bool = setting(
+        True, '', 'exclusive tracks: at most one scan segment continues a track per scan '
+        '(false: segments share one, as a post next to a wanderer did)')
+    trail_distance: float = setting(
+        1.2, 'm', 'trails: mobile cells out of view whose followed object the scan sees at '
+        'least this far from them go back to explored; 0: off', 0.0, 100.0)
+    object_memory: float = setting(
+        5.0, 's', 'object memory: steady cells of small objects (scan segments up to 1 m with '
+        '3 hits or more) that no longer segment has hit are forgotten (explored if once '
+        'surely seen free, else non-explored) after this long with no hit, out of view and '
+        'more than 2 safety radii from the laser; 0: off', 0.0, 3600.0)
+    object_memory_short_segments: bool = setting(
+        True, '', 'short segments in the object memory: steady cells that only laser segments '
+        'of one or two hits have hit (a wanderer glimpsed far off through a gap) are listed '
+        'and forgotten as `object_memory` forgets small objects, unless a longer segment '
+        'anchors them; false: kept (read only with `object_memory` > 0)')
+    robot_length: float = setting(
+        0.99, 'm', "the robot's footprint along x, centred on the base (Husky A200 with "
+        'bumpers); used by the turn sweep', 0.01, 10.0)
+    robot_width: float = setting(
+        0.67, 'm', "the robot's footprint along y, centred on the base", 0.01, 10.0)
+    turn_sweep_memory: float = setting(
+        2.0, 's', 'turn sweep: a turn in place is tested against the laser hits kept around '
+        'the robot (while in reach and not seen through); a hit counts this long, then while '
+        "the grid labels its cell an obstacle; when the robot's corners would hit one, it "
+        'moves to a nearby place the turn is clear from, else waits; 0: off (the paper; '
+        '[safety](safety.md#turning-in-place))', 0.0, 60.0)
+    turn_sweep_margin: float = setting(
+        0.05, 'm', 'clearance the turn sweep keeps from those hits', 0.0, 1.0)
+    turn_sweep_spot_distance: float = setting(
+        0.6, 'm', 'farthest place the turn sweep moves the robot to for a blocked turn; 0: it '
+        'waits', 0.0, 5.0)
     follower: FollowerConfig = field(default_factory=FollowerConfig)
 
     def __post_init__(self):
@@ -200,20 +194,7 @@ class NavigatorConfig:
 
     def label_rule(self):
         """Return the grid's ``LabelRule`` from the label fields of this configuration."""
-        return LabelRule(free_evidence_radius=self.free_evidence_radius,
-                         moving_object_size=self.moving_object_size,
-                         evidence_margin=self.evidence_margin, segment_gap=self.segment_gap,
-                         object_min_hits=self.object_min_hits,
-                         fine_evidence_resolution=self.fine_evidence_resolution,
-                         fine_evidence_radius=self.fine_evidence_radius,
-                         fine_evidence_range=self.fine_evidence_range,
-                         mobile_expiry=self.mobile_expiry,
-                         track_confirm_time=self.track_confirm_time,
-                         track_still_distance=self.track_still_distance,
-                         track_exclusive=self.track_exclusive,
-                         trail_distance=self.trail_distance,
-                         object_memory=self.object_memory,
-                         object_memory_short_segments=self.object_memory_short_segments)
+        return LabelRule(**{item.name: getattr(self, item.name) for item in fields(LabelRule)})
 
 
 @dataclass(frozen=True)

@@ -1,9 +1,15 @@
 """
 Parameters of the ``dpn`` node: declared with descriptors and ranges, read once.
 
-Defaults are those of ``config/dpn.yaml`` (the Husky on back_and_forth, task 0; a test keeps
-them equal); the node turns them into the core's frozen ``NavigatorConfig`` and never passes
-itself into the core. Number parameters take integers too (``-p map_width:=25``).
+Each parameter is stated once: the core's configuration fields carry their default, unit,
+range and meaning (``core.settings``: ``NavigatorConfig``, ``FollowerConfig``), and so do the
+node's own (`DpnParameters`, ``safety_params.SafetyParameters``). `PARAMETERS` lists the ROS
+parameters in order, each with where its value goes; the node declares them from it, and
+``config/dpn.yaml`` and the table of ``docs/ros_reference.md`` are written from it
+(``tools/parameter_files.py``; a test fails when either differs). The defaults are the Husky
+on back_and_forth, task 0: the core's, but for the map size, the laser mount and the goal.
+The node turns the values into the core's frozen ``NavigatorConfig`` and never passes itself
+into the core. Number parameters take integers too (``-p map_width:=25``).
 
 """
 
@@ -13,158 +19,187 @@ import math
 from rcl_interfaces.msg import IntegerRange, ParameterDescriptor
 
 from .parameter_declaration import declare_number
+from .safety_params import SafetyParameters
 from ..core import FollowerConfig, GridGeometry, NavigatorConfig
 from ..core.cell_label import OCCUPANCY_MOBILE_OBSTACLE
+from ..core.settings import BIG, Setting, setting, settings_of
 
-BIG = 1e6   # bound of the "any value" ranges [m]
 #: Most grid cells a node may ask for (2048 x 2048): the grid and A*'s arrays stay in memory and
 #: one plan in seconds. More is a parameter error, not a MemoryError in numpy.
 MAX_GRID_CELLS = 2048 * 2048
 #: Largest fine free-evidence grid (2 bytes a cell: 134 MB; 819 m x 819 m at 0.1 m).
 MAX_FINE_GRID_CELLS = 8192 * 8192
 
-# name: (default, description, (low, high), read_only)
-FLOAT_PARAMETERS = {
-    'map_width': (25.0, 'Width W of the environment along x [m].', (0.1, BIG), True),
-    'map_height': (20.0, 'Height H of the environment along y [m].', (0.1, BIG), True),
-    'origin_x': (0.0, "Map-frame x of the environment's lower-left corner [m].",
-                 (-BIG, BIG), True),
-    'origin_y': (0.0, "Map-frame y of the environment's lower-left corner [m].",
-                 (-BIG, BIG), True),
-    'resolution': (0.5, 'Grid cell side [m]; the paper uses 0.5.', (0.01, 10.0), True),
-    'safety_radius': (0.6, 'f1 radius r: cells this close to a laser hit are obstacles [m].',
-                      (0.0, 5.0), True),
-    'footprint_radius': (0.35, 'Cells this close to the robot are planned through [m].',
-                         (0.0, 2.0), True),
-    'obstacle_proximity_cost': (1.0, 'Extra A* cost of a free cell next to an obstacle cell '
-                                '[cells]; 0 plans plain shortest paths.', (0.0, 100.0), True),
-    'forget_obstacles_after': (10.0, 'With no path for this long, forget the obstacle cells '
-                               'out of view and plan again [s]; 0: never (the paper).',
-                               (0.0, 3600.0), True),
-    'free_evidence_radius': (0.6, 'Conservative free space: explored -> mobile only for cells '
-                             'whose disc of this radius once lay inside one scan polygon, '
-                             'else steady [m]; 0: the paper.', (0.0, 5.0), True),
-    'moving_object_size': (0.7, 'Object-level relabelling: steady cells of scan-segment hits '
-                           'within this distance of a hit in surely-free space become mobile '
-                           '[m]; 0: off.', (0.0, 10.0), True),
-    'evidence_margin': (0.15, 'A hit shows motion only within free_evidence_radius minus '
-                        'this of a cell surely seen free [m].', (0.0, 5.0), True),
-    'segment_gap': (0.3, 'Consecutive laser hits farther apart than this are different '
-                    'objects [m].', (0.01, 10.0), True),
-    'fine_evidence_resolution': (0.1, 'Fine free evidence: a hit also shows motion when its '
-                                 'cell of a grid this fine was once surely seen free with '
-                                 'fine_evidence_radius [m]; 0: off (the paper).', (0.0, 5.0),
-                                 True),
-    'fine_evidence_radius': (0.2, 'Fine free evidence: a fine cell is surely free when its '
-                             'disc of this radius lay inside one scan polygon [m]; 0: off.',
-                             (0.0, 5.0), True),
-    'fine_evidence_range': (20.0, 'Fine free evidence: fine cells are marked surely free only '
-                            'within this distance of the laser, where the beams are closer '
-                            'together than the fine cells [m].', (0.01, 1000.0), True),
-    'mobile_expiry': (3.0, 'Mobile cells no hit confirmed for this long and out of view go '
-                      'back to explored [s]; 0: never (the paper).', (0.0, 3600.0), True),
-    'track_confirm_time': (5.0, 'Motion tracks: a compact free-standing segment near a moving '
-                           'object stays mobile while motion was seen within this long [s]; '
-                           '0: off.', (0.0, 3600.0), True),
-    'track_still_distance': (0.08, 'Still objects: a compact segment this close to where one '
-                             'stood 0.8-1.5 s ago is not seen to move by the places left '
-                             'empty near it, nor continues a track that never moved [m]; 0: '
-                             'off.', (0.0, 10.0), True),
-    'trail_distance': (1.2, 'Trails: out-of-view mobile cells whose followed object the scan '
-                       'sees at least this far away go back to explored [m]; 0: off.',
-                       (0.0, 100.0), True),
-    'object_memory': (5.0, 'Object memory: steady cells of small objects (scan segments up '
-                      'to 1 m with 3 hits or more) that no longer segment has hit are '
-                      'forgotten after this long without a hit, out of view and more than 2 '
-                      'safety radii away [s]; 0: off.', (0.0, 3600.0), True),
-    'robot_length': (0.99, 'Robot footprint along x, centred on the base [m].', (0.01, 10.0),
-                     True),
-    'robot_width': (0.67, 'Robot footprint along y, centred on the base [m].', (0.01, 10.0),
-                    True),
-    'turn_sweep_memory': (2.0, 'Turn sweep: a turn in place is tested against the laser hits '
-                          'kept around the robot, and replaced by a move to a place where it '
-                          'is clear, or held, when its corners would hit one; a kept hit '
-                          'counts this long, then while the grid labels its cell an obstacle '
-                          '[s]; 0: off.', (0.0, 60.0), True),
-    'turn_sweep_margin': (0.05, 'Clearance the turn sweep keeps from the laser hits [m].',
-                          (0.0, 1.0), True),
-    'turn_sweep_spot_distance': (0.6, 'Farthest place the turn sweep moves the robot to for a '
-                                 'blocked turn [m]; 0: it waits.', (0.0, 5.0), True),
-    'goal_x': (2.0, 'Goal x in the map frame [m]; NaN: wait for a goal on goal_pose.',
-               None, True),
-    'goal_y': (18.0, 'Goal y in the map frame [m]; NaN: wait for a goal on goal_pose.',
-               None, True),
-    'max_linear_speed': (1.0, 'Forward speed limit [m/s].', (0.01, 5.0), True),
-    'max_angular_speed': (1.5, 'Turn rate limit [rad/s].', (0.01, 10.0), True),
-    'goal_tolerance': (0.3, 'Distance to the goal that counts as reached [m].', (0.01, 5.0),
-                       True),
-    'lookahead_distance': (0.6, 'How far ahead on the path the robot aims [m].', (0.1, 10.0),
-                           True),
-    'laser_x': (0.337, 'Laser position on the base, forward [m].', (-10.0, 10.0), True),
-    'laser_y': (0.0, 'Laser position on the base, left [m].', (-10.0, 10.0), True),
-    'laser_yaw': (0.0, 'Laser heading on the base [rad].', (-math.pi, math.pi), True),
-    'sensor_timeout': (0.4, 'Stop the robot when scan or odometry is older than this [s], on '
-                       'the node clock or the steady clock.', (0.01, 60.0), True),
-    'map_publish_period': (0.0, 'Publish the map at most this often [s]; 0: every scan.',
-                           (0.0, 60.0), True),
-    'marker_min_period': (0.2, 'Send the markers and plan at most this often on replans and '
-                          'status changes [s] (a later one waits for the period); 0: on every '
-                          'one. They also go out every 0.5 s.', (0.0, 60.0), True),
-}
-
-# name: (default, description); read-only, typed by the default.
-OTHER_PARAMETERS = {
-    'map_frame': ('map', 'Frame of the map, the plan and the markers; goals in another frame are '
-                  'rejected (an empty goal frame means this one).'),
-    'laser_frame': ('laser', 'Frame the scans must be in (laser_x/_y/_yaw place it on the '
-                    "base); scans in another frame are rejected and counted; '': any."),
-    'base_frame': ('base_link', 'Frame of the robot base: header of TwistStamped commands.'),
-    'cmd_vel_stamped': (False, 'Send geometry_msgs/TwistStamped on cmd_vel instead of Twist '
-                        "(Jazzy's diff_drive_controller takes TwistStamped)."),
-    'object_min_hits': (3, 'Thin things: a free-standing laser segment of fewer hits shows no '
-                        'motion and is not followed (a post thinner than the beam spacing '
-                        'slips between the beams) [hits]; 0: off (the paper).'),
-    'track_exclusive': (True, 'Exclusive motion tracks: at most one scan segment continues a '
-                        'track per scan (false: the paper has no tracks; before, a post next '
-                        'to a wanderer shared its track).'),
-    'object_memory_short_segments': (True, 'Short segments in the object memory: steady cells '
-                                     'that only laser segments of one or two hits have hit (a '
-                                     'wanderer glimpsed far off through a gap) are forgotten '
-                                     'as object_memory forgets small objects (false: kept).'),
-    'map_mobile_value': (OCCUPANCY_MOBILE_OBSTACLE, 'OccupancyGrid value of mobile-obstacle '
-                         'cells in map, 1 to 100 (steady obstacles are 100).'),
-    'map_updates': (True, 'On the scans between full maps (map_publish_period > 0), publish the '
-                    'box of cells changed since the last map or update on map_updates '
-                    '(map_msgs/OccupancyGridUpdate); false: nothing between full maps.'),
-}
-MOBILE_VALUE_RANGE = (1, 100)
-#: The parameters of ``OTHER_PARAMETERS`` that go to the navigator's configuration, not to
-#: ``DpnParameters``.
-NAVIGATOR_SWITCHES = ('track_exclusive', 'object_min_hits', 'object_memory_short_segments')
-#: Allowed ``object_min_hits`` (as ``max_beams``: no more hits than beams).
-MIN_HITS_RANGE = (0, 1_000_000)
-
 
 @dataclass(frozen=True)
 class DpnParameters:
-    """The node's parameters, read once at start-up."""
+    """
+    The node's parameters, read once at start-up.
+
+    The node's own fields carry their unit, range and meaning as settings.
+
+    Attributes
+    ----------
+    navigator : NavigatorConfig
+        The core's configuration.
+    goal : (float, float) or None
+        The goal in the map frame [m]; None: wait for one on ``goal_pose``.
+
+    """
 
     navigator: NavigatorConfig
-    goal: tuple          # (x, y) [m], or None
-    sensor_timeout: float
-    map_publish_period: float
-    marker_min_period: float = 0.2
-    map_frame: str = 'map'
-    laser_frame: str = 'laser'
-    base_frame: str = 'base_link'
-    cmd_vel_stamped: bool = False
-    map_mobile_value: int = OCCUPANCY_MOBILE_OBSTACLE
-    map_updates: bool = True
+    goal: tuple
+    sensor_timeout: float = setting(
+        0.4, 's', 'stop the robot when scan or odometry is older, on the node clock or the '
+        'steady clock ([safety](safety.md))', 0.01, 60.0)
+    map_publish_period: float = setting(
+        0.0, 's', 'publish the map at most this often; 0: every scan', 0.0, 60.0)
+    marker_min_period: float = setting(
+        0.2, 's', 'send the markers and plan at most this often on replans and status changes '
+        '(a later one waits for the period); 0: on every one; they also go out every 0.5 s',
+        0.0, 60.0)
+    map_frame: str = setting(
+        'map', '', 'frame of the map, the plan and the markers; goals in another frame are '
+        'rejected (an empty goal frame means this one)')
+    laser_frame: str = setting(
+        'laser', '', 'frame the scans must be in (`laser_x`/`_y`/`_yaw` place it on the base); '
+        "scans in another frame are rejected and counted; '': any")
+    base_frame: str = setting(
+        'base_link', '', 'frame of the robot base: header of TwistStamped commands')
+    cmd_vel_stamped: bool = setting(
+        False, '', "send geometry_msgs/TwistStamped on cmd_vel instead of Twist (Jazzy's "
+        'diff_drive_controller takes TwistStamped)')
+    map_mobile_value: int = setting(
+        OCCUPANCY_MOBILE_OBSTACLE, '', 'OccupancyGrid value of mobile-obstacle cells in `map` '
+        '(steady obstacles are 100)', 1, 100)
+    map_updates: bool = setting(
+        True, '', 'between full maps (`map_publish_period` > 0), publish the box of cells '
+        'changed since the last map or update on `map_updates` (map_msgs/OccupancyGridUpdate); '
+        'false: nothing between full maps')
+
+
+@dataclass(frozen=True)
+class RosParameter:
+    """
+    One ROS parameter of the ``dpn`` node and where its value goes.
+
+    Attributes
+    ----------
+    name : str
+        The ROS name.
+    default : float or int or bool or str
+        Its default.
+    setting : Setting
+        Unit, range and meaning.
+    target : str
+        ``'navigator'`` (a ``NavigatorConfig`` field), ``'follower'`` (``FollowerConfig``),
+        ``'node'`` (`DpnParameters`) or ``'safety'`` (``SafetyParameters``, declared by
+        ``safety_params``).
+    field : str
+        The field of ``target`` it sets.
+    index : int or None
+        The component of a tuple field (``origin``, ``laser_offset``, ``goal``) it sets.
+
+    """
+
+    name: str
+    default: object
+    setting: Setting
+    target: str
+    field: str
+    index: object = None
+
+
+_CONFIGS = {'navigator': NavigatorConfig, 'follower': FollowerConfig, 'node': DpnParameters,
+            'safety': SafetyParameters}
+
+
+def _field(target, name, ros_name=None, default=None):
+    """Return the `RosParameter` of a field with a setting; ``default`` overrides its own."""
+    field_default, field_setting = settings_of(_CONFIGS[target])[name]
+    return RosParameter(ros_name or name, field_default if default is None else default,
+                        field_setting, target, name)
+
+
+def _part(name, default, unit, description, low, high, target, field_name, index):
+    """Return the `RosParameter` of a component of a tuple field, whose setting is here."""
+    return RosParameter(name, default, Setting(unit, description, low, high), target,
+                        field_name, index)
+
+
+def _navigator(*names):
+    return tuple(_field('navigator', name) for name in names)
+
+
+#: Every parameter of the dpn node, in the order of ``config/dpn.yaml`` and of the reference
+#: table. The defaults the core lacks or that differ from it: the map size, the laser mount
+#: and the goal of the Husky on back_and_forth.
+PARAMETERS = (
+    _field('navigator', 'width', 'map_width', 25.0),
+    _field('navigator', 'height', 'map_height', 20.0),
+    _part('origin_x', 0.0, 'm', "map-frame x of the environment's lower-left corner", -BIG, BIG,
+          'navigator', 'origin', 0),
+    _part('origin_y', 0.0, 'm', "map-frame y of the environment's lower-left corner", -BIG, BIG,
+          'navigator', 'origin', 1),
+    *_navigator('resolution', 'safety_radius', 'footprint_radius', 'obstacle_proximity_cost',
+                'forget_obstacles_after', 'free_evidence_radius', 'moving_object_size',
+                'evidence_margin', 'segment_gap', 'object_min_hits',
+                'fine_evidence_resolution', 'fine_evidence_radius', 'fine_evidence_range',
+                'mobile_expiry', 'track_confirm_time', 'track_still_distance',
+                'track_exclusive', 'trail_distance', 'object_memory',
+                'object_memory_short_segments', 'robot_length', 'robot_width',
+                'turn_sweep_memory', 'turn_sweep_margin', 'turn_sweep_spot_distance'),
+    _part('goal_x', 2.0, 'm', 'goal x in the map frame (back_and_forth, task 0); NaN: wait for '
+          'a goal on `goal_pose`', None, None, 'node', 'goal', 0),
+    _part('goal_y', 18.0, 'm', 'goal y in the map frame; NaN: wait for a goal on `goal_pose`',
+          None, None, 'node', 'goal', 1),
+    *(_field('follower', name) for name in ('max_linear_speed', 'max_angular_speed',
+                                            'goal_tolerance', 'lookahead_distance')),
+    _part('laser_x', 0.337, 'm', "laser position on the base, forward (the Husky's LMS1xx)",
+          -10.0, 10.0, 'navigator', 'laser_offset', 0),
+    _part('laser_y', 0.0, 'm', 'laser position on the base, left', -10.0, 10.0, 'navigator',
+          'laser_offset', 1),
+    _part('laser_yaw', 0.0, 'rad', 'laser heading on the base', -math.pi, math.pi,
+          'navigator', 'laser_offset', 2),
+    _field('node', 'sensor_timeout'),
+    _field('safety', 'max_beams'),
+    *(_field('node', name) for name in ('map_publish_period', 'map_updates',
+                                        'marker_min_period', 'map_frame', 'laser_frame',
+                                        'base_frame', 'cmd_vel_stamped', 'map_mobile_value')),
+)
+
+
+def declare_parameter(node, parameter):
+    """
+    Declare one `RosParameter` on ``node`` (read-only, with its description and range).
+
+    Returns
+    -------
+    value : float or int or bool or str
+        The value given, or the default.
+
+    Raises
+    ------
+    ValueError
+        A number parameter out of its range or not a number (``declare_number``).
+
+    """
+    spec = parameter.setting
+    description = spec.plain_description()
+    if isinstance(parameter.default, float):
+        bounds = None if spec.low is None else (spec.low, spec.high)
+        return declare_number(node, parameter.name, parameter.default, description, bounds,
+                              read_only=True)
+    descriptor = ParameterDescriptor(description=description, read_only=True)
+    if isinstance(parameter.default, int) and not isinstance(parameter.default, bool):
+        descriptor.integer_range = [IntegerRange(from_value=spec.low, to_value=spec.high,
+                                                 step=1)]
+    return node.declare_parameter(parameter.name, parameter.default, descriptor).value
 
 
 def declare_parameters(node):
     """
-    Declare every parameter of the ``dpn`` node and read them.
+    Declare every parameter of the ``dpn`` node but the input limits, and read them.
 
     Returns
     -------
@@ -178,59 +213,33 @@ def declare_parameters(node):
         cells.
 
     """
-    values = {name: declare_number(node, name, default, description, bounds, read_only)
-              for name, (default, description, bounds, read_only) in FLOAT_PARAMETERS.items()}
+    values = {}
+    for parameter in PARAMETERS:
+        if parameter.target != 'safety':
+            values[parameter.name] = declare_parameter(node, parameter)
     check_grid_size(values['map_width'], values['map_height'], values['resolution'])
     if values['fine_evidence_resolution'] > 0.0:
         check_grid_size(values['map_width'], values['map_height'],
                         values['fine_evidence_resolution'], MAX_FINE_GRID_CELLS,
                         'fine_evidence_resolution')
-    for name, (default, description) in OTHER_PARAMETERS.items():
-        descriptor = ParameterDescriptor(description=description, read_only=True)
-        if name == 'map_mobile_value':
-            descriptor.integer_range = [IntegerRange(
-                from_value=MOBILE_VALUE_RANGE[0], to_value=MOBILE_VALUE_RANGE[1], step=1)]
-        if name == 'object_min_hits':
-            descriptor.integer_range = [IntegerRange(
-                from_value=MIN_HITS_RANGE[0], to_value=MIN_HITS_RANGE[1], step=1)]
-        values[name] = node.declare_parameter(name, default, descriptor).value
-    follower = FollowerConfig(
-        max_linear_speed=values['max_linear_speed'],
-        max_angular_speed=values['max_angular_speed'],
-        goal_tolerance=values['goal_tolerance'],
-        lookahead_distance=values['lookahead_distance'])
-    navigator = NavigatorConfig(
-        width=values['map_width'], height=values['map_height'],
-        origin=(values['origin_x'], values['origin_y']), resolution=values['resolution'],
-        safety_radius=values['safety_radius'], footprint_radius=values['footprint_radius'],
-        obstacle_proximity_cost=values['obstacle_proximity_cost'],
-        forget_obstacles_after=values['forget_obstacles_after'],
-        free_evidence_radius=values['free_evidence_radius'],
-        moving_object_size=values['moving_object_size'],
-        evidence_margin=values['evidence_margin'], segment_gap=values['segment_gap'],
-        object_min_hits=values['object_min_hits'],
-        fine_evidence_resolution=values['fine_evidence_resolution'],
-        fine_evidence_radius=values['fine_evidence_radius'],
-        fine_evidence_range=values['fine_evidence_range'],
-        mobile_expiry=values['mobile_expiry'],
-        track_confirm_time=values['track_confirm_time'],
-        track_still_distance=values['track_still_distance'],
-        track_exclusive=values['track_exclusive'],
-        trail_distance=values['trail_distance'], object_memory=values['object_memory'],
-        object_memory_short_segments=values['object_memory_short_segments'],
-        robot_length=values['robot_length'], robot_width=values['robot_width'],
-        turn_sweep_memory=values['turn_sweep_memory'],
-        turn_sweep_margin=values['turn_sweep_margin'],
-        turn_sweep_spot_distance=values['turn_sweep_spot_distance'],
-        laser_offset=(values['laser_x'], values['laser_y'], values['laser_yaw']),
-        follower=follower)
-    goal = None
-    if math.isfinite(values['goal_x']) and math.isfinite(values['goal_y']):
-        goal = (values['goal_x'], values['goal_y'])
-    return DpnParameters(
-        navigator, goal, values['sensor_timeout'], values['map_publish_period'],
-        values['marker_min_period'],
-        **{name: values[name] for name in OTHER_PARAMETERS if name not in NAVIGATOR_SWITCHES})
+    fields_of = {'navigator': {}, 'follower': {}, 'node': {}}
+    parts = {}
+    for parameter in PARAMETERS:
+        if parameter.target == 'safety':
+            continue
+        if parameter.index is None:
+            fields_of[parameter.target][parameter.field] = values[parameter.name]
+        else:
+            parts.setdefault((parameter.target, parameter.field), {})[parameter.index] = \
+                values[parameter.name]
+    for (target, name), components in parts.items():
+        fields_of[target][name] = tuple(components[k] for k in sorted(components))
+    goal = fields_of['node'].pop('goal')
+    if not all(math.isfinite(value) for value in goal):
+        goal = None
+    navigator = NavigatorConfig(**fields_of['navigator'],
+                                follower=FollowerConfig(**fields_of['follower']))
+    return DpnParameters(navigator, goal, **fields_of['node'])
 
 
 def check_grid_size(width, height, resolution, max_cells=MAX_GRID_CELLS,

@@ -11,27 +11,17 @@ from dataclasses import dataclass
 
 from rcl_interfaces.msg import IntegerRange, ParameterDescriptor
 
-# name: (default, description, (low, high)); all read-only. The default beam limit is four
-# times the paper's 640-beam laser, more than a 2-D lidar gives.
-INTEGER_PARAMETERS = {
-    'max_beams': (4096, 'Scans with more beams than this are rejected and counted [beams].',
-                  (1, 1_000_000)),
-}
+from ..core.settings import setting, settings_of
 
 
 @dataclass(frozen=True)
 class SafetyParameters:
-    """
-    Input limits, read once at start-up.
+    """Input limits, read once at start-up; each field carries its setting."""
 
-    Attributes
-    ----------
-    max_beams : int
-        Scans with more ranges than this are rejected.
-
-    """
-
-    max_beams: int
+    # Four times the paper's 640-beam laser, more than a 2-D lidar gives.
+    max_beams: int = setting(
+        4096, 'beams', 'scans with more beams are rejected and counted before any work',
+        1, 1_000_000)
 
 
 def declare_safety_parameters(node):
@@ -44,9 +34,9 @@ def declare_safety_parameters(node):
 
     """
     values = {}
-    for name, (default, description, (low, high)) in INTEGER_PARAMETERS.items():
+    for name, (default, spec) in settings_of(SafetyParameters).items():
         descriptor = ParameterDescriptor(
-            description=description, read_only=True,
-            integer_range=[IntegerRange(from_value=low, to_value=high, step=1)])
+            description=spec.plain_description(), read_only=True,
+            integer_range=[IntegerRange(from_value=spec.low, to_value=spec.high, step=1)])
         values[name] = int(node.declare_parameter(name, default, descriptor).value)
     return SafetyParameters(**values)

@@ -46,10 +46,8 @@ def test_launch_file_names_the_real_executables_and_config_files():
 
 def dpn_parameter_defaults():
     """Return every parameter the ``dpn`` node declares, with its code default."""
-    from dpn_navigator.ros.dpn_params import FLOAT_PARAMETERS, OTHER_PARAMETERS
-    from dpn_navigator.ros.safety_params import INTEGER_PARAMETERS
-    tables = {**FLOAT_PARAMETERS, **OTHER_PARAMETERS, **INTEGER_PARAMETERS}
-    return {name: spec[0] for name, spec in tables.items()}
+    from dpn_navigator.ros.dpn_params import PARAMETERS
+    return {parameter.name: parameter.default for parameter in PARAMETERS}
 
 
 def test_parameter_files_hold_every_declared_parameter_at_its_code_default():

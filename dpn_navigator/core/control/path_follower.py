@@ -19,6 +19,7 @@ import math
 import numpy as np
 
 from ..pose2d import wrap_angle
+from ..settings import setting
 
 
 @dataclass(frozen=True)
@@ -26,16 +27,11 @@ class FollowerConfig:
     """
     Limits and gains of the path follower; defaults suit a Clearpath Husky A200.
 
+    The speed limits, the look-ahead and the goal tolerance carry their unit, range and meaning
+    on the field (``settings.settings_of(FollowerConfig)``). The gains:
+
     Attributes
     ----------
-    max_linear_speed : float
-        [m/s], the Husky's top speed is 1.0.
-    max_angular_speed : float
-        [rad/s].
-    lookahead_distance : float
-        How far ahead along the path the robot aims [m].
-    goal_tolerance : float
-        Distance to the goal that counts as arrived [m].
     heading_gain : float
         Angular speed per radian of heading error [1/s].
     turn_in_place_angle : float
@@ -49,10 +45,13 @@ class FollowerConfig:
 
     """
 
-    max_linear_speed: float = 1.0
-    max_angular_speed: float = 1.5
-    lookahead_distance: float = 0.6
-    goal_tolerance: float = 0.3
+    max_linear_speed: float = setting(1.0, 'm/s', "forward speed limit (the Husky's top speed)",
+                                      0.01, 5.0)
+    max_angular_speed: float = setting(1.5, 'rad/s', 'turn rate limit', 0.01, 10.0)
+    lookahead_distance: float = setting(0.6, 'm', 'how far ahead on the path the robot aims',
+                                        0.1, 10.0)
+    goal_tolerance: float = setting(0.3, 'm', 'distance to the goal that counts as reached',
+                                    0.01, 5.0)
     heading_gain: float = 2.0
     turn_in_place_angle: float = 0.6
     slowdown_distance: float = 1.5

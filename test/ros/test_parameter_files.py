@@ -1,0 +1,95 @@
+"""
+Each parameter of the dpn node stated once: the settings, the declarations and the two files.
+
+The core's configuration fields carry each setting; the node declares ``PARAMETERS`` from them;
+``config/dpn.yaml`` and the table of ``docs/ros_reference.md`` are written from them. These
+tests fail when any of the four disagree.
+
+"""
+
+import math
+from pathlib import Path
+import shutil
+
+from dpn_navigator.core import FollowerConfig, NavigatorConfig
+from dpn_navigator.core.mapping.label_grid import LabelRule
+from dpn_navigator.core.settings import Setting, settings_of
+from dpn_navigator.ros.dpn_params import declare_parameters, DpnParameters, PARAMETERS
+from dpn_navigator.ros.safety_params import declare_safety_parameters, SafetyParameters
+from dpn_navigator.tools import parameter_files
+import pytest
+from rcl_interfaces.msg import ParameterType
+
+REPO = Path(__file__).resolve().parents[2]
+CONFIGS = {'navigator': NavigatorConfig, 'follower': FollowerConfig, 'node': DpnParameters,
+           'safety': SafetyParameters}
+#: ROS defaults that are not the core's: the Husky on back_and_forth.
+SCENARIO_DEFAULTS = {'map_width', 'map_height'}
+
+
+def test_the_files_are_written_from_the_settings():
+    assert parameter_files.main(['--repo', str(REPO)]) == 0
+
+
+@pytest.mark.parametrize('path, old, new', [
+    ('config/dpn.yaml', 'safety_radius: 0.6', 'safety_radius: 0.7'),
+    ('docs/ros_reference.md', '| dpn | `segment_gap` | 0.3 |', '| dpn | `segment_gap` | 0.4 |'),
+])
+def test_a_file_that_drifts_is_caught_and_rewritten(tmp_path, path, old, new):
+    for name in ('config/dpn.yaml', 'docs/ros_reference.md'):
+        (tmp_path / name).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy(REPO / name, tmp_path / name)
+    text = (tmp_path / path).read_text()
+    assert old in text
+    (tmp_path / path).write_text(text.replace(old, new))
+    assert parameter_files.main(['--repo', str(tmp_path)]) == 1
+    assert parameter_files.main(['--repo', str(tmp_path), '--write']) == 0
+    assert (tmp_path / path).read_text() == text
+
+
+def test_every_setting_is_a_parameter_at_its_default():
+    names = [parameter.name for parameter in PARAMETERS]
+    assert len(names) == len(set(names))
+    for target, config in CONFIGS.items():
+        declared = {p.field for p in PARAMETERS if p.target == target and p.index is None}
+        assert declared == set(settings_of(config)), target
+    for parameter in PARAMETERS:
+        assert isinstance(parameter.setting, Setting)
+        if parameter.index is None and parameter.name not in SCENARIO_DEFAULTS:
+            default, setting = settings_of(CONFIGS[parameter.target])[parameter.field]
+            assert (parameter.default, parameter.setting) == (default, setting), parameter.name
+
+
+def test_the_label_rule_takes_the_navigators_fields_by_name():
+    rule = NavigatorConfig(width=5.0, height=5.0, segment_gap=0.25, object_memory=2.0,
+                           track_exclusive=False).label_rule()
+    assert (rule.segment_gap, rule.object_memory, rule.track_exclusive) == (0.25, 2.0, False)
+    assert set(vars(rule)) <= set(settings_of(NavigatorConfig))
+
+
+def test_the_node_declares_every_parameter_with_its_setting(ros_context):
+    from rclpy.node import Node
+    node = Node('dpn', context=ros_context)
+    try:
+        params = declare_parameters(node)
+        safety = declare_safety_parameters(node)
+        for parameter in PARAMETERS:
+            value = node.get_parameter(parameter.name).value
+            if isinstance(parameter.default, float) and math.isnan(parameter.default):
+                assert math.isnan(value)
+            else:
+                assert value == parameter.default, parameter.name
+            descriptor = node.describe_parameter(parameter.name)
+            assert descriptor.read_only
+            assert descriptor.description == parameter.setting.plain_description()
+            if descriptor.type == ParameterType.PARAMETER_DOUBLE and parameter.setting.low:
+                assert descriptor.floating_point_range[0].from_value == parameter.setting.low
+        assert params.navigator.label_rule() == NavigatorConfig(
+            width=25.0, height=20.0).label_rule()
+        assert params.navigator.laser_offset == (0.337, 0.0, 0.0)
+        assert params.navigator.follower == FollowerConfig()
+        assert params.goal == (2.0, 18.0)
+        assert safety.max_beams == 4096
+        assert LabelRule() != params.navigator.label_rule()        # dpn, not the paper
+    finally:
+        node.destroy_node()
