@@ -12,7 +12,7 @@
 #                fails if any test fails or errors. Every test runs, the slow ones too: this is
 #                what CI runs (.ci/run)
 #   make test-fast  the same without the tests marked slow (pytest -m 'not slow'; each takes
-#                more than about 10 s), for the edit-test loop
+#                about 5 s or more), for the edit-test loop
 #   make demo    build, then one episode over ROS 2: the pybullet world (back_and_forth, 3
 #                wanderers, headless) and the dpn navigator as separate processes; prints the
 #                outcome and writes out/demo/*.png (DEMO_ARGS: see --help of dpn_navigator.tools.demo)

@@ -5,18 +5,18 @@ Prints Markdown tables of medians, old and new timed interleaved in one run, wit
 
 - the dpn rule's motion tracks, trail marks and object memory (compiled) against
   ``NumpyExtrasLabelGrid`` (the same label kernel with them in numpy around it,
-  ``test/numpy_label_grid.py``), on scenes of boxes that walk, with every array compared;
+  ``test/reference/numpy_label_grid.py``), on scenes of boxes that walk, with every array compared;
 - ``LabelGrid.update`` (the compiled kernel) against ``NumpyLabelGrid`` (the numpy update and
-  whole-grid ghost expiry it replaced, ``test/numpy_label_grid.py``), under the paper's rule
-  and the navigator's default rule, with the labels compared after every update; the paper's
-  rule also against the literal reference of the tests (``test/literal_reference.py``),
-  sampled over cells and extrapolated;
+  whole-grid ghost expiry it replaced, ``test/reference/numpy_label_grid.py``), under the
+  paper's rule and the navigator's default rule, with the labels compared after every update;
+  the paper's rule also against the literal reference of the tests
+  (``test/reference/literal_reference.py``), sampled over cells and extrapolated;
 - a replan's setup: the navigator's ``PlanningMasks`` (refreshed in the changed box) against
   the whole-grid masks it replaced, same paths;
 - the map a node publishes: ``OccupancyGridBuffer`` (the changed box) against
   ``labels_to_occupancy_grid`` (the whole grid), same bytes;
-- ``astar`` against the heapq A* it replaced (``test/astar_reference.py``), on synthetic grids
-  and on the calls recorded from real benchmark episodes, with every path compared.
+- ``astar`` against the heapq A* it replaced (``test/reference/astar_reference.py``), on
+  synthetic grids and on the calls recorded from real benchmark episodes, with every path compared.
 
 Not a test: it reports numbers. CPU time (``time.process_time``) is reported besides wall
 time where a shared machine makes wall time noise.

@@ -47,6 +47,7 @@ def smoke_run(tmp_path_factory):
     return out, done
 
 
+@pytest.mark.slow
 def test_smoke_run_logs_every_episode_with_the_schema(smoke_run):
     out, done = smoke_run
     smoke = PROFILES['smoke']
@@ -81,6 +82,7 @@ def test_smoke_run_logs_every_episode_with_the_schema(smoke_run):
     assert (out / 'detection.png').read_bytes()[:4] == b'\x89PNG'
 
 
+@pytest.mark.slow
 def test_same_seed_same_rows_on_one_worker(smoke_run, tmp_path):
     out, _ = smoke_run
     done = benchmark(*SMOKE, '--workers', '1', '--out', str(tmp_path))
@@ -89,6 +91,7 @@ def test_same_seed_same_rows_on_one_worker(smoke_run, tmp_path):
         without_wall_time(read_log(out / 'episodes.csv'))
 
 
+@pytest.mark.slow
 def test_a_rerun_resumes_where_the_log_ends(smoke_run, tmp_path):
     out, _ = smoke_run
     shutil.copy(out / 'episodes.csv', tmp_path / 'episodes.csv')
@@ -105,6 +108,7 @@ def test_a_rerun_resumes_where_the_log_ends(smoke_run, tmp_path):
     assert again.returncode == 0 and 'ran 0 episodes (6 already logged)' in again.stdout
 
 
+@pytest.mark.slow
 def test_ray_backend_logs_the_same_rows(smoke_run, tmp_path):
     pytest.importorskip('ray', reason='the Ray backend is optional: requirements-ray.txt')
     out, _ = smoke_run
@@ -181,6 +185,7 @@ def reference_run(request, tmp_path_factory):
     return request.param, out
 
 
+@pytest.mark.slow
 def test_reference_navigators_run_the_same_episodes_as_dpn(smoke_run, reference_run):
     name, out = reference_run
     rows = read_log(out / 'episodes.csv')

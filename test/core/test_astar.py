@@ -4,8 +4,8 @@ Tests of the A* planner: literal grids, the corner rule, every error, and two tw
 The Dijkstra twin (`legal_moves`, `dijkstra_cost`) is written straight from the definition of
 the moves and shares no code with the planner: it checks costs. The heapq A* the compiled
 kernel replaced (`astar_reference.reference_astar`) checks that the kernel returns the very
-same path, cell for cell. No ROS is needed: run ``python -m pytest test/test_astar.py`` from the
-repository root (with ``test/`` importable, as pytest makes it).
+same path, cell for cell. No ROS is needed: run ``python -m pytest test/core/test_astar.py``
+from the repository root (with ``test/`` importable, as pytest makes it).
 
 """
 

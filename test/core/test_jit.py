@@ -1,7 +1,7 @@
 """
 Tests of the kernels' compile settings: where the cache goes, its key, the warm-up by need.
 
-No ROS is needed: run ``python -m pytest test/test_jit.py`` from the repository root.
+No ROS is needed: run ``python -m pytest test/core/test_jit.py`` from the repository root.
 
 """
 

@@ -363,6 +363,7 @@ def assert_same_grids(fast, reference):
 
 @pytest.mark.parametrize('seed', range(4))
 @pytest.mark.parametrize('still_rules', [True, False])
+@pytest.mark.slow
 def test_compiled_tracks_equal_the_numpy_ones_on_hall_sequences(seed, still_rules):
     # A laser that stands still for ten scans at a time among boxes that walk; the numpy
     # tracks (and trail marks) of commit 1d9ead7 are the oracle, after every scan. The

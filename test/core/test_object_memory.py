@@ -290,6 +290,7 @@ def crossing_boxes(resolution, seed, steps):
 
 @pytest.mark.parametrize(('memory', 'resolution', 'seed'), [
     (5.0, 0.5, 0), (1.0, 0.5, 1), (0.5, 0.5, 2), (0.3, 0.1, 3), (0.3, 0.1, 4)])
+@pytest.mark.slow
 def test_compiled_object_memory_equals_the_numpy_one_on_hall_sequences(
         memory, resolution, seed):
     # Boxes the size of a wanderer cross the hall: they are listed, anchored where they stand

@@ -51,6 +51,7 @@ def test_a_bad_parameter_ends_the_process_with_one_line(
     assert parameter.split(':=')[0] in line
 
 
+@pytest.mark.slow
 def test_robot_reaches_the_goal_over_ros(ros_domain_id, tmp_path):
     scenario, episode, context, processes = run_episode(
         'back_and_forth', task=1, wanderers=2, seed=0, real_time_factor=5.0,

@@ -118,6 +118,7 @@ class DpnFuzz(RuleBasedStateMachine):
 
 
 @pytest.mark.filterwarnings('error::RuntimeWarning')     # no overflow, no NaN cast
+@pytest.mark.slow
 def test_dpn_node_survives_any_message_and_counts_each_rejection(ros_context):
     node = room_navigator(ros_context)
     DpnFuzz.node = node

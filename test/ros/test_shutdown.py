@@ -13,6 +13,7 @@ import subprocess
 import time
 
 from dpn_navigator.tools.demo import installed_executable, ros_environment, start_nodes, stop_nodes
+import pytest
 
 PAIRS_PER_BATCH = 5
 BATCHES = 2
@@ -33,6 +34,7 @@ def wait_ready(pairs, timeout=60.0):
                          + '; '.join(path.read_text()[-500:] for path, _ in logs))
 
 
+@pytest.mark.slow
 def test_sigint_and_sigterm_end_busy_nodes_cleanly(ros_domain_id, tmp_path):
     outcomes = []
     for batch in range(BATCHES):

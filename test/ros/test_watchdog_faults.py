@@ -49,6 +49,7 @@ def test_watchdog_period_leaves_room_in_the_default_timeout():
     ('clock',),                     # both stop, simulated time runs on
     (),                             # the simulator dies: /clock stops too
 ])
+@pytest.mark.slow
 def test_first_zero_command_follows_the_last_message_within_half_a_second(nodes, still_running):
     dpn, probe, executor = nodes
     all_streams = ('clock', 'odometry', 'scan')

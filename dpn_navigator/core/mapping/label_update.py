@@ -8,8 +8,8 @@ relabelling, the hit clock of the ghost expiry). `expire_listed` is the ghost ex
 visiting only the cells listed as mobile, not the whole grid.
 
 Every test is the floating-point expression of the literal twin in the tests
-(``test/literal_reference.py``), evaluated in the same order, so the result equals it cell for
-cell:
+(``test/reference/literal_reference.py``), evaluated in the same order, so the result equals it
+cell for cell:
 
 - f1 and every disc: ``dx * dx + dy * dy <= bound`` with ``bound`` from
   ``grid_geometry.squared_radius_bound`` (the same answers as ``sqrt(...) <= r``);

@@ -32,7 +32,7 @@ One compiled kernel per scan (``_kernels.motion_tracks.track_update``) follows t
 The bearings of the places seen a moment ago are numpy's (``arctan2``, ``arcsin``: on this
 AVX-512 machine numpy's SIMD routines, which differ from the C library's in the last bits),
 computed before the call, so that the kernel decides exactly as the numpy implementation it
-replaced, the oracle of the tests (``test/numpy_motion_tracks.py``).
+replaced, the oracle of the tests (``test/reference/numpy_motion_tracks.py``).
 
 """
 

@@ -31,8 +31,8 @@ ahead). That is the price of forgetting a wanderer that was never seen to move.
 
 Two compiled kernels per scan (``mark_near_hits``, ``forget_due`` of ``_kernels.object_memory``)
 do it all, over the scan's window and the listed cells only; the numpy implementation it
-replaced is the oracle of the tests (``test/numpy_object_memory.py``), equal array for array
-and list for list.
+replaced is the oracle of the tests (``test/reference/numpy_object_memory.py``), equal array
+for array and list for list.
 
 """
 
