@@ -15,7 +15,7 @@ import time
 
 import numpy as np
 
-from .cell_label import blocked_mask, CellLabel
+from .cell_label import blocked_mask
 from .control.path_follower import follow_path, FollowerConfig, STOP, VelocityCommand
 from .control.turn_sweep import TurnSweep
 from .mapping.label_grid import LabelGrid, LabelRule, warm_up_label_update
@@ -230,16 +230,15 @@ class Navigator:
     Parameters
     ----------
     config : NavigatorConfig
-    grid : LabelGrid-like, optional
-        The map to plan on, in place of the ``LabelGrid`` built from ``config``: any object
-        with ``LabelGrid``'s ``geometry``, ``labels``, ``last_window`` and ``update`` (the
-        benchmark's reference navigators: ``CostmapGrid``, ``OracleGrid``), and optionally
-        ``settle`` (then its ``update`` takes ``defer_evidence``).
+    grid : PlanningMap, optional
+        The map to plan on, in place of the ``LabelGrid`` built from ``config``: any
+        ``mapping.label_grid.PlanningMap`` (the interface the navigator relies on; the
+        benchmark's reference navigators plan on its ``CostmapGrid`` and ``OracleGrid``).
 
     Attributes
     ----------
-    grid : LabelGrid
-        The labelled occupancy grid built from the scans.
+    grid : PlanningMap
+        The map planned on: the labelled occupancy grid built from the scans by default.
     path : (N, 2) ndarray of int64, or None
         The planned path as ``(row, col)`` cells, start to goal.
     goal : (float, float) or None
@@ -257,7 +256,6 @@ class Navigator:
         self.config = config
         self.grid = grid if grid is not None else LabelGrid(
             config.width, config.height, config.resolution, config.origin, config.label_rule())
-        self._settles = callable(getattr(self.grid, 'settle', None))
         self._masks = PlanningMasks(self.grid, config.obstacle_proximity_cost)
         self.path = None
         self.goal = None
@@ -368,7 +366,8 @@ class Navigator:
         """
         pose = check_pose(pose)
         laser_pose = compose(pose, self.config.laser_offset)
-        deferring = {'defer_evidence': True} if defer_evidence and self._settles else {}
+        deferring = ({'defer_evidence': True} if defer_evidence and self.grid.defers_evidence
+                     else {})
         replan = self.grid.update(laser_pose, ranges, angle_min, angle_increment, range_min,
                                   range_max, self.config.safety_radius, path=self.path,
                                   angle_max=angle_max, stamp=stamp, **deferring)
@@ -380,8 +379,7 @@ class Navigator:
 
     def settle(self):
         """Finish what the last ``observe`` with ``defer_evidence`` left for later."""
-        if self._settles:
-            self.grid.settle()
+        self.grid.settle()
 
     def _sweep_last_scan(self):
         """Give the turn sweep the hits of the last scan observed, once."""
@@ -517,20 +515,8 @@ class Navigator:
         place beside them before the laser sees them again.
         """
         self.settle()                   # the deferred evidence reads the labels as they were
-        labels = self.grid.labels
-        geometry = self.grid.geometry
-        keep = FORGET_KEEP_RADII * self.config.safety_radius
-        rows, cols = geometry.cell_window(pose[0] - keep, pose[0] + keep, pose[1] - keep,
-                                          pose[1] + keep)
-        x_centres, y_centres = geometry.window_centres(rows, cols)
-        near = np.hypot(x_centres[None, :] - pose[0], y_centres[:, None] - pose[1]) <= keep
-        kept = labels[rows, cols].copy()
-        if self._spell_forgets == 0:
-            labels[labels == CellLabel.MOBILE_OBSTACLE] = CellLabel.EXPLORED
-        else:
-            labels[blocked_mask(labels)] = CellLabel.NON_EXPLORED
-        labels[rows, cols] = np.where(near, kept, labels[rows, cols])
-        self.grid.labels_changed()
+        self.grid.forget_obstacles(pose[:2], FORGET_KEEP_RADII * self.config.safety_radius,
+                                   every_obstacle=self._spell_forgets > 0)
         laser_pose, ranges, angle_min, angle_increment, range_min, range_max, angle_max, \
             stamp = self._last_scan
         self.grid.update(laser_pose, ranges, angle_min, angle_increment, range_min, range_max,

@@ -1,9 +1,12 @@
 """Closed-loop tests of the navigator: ray-cast scans, a unicycle robot, the real core."""
 
+import ast
 import math
+from pathlib import Path
 
 from dpn_navigator.core import (CellLabel, Navigator, NavigatorConfig, NavigatorStatus,
                                 ReplanCause)
+from dpn_navigator.core import navigator as navigator_module
 from dpn_navigator.core.navigator import touches_blocked
 import numpy as np
 import pytest
@@ -314,3 +317,22 @@ def test_each_plan_reports_its_cause():
     assert causes[0] is ReplanCause.OTHER
     assert ReplanCause.NO_PATH_RETRY in causes
     assert len(causes) == navigator.replans
+
+
+def test_labels_are_written_only_in_mapping():
+    # The label grid owns its labels: outside core/mapping/ no module of the core assigns into
+    # an array named labels (the navigator forgets through PlanningMap.forget_obstacles).
+    core = Path(navigator_module.__file__).resolve().parent
+    writers = []
+    for path in sorted(core.rglob('*.py')):
+        if 'mapping' in path.relative_to(core).parts or '_kernels' in path.parts:
+            continue
+        for node in ast.walk(ast.parse(path.read_text())):
+            targets = node.targets if isinstance(node, ast.Assign) else (
+                [node.target] if isinstance(node, ast.AugAssign) else [])
+            for target in targets:
+                base = target.value if isinstance(target, ast.Subscript) else None
+                name = getattr(base, 'attr', getattr(base, 'id', None))
+                if name == 'labels':
+                    writers.append(f'{path.name}:{node.lineno}')
+    assert writers == []

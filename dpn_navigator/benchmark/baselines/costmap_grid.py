@@ -40,7 +40,7 @@ import numpy as np
 from ...core._kernels import costmap as costmap_kernels
 from ...core.cell_label import blocked_mask, CellLabel, LABEL_DTYPE, ScanInput
 from ...core.grid_geometry import GridGeometry
-from ...core.mapping.label_grid import ChangeTrackers, check_update
+from ...core.mapping.label_grid import check_update, PlanningMap
 
 #: Nav2 Jazzy's ``obstacle_max_range`` and ``raytrace_max_range`` in ``nav2_params.yaml`` [m].
 NAV2_OBSTACLE_MAX_RANGE = 2.5
@@ -257,7 +257,7 @@ def layer_geometry_for(geometry, layer_resolution):
                         geometry.resolution / factor, geometry.origin), factor
 
 
-class CostmapGrid(ChangeTrackers):
+class CostmapGrid(PlanningMap):
     """
     The costmap as a drop-in for ``LabelGrid`` in the ``Navigator``.
 

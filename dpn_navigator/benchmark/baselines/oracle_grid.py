@@ -15,12 +15,12 @@ import numpy as np
 from ..ground_truth import near_any
 from ...core.cell_label import blocked_mask, CellLabel, LABEL_DTYPE
 from ...core.grid_geometry import GridGeometry
-from ...core.mapping.label_grid import ChangeTrackers, check_path
+from ...core.mapping.label_grid import check_path, PlanningMap
 
 _EMPTY_WINDOW = (slice(0, 0), slice(0, 0), np.zeros((0, 0), dtype=LABEL_DTYPE))
 
 
-class OracleGrid(ChangeTrackers):
+class OracleGrid(PlanningMap):
     """
     Ground-truth labels: walls steady, wanderers mobile, the rest explored.
 

@@ -23,7 +23,7 @@ from .label_update import expire_listed, mark_free_window, scan_hits, scan_updat
 from .motion_tracks import MotionTracks, TrackConfig
 from .object_memory import ObjectMemory
 from .trail_marks import update_trails
-from ..cell_label import CellLabel, LABEL_DTYPE
+from ..cell_label import blocked_mask, CellLabel, LABEL_DTYPE
 from ..grid_geometry import GridGeometry
 from ..scan_polygon import check_pose, check_scan
 
@@ -370,12 +370,55 @@ class ChangeTracker:
         return slice(row_lo, max(row_lo, row_hi)), slice(col_lo, max(col_lo, col_hi)), whole
 
 
-class ChangeTrackers:
+class PlanningMap:
     """
-    The change trackers of a map with ``geometry`` and ``labels``: a base class.
+    The map a ``Navigator`` plans on: the interface it relies on, and the change trackers.
 
-    A subclass sets ``self._trackers = []`` and widens them where its labels change.
+    A subclass (``LabelGrid``; the benchmark's ``CostmapGrid`` and ``OracleGrid``) has
+    ``geometry`` (``GridGeometry``) and ``labels`` ((rows, cols) ndarray of uint8, the
+    ``CellLabel`` of each cell, written by its own methods only), sets ``self._trackers = []``
+    and widens them where its labels change, and implements ``update(pose, ranges, angle_min,
+    angle_increment, range_min, range_max, safety_radius, path=None, angle_max=None,
+    stamp=None)``, which folds one scan in and returns the replan flag, and
+    ``labels_changed()``. What the navigator needs besides has a default here: `settle`,
+    `forget_obstacles` and `change_tracker`.
     """
+
+    #: Whether ``update`` takes ``defer_evidence=True`` and `settle` finishes what it left.
+    defers_evidence = False
+
+    def settle(self):
+        """Finish what an update with ``defer_evidence`` left; nothing for this map."""
+
+    def forget_obstacles(self, centre, keep_radius, every_obstacle):
+        """
+        Forget obstacle cells: mobile ones back to explored, or every one to non-explored.
+
+        Parameters
+        ----------
+        centre : (float, float)
+            Map-frame point [m] around which cells are kept (the robot).
+        keep_radius : float
+            Cells whose centre is within this distance of ``centre`` are kept [m].
+        every_obstacle : bool
+            False: mobile obstacles go back to explored; True: every obstacle cell (steady
+            too) goes back to non-explored.
+
+        """
+        labels = self.labels
+        geometry = self.geometry
+        rows, cols = geometry.cell_window(centre[0] - keep_radius, centre[0] + keep_radius,
+                                          centre[1] - keep_radius, centre[1] + keep_radius)
+        x_centres, y_centres = geometry.window_centres(rows, cols)
+        near = np.hypot(x_centres[None, :] - centre[0],
+                        y_centres[:, None] - centre[1]) <= keep_radius
+        kept = labels[rows, cols].copy()
+        if not every_obstacle:
+            labels[labels == CellLabel.MOBILE_OBSTACLE] = CellLabel.EXPLORED
+        else:
+            labels[blocked_mask(labels)] = CellLabel.NON_EXPLORED
+        labels[rows, cols] = np.where(near, kept, labels[rows, cols])
+        self.labels_changed()
 
     def change_tracker(self):
         """
@@ -399,7 +442,7 @@ class ChangeTrackers:
             tracker.widen_all()
 
 
-class LabelGrid(ChangeTrackers):
+class LabelGrid(PlanningMap):
     """
     Occupancy grid whose cells carry one of the four ``CellLabel`` values.
 
@@ -448,6 +491,8 @@ class LabelGrid(ChangeTrackers):
     ``last_hit`` itself (tests, a forgetting navigator) calls `labels_changed` afterwards.
 
     """
+
+    defers_evidence = True
 
     def __init__(self, width, height, resolution=0.5, origin=(0.0, 0.0), rule=PAPER_RULE):
         self.geometry = GridGeometry(width, height, resolution, tuple(origin))
