@@ -29,12 +29,11 @@ from dpn_navigator.ros.command_publisher import command_to_velocity, command_typ
 from dpn_navigator.ros.conversions import make_laser_scan, pose_to_odometry, seconds_to_time
 from dpn_navigator.ros.diagnostics import diagnostic_status, DiagnosticsPublisher
 from dpn_navigator.ros.names import DEFAULT_NAMESPACE
-from dpn_navigator.ros.parameter_declaration import declare_number
+from dpn_navigator.ros.parameter_declaration import declare_setting
 from dpn_navigator.ros.qos import COMMAND_QOS, SENSOR_QOS
 from dpn_navigator.ros.sim_clock import guard_clock
 from dpn_navigator.ros.spin import run_node
 from nav_msgs.msg import Odometry
-from rcl_interfaces.msg import IntegerRange, ParameterDescriptor
 from rclpy.node import Node
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import LaserScan
@@ -45,16 +44,9 @@ from .robot_frames import FrameNames, RobotFramePublisher
 from .scenario import load_scenario
 from .wanderer_markers import wanderer_markers
 from .world import World, WorldConfig
+from .world_parameters import world_node_settings, WorldNodeParameters
 
 WARN_THROTTLE = 2.0     # [s]
-
-
-def _descriptor(description, int_range=None):
-    descriptor = ParameterDescriptor(description=description, read_only=True)
-    if int_range is not None:
-        descriptor.integer_range = [
-            IntegerRange(from_value=int_range[0], to_value=int_range[1], step=1)]
-    return descriptor
 
 
 class PybulletWorldNode(Node):
@@ -63,42 +55,19 @@ class PybulletWorldNode(Node):
     def __init__(self, **node_kwargs):
         node_kwargs.setdefault('namespace', DEFAULT_NAMESPACE)
         super().__init__('pybullet_world', **node_kwargs)
-        declare = self.declare_parameter
-        scenario_name = declare('scenario', 'back_and_forth', _descriptor(
-            'Built-in scenario name or a map_server yaml path.')).value
-        task = declare('task', 0, _descriptor('Which start/goal pair of the scenario.',
-                                              int_range=(0, 1000))).value
-        start = [declare_number(
-            self, name, math.nan, f"Override the task start {axis} (spawn pose); NaN: the task's.")
-            for name, axis in (('start_x', 'x [m]'), ('start_y', 'y [m]'),
-                               ('start_yaw', 'yaw [rad]'))]
-        wanderers = declare('wanderers', 3, _descriptor(
-            'Number of wandering P3-AT robots.', int_range=(0, 10))).value
-        seed = declare('seed', 0, _descriptor('Seed of the wanderers and the laser noise.',
-                                              int_range=(0, 2**31 - 1))).value
-        gui = declare('gui', False, _descriptor('Open the pybullet GUI window.')).value
-        self.real_time_factor = declare_number(
-            self, 'real_time_factor', 1.0, '1.0 = wall-clock pace; higher runs faster.',
-            (0.01, 1000.0))
-        physics_rate = declare_number(
-            self, 'physics_rate', 50.0, 'Physics ticks per simulated second [Hz].',
-            (1.0, 1000.0))
-        scan_rate = declare_number(
-            self, 'scan_rate', 10.0, 'Scans per simulated second [Hz]; must divide '
-            'physics_rate.', (0.1, 1000.0))
-        noise = declare_number(self, 'laser_noise', 0.0,
-                               'Standard deviation of Gaussian range noise [m].', (0.0, 1.0))
-        self.cmd_timeout = declare_number(
-            self, 'cmd_timeout', 0.5, 'Stop when no cmd_vel came for this long [s, simulated].',
-            (0.01, 60.0))
-        cmd_vel_stamped = declare('cmd_vel_stamped', False, _descriptor(
-            'Take geometry_msgs/TwistStamped on cmd_vel instead of Twist.')).value
-        self.frames = FrameNames(*(declare(f'{key}_frame', default, _descriptor(
-            f'Frame id of the {what}.')).value for key, default, what in (
-                ('map', 'map', 'map (fixed world frame)'),
-                ('odom', 'odom', 'odometry frame'),
-                ('base', 'base_link', 'robot base'),
-                ('laser', 'laser', 'laser (scan frame)'))))
+        values = {name: declare_setting(self, name, default, spec)
+                  for name, (default, spec) in world_node_settings().items()}
+        params = WorldNodeParameters(**values)
+        scenario_name, task = params.scenario, params.task
+        start = (params.start_x, params.start_y, params.start_yaw)
+        wanderers, seed, gui = params.wanderers, params.seed, params.gui
+        self.real_time_factor = params.real_time_factor
+        physics_rate, scan_rate = params.physics_rate, params.scan_rate
+        noise = params.laser_noise
+        self.cmd_timeout = params.cmd_timeout
+        cmd_vel_stamped = params.cmd_vel_stamped
+        self.frames = FrameNames(params.map_frame, params.odom_frame, params.base_frame,
+                                 params.laser_frame)
 
         scenario = load_scenario(scenario_name)
         if task >= len(scenario.tasks):

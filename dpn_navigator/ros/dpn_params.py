@@ -16,9 +16,7 @@ into the core. Number parameters take integers too (``-p map_width:=25``).
 from dataclasses import dataclass
 import math
 
-from rcl_interfaces.msg import IntegerRange, ParameterDescriptor
-
-from .parameter_declaration import declare_number
+from .parameter_declaration import declare_setting
 from .safety_params import SafetyParameters
 from ..core import FollowerConfig, GridGeometry, NavigatorConfig
 from ..core.cell_label import OCCUPANCY_MOBILE_OBSTACLE
@@ -170,31 +168,8 @@ PARAMETERS = (
 
 
 def declare_parameter(node, parameter):
-    """
-    Declare one `RosParameter` on ``node`` (read-only, with its description and range).
-
-    Returns
-    -------
-    value : float or int or bool or str
-        The value given, or the default.
-
-    Raises
-    ------
-    ValueError
-        A number parameter out of its range or not a number (``declare_number``).
-
-    """
-    spec = parameter.setting
-    description = spec.plain_description()
-    if isinstance(parameter.default, float):
-        bounds = None if spec.low is None else (spec.low, spec.high)
-        return declare_number(node, parameter.name, parameter.default, description, bounds,
-                              read_only=True)
-    descriptor = ParameterDescriptor(description=description, read_only=True)
-    if isinstance(parameter.default, int) and not isinstance(parameter.default, bool):
-        descriptor.integer_range = [IntegerRange(from_value=spec.low, to_value=spec.high,
-                                                 step=1)]
-    return node.declare_parameter(parameter.name, parameter.default, descriptor).value
+    """Declare one `RosParameter` on ``node`` (``declare_setting``); return its value."""
+    return declare_setting(node, parameter.name, parameter.default, parameter.setting)
 
 
 def declare_parameters(node):

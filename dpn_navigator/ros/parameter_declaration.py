@@ -4,13 +4,14 @@ Declare a node's numeric parameters so that ``-p map_width:=25`` works as well a
 rclpy types a parameter by its default: an integer given for a ``double`` parameter would end
 in an ``InvalidParameterTypeException`` traceback. Here a number parameter is declared with
 dynamic typing, so an integer is accepted and read as a float, and anything else is refused with
-a one-line ``ValueError`` that names the parameter, its unit and its range.
+a one-line ``ValueError`` that names the parameter, its unit and its range. `declare_setting`
+declares any parameter from its ``core.settings.Setting``.
 
 """
 
 import math
 
-from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
+from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 
 
 def declare_number(node, name, default, description, bounds=None, read_only=True):
@@ -55,3 +56,39 @@ def declare_number(node, name, default, description, bounds=None, read_only=True
         raise ValueError(f'parameter {name} = {value!r} is outside [{bounds[0]}, {bounds[1]}] '
                          f'({description})')
     return value
+
+
+def declare_setting(node, name, default, setting):
+    """
+    Declare a read-only parameter from its setting: description, unit and range; return it.
+
+    Parameters
+    ----------
+    node : rclpy.node.Node
+        The node that declares it.
+    name : str
+        The parameter's name.
+    default : float or int or bool or str
+        Its default, which also types it (a float takes integers too, `declare_number`).
+    setting : dpn_navigator.core.settings.Setting
+        Its unit, range and meaning.
+
+    Returns
+    -------
+    value : float or int or bool or str
+
+    Raises
+    ------
+    ValueError
+        A number out of its range or not a number (`declare_number`).
+
+    """
+    description = setting.plain_description()
+    if isinstance(default, float):
+        bounds = None if setting.low is None else (setting.low, setting.high)
+        return declare_number(node, name, default, description, bounds, read_only=True)
+    descriptor = ParameterDescriptor(description=description, read_only=True)
+    if isinstance(default, int) and not isinstance(default, bool) and setting.low is not None:
+        descriptor.integer_range = [IntegerRange(from_value=setting.low, to_value=setting.high,
+                                                 step=1)]
+    return node.declare_parameter(name, default, descriptor).value

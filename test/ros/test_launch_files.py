@@ -57,10 +57,8 @@ def test_parameter_files_hold_every_declared_parameter_at_its_code_default():
     assert dpn['/**/dpn']['ros__parameters'] == dpn_parameter_defaults()
     world = yaml.safe_load((REPO / 'config' / 'pybullet_world.yaml').read_text())
     assert list(world) == ['/**/pybullet_world']
-    source = (REPO / 'sim_bridge' / 'pybullet_world_node.py').read_text()
-    for name in world['/**/pybullet_world']['ros__parameters']:
-        assert f"'{name}'" in source or f"'{name[:-len('_frame')]}'" in source, \
-            f'{name} is not declared by pybullet_world'
+    from sim_bridge.world_parameters import world_node_settings
+    assert list(world['/**/pybullet_world']['ros__parameters']) == list(world_node_settings())
 
 
 def test_rviz_config_shows_map_plan_scan_tf_and_robot():

@@ -15,10 +15,12 @@ from dpn_navigator.core import FollowerConfig, NavigatorConfig
 from dpn_navigator.core.mapping.label_grid import LabelRule
 from dpn_navigator.core.settings import Setting, settings_of
 from dpn_navigator.ros.dpn_params import declare_parameters, DpnParameters, PARAMETERS
+from dpn_navigator.ros.parameter_declaration import declare_setting
 from dpn_navigator.ros.safety_params import declare_safety_parameters, SafetyParameters
 from dpn_navigator.tools import parameter_files
 import pytest
 from rcl_interfaces.msg import ParameterType
+from sim_bridge.world_parameters import world_node_settings, WorldNodeParameters
 
 REPO = Path(__file__).resolve().parents[2]
 CONFIGS = {'navigator': NavigatorConfig, 'follower': FollowerConfig, 'node': DpnParameters,
@@ -31,12 +33,18 @@ def test_the_files_are_written_from_the_settings():
     assert parameter_files.main(['--repo', str(REPO)]) == 0
 
 
+FILES = ('config/dpn.yaml', 'config/pybullet_world.yaml', 'docs/ros_reference.md')
+
+
 @pytest.mark.parametrize('path, old, new', [
     ('config/dpn.yaml', 'safety_radius: 0.6', 'safety_radius: 0.7'),
+    ('config/pybullet_world.yaml', 'wanderers: 3', 'wanderers: 4'),
     ('docs/ros_reference.md', '| dpn | `segment_gap` | 0.3 |', '| dpn | `segment_gap` | 0.4 |'),
+    ('docs/ros_reference.md', '| pybullet_world | `seed` | 0 |',
+     '| pybullet_world | `seed` | 1 |'),
 ])
 def test_a_file_that_drifts_is_caught_and_rewritten(tmp_path, path, old, new):
-    for name in ('config/dpn.yaml', 'docs/ros_reference.md'):
+    for name in FILES:
         (tmp_path / name).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy(REPO / name, tmp_path / name)
     text = (tmp_path / path).read_text()
@@ -91,5 +99,23 @@ def test_the_node_declares_every_parameter_with_its_setting(ros_context):
         assert params.goal == (2.0, 18.0)
         assert safety.max_beams == 4096
         assert LabelRule() != params.navigator.label_rule()        # dpn, not the paper
+    finally:
+        node.destroy_node()
+
+
+def test_the_world_node_declares_its_settings(ros_context):
+    from rclpy.node import Node
+    node = Node('pybullet_world', context=ros_context)
+    try:
+        values = {name: declare_setting(node, name, default, spec)
+                  for name, (default, spec) in world_node_settings().items()}
+        params = WorldNodeParameters(**values)
+        assert (params.scenario, params.wanderers, params.physics_rate) == (
+            'back_and_forth', 3, 50.0)
+        assert math.isnan(params.start_x)
+        descriptor = node.describe_parameter('wanderers')
+        assert (descriptor.integer_range[0].from_value, descriptor.integer_range[0].to_value) \
+            == (0, 10)
+        assert node.describe_parameter('scan_rate').description.endswith('[Hz]')
     finally:
         node.destroy_node()

@@ -1,0 +1,57 @@
+"""
+The ``pybullet_world`` node's parameters, each stated once: default, unit, range and meaning.
+
+No ROS here: the node declares its parameters from these settings
+(``pybullet_world_node``), and ``config/pybullet_world.yaml`` and the node's table in
+``docs/ros_reference.md`` are written from them (``dpn_navigator.tools.parameter_files``).
+
+"""
+
+from dataclasses import dataclass, fields
+import math
+
+from dpn_navigator.core.settings import setting, settings_of
+
+
+@dataclass(frozen=True)
+class WorldNodeParameters:
+    """The ``pybullet_world`` node's parameters, read once at start; each field's setting."""
+
+    scenario: str = setting(
+        'back_and_forth', '', 'built-in scenario name, or the path of any map_server '
+        '`map.yaml`')
+    task: int = setting(0, '', 'which start/goal pair of the scenario', 0, 1000)
+    start_x: float = setting(
+        math.nan, 'm', "override the task's start x, like a spawn pose; NaN: the task's")
+    start_y: float = setting(
+        math.nan, 'm', "override the task's start y, like a spawn pose; NaN: the task's")
+    start_yaw: float = setting(
+        math.nan, 'rad', "override the task's start heading; NaN: the task's")
+    wanderers: int = setting(3, '', 'wandering P3-AT robots', 0, 10)
+    seed: int = setting(0, '', 'seed of the wanderers and the laser noise', 0, 2**31 - 1)
+    gui: bool = setting(False, '', 'open the pybullet GUI window')
+    real_time_factor: float = setting(
+        1.0, '', '1.0 = wall-clock pace; higher runs faster', 0.01, 1000.0)
+    physics_rate: float = setting(
+        50.0, 'Hz', 'physics ticks per simulated second', 1.0, 1000.0)
+    scan_rate: float = setting(
+        10.0, 'Hz', 'scans per simulated second; must divide `physics_rate`', 0.1, 1000.0)
+    laser_noise: float = setting(
+        0.0, 'm', 'standard deviation of Gaussian range noise', 0.0, 1.0)
+    cmd_timeout: float = setting(
+        0.5, 's', 'stop when no `cmd_vel` came for this long (simulated time)', 0.01, 60.0)
+    cmd_vel_stamped: bool = setting(
+        False, '', 'take geometry_msgs/TwistStamped on `cmd_vel` instead of Twist')
+    map_frame: str = setting('map', '', 'frame id of the map (the fixed world frame)')
+    odom_frame: str = setting('odom', '', 'frame id of the odometry frame')
+    base_frame: str = setting('base_link', '', 'frame id of the robot base')
+    laser_frame: str = setting('laser', '', 'frame id of the laser (the frame of the scans)')
+
+
+def world_node_settings():
+    """Return ``{name: (default, Setting)}`` of every parameter, in declaration order."""
+    return settings_of(WorldNodeParameters)
+
+
+#: The parameters' names, in order.
+PARAMETER_NAMES = tuple(item.name for item in fields(WorldNodeParameters))
