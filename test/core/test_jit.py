@@ -5,6 +5,7 @@ No ROS is needed: run ``python -m pytest test/core/test_jit.py`` from the reposi
 
 """
 
+import ast
 import os
 from pathlib import Path
 import shutil
@@ -107,28 +108,31 @@ def test_numba_cache_dir_set_by_the_user_wins_and_a_child_keeps_it(tmp_path):
 
 def test_warm_up_by_need_compiles_only_what_a_process_uses():
     # What a fresh process compiled: the kernels of the leaf with a signature.
-    compiled = ('import sys; from numba.core.registry import CPUDispatcher; '
-                'print(sorted(f"{name[28:]}.{attr}" for name, module in list(sys.modules.items())'
-                ' if name.startswith("dpn_navigator.core._kernels.") for attr, value in '
-                'vars(module).items() if isinstance(value, CPUDispatcher) and value.signatures'
-                ' and value.__module__ == name))')
+    listing = ('import sys; from numba.core.registry import CPUDispatcher; '
+               'print(sorted(f"{name[28:]}.{attr}" for name, module in list(sys.modules.items())'
+               ' if name.startswith("dpn_navigator.core._kernels.") for attr, value in '
+               'vars(module).items() if isinstance(value, CPUDispatcher) and value.signatures'
+               ' and value.__module__ == name))')
     # The pybullet world's wanderers plan with A* and nothing else of the core.
     out = run_python('from dpn_navigator.core.planning.astar_search import warm_up_astar; '
-                     'warm_up_astar(); ' + compiled)
-    assert out.strip() == str(['astar.largest_if_finite_and_non_negative', 'astar.search'])
+                     'warm_up_astar(); ' + listing)
+    compiled = ast.literal_eval(out.strip())
+    # With a cold cache the callees compile too (as part of their callers); all are A*'s.
+    assert 'astar.search' in compiled
+    assert all(name.startswith('astar.') for name in compiled), compiled
     # A navigator on the labelled grid compiles none of the costmap's kernels.
     out = run_python('from dpn_navigator.core.navigator import warm_up_navigator; '
-                     'warm_up_navigator(); ' + compiled)
+                     'warm_up_navigator(); ' + listing)
     assert 'scan_labels.scan_update' in out and 'astar.search' in out
     assert 'costmap.' not in out
 
 
 def test_warm_up_compiles_the_navigators_kernels_once():
-    from dpn_navigator.core._kernels import astar, fine_evidence, scan_labels
+    from dpn_navigator.core._kernels import astar, fine_evidence, free_space, scan_labels
     from dpn_navigator.core.navigator import warm_up_navigator
     warm_up_navigator()
     kernels = (astar.search, scan_labels.scan_update, scan_labels.points_update,
-               scan_labels.surely_free_update, fine_evidence.fine_moving_hits)
+               free_space.surely_free_update, fine_evidence.fine_moving_hits)
     signatures = [list(kernel.signatures) for kernel in kernels]
     assert all(signatures)
     warm_up_navigator()                 # ready now: no new specialisation
@@ -178,7 +182,7 @@ def test_shipped_kernels_of_these_sources_only_are_seeded(tmp_path):
     assert sorted(path.name for path in (tmp_path / 'empty').iterdir()) == [DIGEST]
 
 
-#: A fine-evidence call whose result comes from ``scan_labels.moving_hits``, a kernel of
+#: A fine-evidence call whose result comes from ``motion_evidence.moving_hits``, a kernel of
 #: another file than its caller ``fine_evidence.fine_moving_hits``.
 CALLER = """
 import numpy as np
@@ -198,7 +202,7 @@ def test_an_edited_callee_recompiles_its_callers_in_other_files(tmp_path):
                                          + [path for path in sys.path if path])}
     first_dir, before = run_python(CALLER, **env).split()
     assert run_python(CALLER, **env).split() == [first_dir, before]     # loaded from the cache
-    callee = leaf / 'scan_labels.py'
+    callee = leaf / 'motion_evidence.py'
     text = callee.read_text()
     marker = '"""``moving_objects.moving_object_hits`` as a loop, with the same arithmetic."""\n'
     assert marker in text

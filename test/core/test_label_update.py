@@ -205,7 +205,7 @@ def test_small_discs_and_their_evidence_equal_a_test_of_every_cell(resolution, x
     # a fifth of a cell to three, points on and off the window and on lattices of half and
     # eighth cells (with dyadic cells, centres then lie exactly on a disc's edge), some values
     # and extents.
-    from dpn_navigator.core._kernels import raster, scan_labels
+    from dpn_navigator.core._kernels import motion_evidence, raster
     from dpn_navigator.core.grid_geometry import squared_bound
     rng = np.random.default_rng(5)
     n_rows, n_cols, row0, col0 = 24, 31, 4, 9
@@ -254,8 +254,8 @@ def test_small_discs_and_their_evidence_equal_a_test_of_every_cell(resolution, x
         # Discs of any size are searched in their box: the radius and 3.7 times it.
         for evidence_radius in (radius, 3.7 * radius):
             evidence_bound = squared_bound(evidence_radius)
-            evidence = scan_labels.hit_evidence(grid_free, xs, ys, x0, y0, resolution,
-                                                evidence_radius, evidence_bound)
+            evidence = motion_evidence.hit_evidence(grid_free, xs, ys, x0, y0, resolution,
+                                                    evidence_radius, evidence_bound)
             expected = [bool((grid_free
                               & ((gx - x) ** 2 + (gy - y) ** 2 <= evidence_bound)).any())
                         for x, y in zip(xs, ys)]

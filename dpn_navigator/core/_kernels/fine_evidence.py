@@ -8,7 +8,7 @@ Part of the kernel leaf (``core/_kernels``): imports nothing of the core.
 import numpy as np
 
 from .jit import kernel
-from .scan_labels import moving_hits
+from .motion_evidence import moving_hits
 
 
 @kernel

@@ -90,7 +90,8 @@ class FineEvidence:
         """
         Return the hits of objects this evidence shows moving (``moving_object_hits``).
 
-        `evidence` and the object rule's ``_kernels.scan_labels.moving_hits`` in one compiled call.
+        `evidence` and the object rule's ``_kernels.motion_evidence.moving_hits`` in one compiled
+        call.
 
         Parameters
         ----------

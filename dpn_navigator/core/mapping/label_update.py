@@ -24,6 +24,7 @@ The work grows with the beams and the window's cells, never with the grid.
 
 import numpy as np
 
+from .._kernels import free_space, motion_evidence, scan_window
 from .._kernels import scan_labels as label_kernels
 from ..cell_label import CellLabel, ScanInput, TRANSITION, TRANSITION_BY_CODE
 from ..grid_geometry import squared_bound
@@ -60,7 +61,7 @@ def surely_free_update(seen_free, geometry, pose, ranges, angle_min, angle_incre
 
     """
     x0, y0 = geometry.origin
-    label_kernels.surely_free_update(
+    free_space.surely_free_update(
         seen_free, np.ascontiguousarray(ranges), pose[0], pose[1], pose[2], float(angle_min),
         float(angle_increment), float(range_min), float(range_max), x0, y0, geometry.resolution,
         float(radius), squared_bound(float(radius)))
@@ -139,7 +140,7 @@ def scan_update(labels, seen_free, last_hit, listed, geometry, pose, ranges, ang
                 new_mobile, None)
     if points is None:
         # The kernel's object rule finds the moving hits itself (moving_known False).
-        vertices_x, vertices_y, hits_x, hits_y, hit_beams = label_kernels.scan_points(
+        vertices_x, vertices_y, hits_x, hits_y, hit_beams = scan_window.scan_points(
             np.ascontiguousarray(ranges), pose[0], pose[1], pose[2], float(angle_min),
             float(angle_increment), float(range_min), float(range_max))
         moving = (_NO_HITS if extra_moving is None
@@ -181,9 +182,9 @@ def mark_free_window(seen_free, geometry, deferred):
     x0, y0 = geometry.origin
     (row0, col0, cell_input, extent, vertices_x, vertices_y, hit_beams, safety_radius,
      free_radius, free_bound) = deferred
-    label_kernels.mark_free_window(seen_free, row0, col0, cell_input, extent, x0, y0,
-                                   geometry.resolution, vertices_x, vertices_y, hit_beams,
-                                   safety_radius, free_radius, free_bound)
+    free_space.mark_free_window(seen_free, row0, col0, cell_input, extent, x0, y0,
+                                geometry.resolution, vertices_x, vertices_y, hit_beams,
+                                safety_radius, free_radius, free_bound)
 
 
 def scan_hits(seen_free, geometry, pose, ranges, angle_min, angle_increment, range_min,
@@ -213,7 +214,7 @@ def scan_hits(seen_free, geometry, pose, ranges, angle_min, angle_increment, ran
         Hits on objects seen to move (all False without the object rule).
 
     """
-    vertices_x, vertices_y, hits_x, hits_y, hit_beams = label_kernels.scan_points(
+    vertices_x, vertices_y, hits_x, hits_y, hit_beams = scan_window.scan_points(
         np.ascontiguousarray(ranges), pose[0], pose[1], pose[2], float(angle_min),
         float(angle_increment), float(range_min), float(range_max))
     (_, _, _, objects_on, evidence_radius, evidence_bound, segment_gap, object_size,
@@ -221,12 +222,12 @@ def scan_hits(seen_free, geometry, pose, ranges, angle_min, angle_increment, ran
     moving = np.zeros(hits_x.shape[0], dtype=bool)
     if objects_on:
         x0, y0 = geometry.origin
-        evidence = label_kernels.hit_evidence(seen_free, hits_x, hits_y, x0, y0,
-                                              geometry.resolution, evidence_radius,
-                                              evidence_bound)
-        moving = label_kernels.moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap,
-                                           object_size, min_hits, vertices_x[0], vertices_y[0],
-                                           ranges.shape[0])
+        evidence = motion_evidence.hit_evidence(seen_free, hits_x, hits_y, x0, y0,
+                                                geometry.resolution, evidence_radius,
+                                                evidence_bound)
+        moving = motion_evidence.moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap,
+                                             object_size, min_hits, vertices_x[0], vertices_y[0],
+                                             ranges.shape[0])
     return vertices_x, vertices_y, hits_x, hits_y, hit_beams, moving
 
 
