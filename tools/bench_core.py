@@ -267,7 +267,7 @@ def kernel_start_seconds(tree=None):
             '    from dpn_navigator.core.mapping.map_values import warm_up_map_values\n'
             '    warm_ups = (warm_up_navigator, warm_up_map_values)\n'
             'except ImportError:  # a tree from before the kernel leaf\n'
-            '    from dpn_navigator.core._kernels.jit import warm_up\n'
+            '    from dpn_navigator.core.jit import warm_up\n'
             '    warm_ups = (warm_up,)\n'
             'wall1, cpu1 = now()\n'
             'for warm_up in warm_ups:\n'

@@ -185,6 +185,21 @@ def walking_scans(count=100):
     return poses, ranges
 
 
+def dpn_command(tree=None):
+    """
+    Return the command that starts the dpn node: the installed one, or that of ``tree``.
+
+    A source tree's node module is found where that tree keeps it (``ros/dpn_node.py``, or
+    ``dpn_node.py`` in a tree from before the restructuring), so an old tree runs as well.
+    """
+    if tree is None:
+        return [str(installed_executable('dpn_navigator', 'dpn'))]
+    module = ('dpn_navigator.ros.dpn_node'
+              if (Path(tree) / 'dpn_navigator' / 'ros' / 'dpn_node.py').is_file()
+              else 'dpn_navigator.dpn_node')
+    return [sys.executable, '-c', f'import sys; from {module} import main; sys.exit(main())']
+
+
 def scan_to_map_latency(domain_id, log_dir, scenes, cells=200, node_args=(), tree=None,
                         scans=300, rate=10.0):
     """
@@ -222,9 +237,9 @@ def scan_to_map_latency(domain_id, log_dir, scenes, cells=200, node_args=(), tre
     """
     poses, ranges = scenes
     context, probe, executor = start_probe(domain_id)
-    command = [str(installed_executable('dpn_navigator', 'dpn')), '--ros-args',
-               '-p', 'map_width:=100.0', '-p', 'map_height:=100.0',
-               '-p', f'resolution:={100.0 / cells!r}']
+    command = dpn_command(tree) + ['--ros-args', '-p', 'map_width:=100.0',
+                                   '-p', 'map_height:=100.0',
+                                   '-p', f'resolution:={100.0 / cells!r}']
     for argument in node_args:
         command += ['-p', argument]
     env = ros_environment(domain_id)
@@ -284,8 +299,8 @@ def first_map_seconds(domain_id, log_dir, scenes, tree=None):
     started_system = time.time()
     with open(log_path, 'w') as log:
         process = subprocess.Popen(
-            [str(installed_executable('dpn_navigator', 'dpn')), '--ros-args', '-p',
-             'map_width:=100.0', '-p', 'map_height:=100.0'], env=env, stdout=log,
+            dpn_command(tree) + ['--ros-args', '-p', 'map_width:=100.0', '-p',
+                                 'map_height:=100.0'], env=env, stdout=log,
             stderr=subprocess.STDOUT)
     try:
         k = 0
