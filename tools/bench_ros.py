@@ -197,7 +197,8 @@ def dpn_command(tree=None):
     module = ('dpn_navigator.ros.dpn_node'
               if (Path(tree) / 'dpn_navigator' / 'ros' / 'dpn_node.py').is_file()
               else 'dpn_navigator.dpn_node')
-    return [sys.executable, '-c', f'import sys; from {module} import main; sys.exit(main())']
+    return [sys.executable, '-c', f'import sys; sys.path.insert(0, {str(tree)!r}); '
+            f'from {module} import main; sys.exit(main())']
 
 
 def scan_to_map_latency(domain_id, log_dir, scenes, cells=200, node_args=(), tree=None,
