@@ -34,6 +34,7 @@ PACKAGE_NAME = 'dpn_navigator'
 CONSOLE_SCRIPTS = [
     'dpn = dpn_navigator.ros.dpn_node:main',
     'dpn-benchmark = dpn_navigator.benchmark.cli:main',
+    'dpn-replay = dpn_navigator.tools.replay:main',
     'compile_kernels = dpn_navigator.tools.compile_kernels:main',
 ]
 

@@ -228,6 +228,19 @@ def test_time_zero_is_the_latest_common_time():
     assert buffer.lookup('laser', 'laser', 123).is_close(Transform3D.identity())
 
 
+def test_time_zero_can_mean_the_time_zero():
+    buffer = TfBuffer()
+    buffer.set_transform('odom', 'base_link', 0, (0.0, 0.0, 0.0), IDENTITY_Q)
+    buffer.set_transform('odom', 'base_link', S, (1.0, 0.0, 0.0), IDENTITY_Q)
+    assert_allclose(buffer.lookup('odom', 'base_link', 0).translation, (1.0, 0.0, 0.0))
+    assert_allclose(buffer.lookup('odom', 'base_link', 0, zero_is_latest=False).translation,
+                    (0.0, 0.0, 0.0))
+    later = TfBuffer()
+    later.set_transform('odom', 'base_link', S, (1.0, 0.0, 0.0), IDENTITY_Q)
+    assert later.can_transform('odom', 'base_link', 0)
+    assert not later.can_transform('odom', 'base_link', 0, zero_is_latest=False)
+
+
 def test_the_cache_keeps_ten_seconds_by_default():
     buffer = TfBuffer()
     assert buffer.cache_duration_ns == 10 * S

@@ -125,8 +125,6 @@ class _Link:
             return self.values[0]
         stamps = self.stamps
         earliest, latest = stamps[0], stamps[-1]
-        if stamp_ns == 0:
-            return self.values[-1]
         if stamp_ns > latest:
             raise ExtrapolationError(
                 f'lookup would require extrapolation into the future: requested time '
@@ -344,7 +342,7 @@ class TfBuffer:
                   if not self._links[frame].static]
         return min(stamps) if stamps else 0
 
-    def lookup(self, target_frame, source_frame, stamp_ns=0):
+    def lookup(self, target_frame, source_frame, stamp_ns=0, zero_is_latest=True):
         """
         Return the pose of ``source_frame`` in ``target_frame`` at ``stamp_ns``.
 
@@ -357,6 +355,9 @@ class TfBuffer:
             The frame to express the pose in, and the frame whose pose is asked.
         stamp_ns : int, optional
             [ns]; 0 (the default) for the latest common time.
+        zero_is_latest : bool, optional
+            False: a stamp of 0 is the time 0 (a simulation's first instant), not the latest
+            common time.
 
         Returns
         -------
@@ -377,7 +378,7 @@ class TfBuffer:
             self._check_frame(source_frame, 'source frame')
             return Transform3D.identity()
         source_chain, target_chain = self._chains(target_frame, source_frame)
-        if stamp == 0:
+        if stamp == 0 and zero_is_latest:
             stamp = self.latest_common_time(target_frame, source_frame)
         ancestor_from_source = Transform3D.identity()
         for frame in reversed(source_chain):
@@ -387,7 +388,7 @@ class TfBuffer:
             ancestor_from_target = ancestor_from_target @ self._links[frame].at(frame, stamp)
         return ancestor_from_target.inverse() @ ancestor_from_source
 
-    def can_transform(self, target_frame, source_frame, stamp_ns=0):
+    def can_transform(self, target_frame, source_frame, stamp_ns=0, zero_is_latest=True):
         """
         Return whether `lookup` would succeed with these arguments (never raises).
 
@@ -397,7 +398,7 @@ class TfBuffer:
 
         """
         try:
-            self.lookup(target_frame, source_frame, stamp_ns)
+            self.lookup(target_frame, source_frame, stamp_ns, zero_is_latest)
         except TransformError:
             return False
         return True
