@@ -9,7 +9,10 @@ What ``dpn-replay`` writes: a rosbag2 MCAP bag of maps, scans and markers; a CSV
   as read on its own topic (``sensor_msgs/LaserScan``, every field as recorded); and
   ``/marker`` (``visualization_msgs/MarkerArray``, the node's ``NavigatorMarkers``: no plan and
   no goal in a replay, the laser's positions as the executed path), on the node's schedule
-  (every 0.5 s of scan time). Each message's log time is the scan's stamp;
+  (every 0.5 s of scan time). Each message's log time is the scan's stamp. With TF input, the
+  bag's transforms too (`ReplayOutput.write_transforms`): ``/tf`` at their stamps and
+  ``/tf_static`` once, latched, at the first scan's stamp, so that RViz can show the scans
+  over the maps;
 - ``DIR/replay.csv``: per scan, the stamp [ns], the cells per label and the label update's
   wall time [ms];
 - ``DIR/replay.png``: the final labelled map (``tools.figures``); ``DIR/replay.gif`` when asked
@@ -27,7 +30,7 @@ from .bag_writer import BagTopic, BagWriter
 from ..core.cell_label import CellLabel, OCCUPANCY_VALUE
 from ..ros.conversions import OccupancyGridBuffer
 from ..ros.navigator_markers import extend_trail, NavigatorMarkers
-from ..ros.qos import LATCHED_QOS, SENSOR_QOS
+from ..ros.qos import LATCHED_QOS, SENSOR_QOS, TF_QOS, TF_STATIC_QOS
 
 BAG_NAME = 'replay'
 CSV_NAME = 'replay.csv'
@@ -35,6 +38,8 @@ PNG_NAME = 'replay.png'
 GIF_NAME = 'replay.gif'
 MAP_TOPIC = '/map'
 MARKER_TOPIC = '/marker'
+TF_TOPIC = '/tf'
+TF_STATIC_TOPIC = '/tf_static'
 #: Most frames of the GIF; with more seconds of scans, frames are spread evenly.
 MAX_FRAMES = 300
 #: CSV columns: the stamp, the cells per label, the label update time.
@@ -103,13 +108,16 @@ class ReplayOutput:
         Also draw ``replay.gif``.
     custom_data : dict, optional
         For the bag's metadata.
+    with_transforms : bool
+        The bag gets ``/tf`` and ``/tf_static`` (`write_transforms`).
 
     """
 
     def __init__(self, out_dir, grid, map_frame, scan_topic, mobile_value, animate=False,
-                 custom_data=None):
+                 custom_data=None, with_transforms=False):
         from nav_msgs.msg import OccupancyGrid
         from sensor_msgs.msg import LaserScan
+        from tf2_msgs.msg import TFMessage
         from visualization_msgs.msg import MarkerArray
         self.out_dir = Path(out_dir)
         self.out_dir.mkdir(parents=True, exist_ok=True)
@@ -120,6 +128,9 @@ class ReplayOutput:
         topics = [BagTopic(MAP_TOPIC, OccupancyGrid, LATCHED_QOS),
                   BagTopic(self.scan_topic, LaserScan, SENSOR_QOS),
                   BagTopic(MARKER_TOPIC, MarkerArray, LATCHED_QOS)]
+        if with_transforms:
+            topics += [BagTopic(TF_TOPIC, TFMessage, TF_QOS),
+                       BagTopic(TF_STATIC_TOPIC, TFMessage, TF_STATIC_QOS)]
         self.bag = BagWriter(self.out_dir / BAG_NAME, topics, custom_data)
         self._tracker = grid.change_tracker()
         self._map = OccupancyGridBuffer(grid.geometry.shape, mobile_value)
@@ -169,6 +180,56 @@ class ReplayOutput:
         if self.animate and (self._next_frame is None or seconds >= self._next_frame):
             self.frames.append((seconds, self.picture_values(), np.array(self._trail)))
             self._next_frame = seconds + 1.0
+
+    def write_transforms(self, records, static_time_ns):
+        """
+        Write a bag's transforms: ``/tf`` at their stamps, ``/tf_static`` once.
+
+        Parameters
+        ----------
+        records : iterable of TransformRecord
+            As ``BagReader.transforms`` yields them; the transforms of one recorded message
+            (same receive time) go into one ``TFMessage``.
+        static_time_ns : int
+            Log time and stamp of the one ``/tf_static`` message (the first scan's stamp)
+            [ns]; it holds the last static transform of each child frame.
+
+        """
+        from geometry_msgs.msg import TransformStamped
+        from tf2_msgs.msg import TFMessage
+
+        def stamped(record, stamp_ns):
+            msg = TransformStamped()
+            msg.header.stamp = _time(stamp_ns)
+            msg.header.frame_id = record.parent_frame
+            msg.child_frame_id = record.child_frame
+            t, q = msg.transform.translation, msg.transform.rotation
+            t.x, t.y, t.z = (float(v) for v in record.translation)
+            q.x, q.y, q.z, q.w = (float(v) for v in record.rotation)
+            return msg
+
+        static = {}
+        pending, pending_key = [], None
+
+        def flush():
+            if pending:
+                self.bag.write(TF_TOPIC, TFMessage(transforms=list(pending)),
+                               pending[0].header.stamp.sec * 1_000_000_000
+                               + pending[0].header.stamp.nanosec)
+                pending.clear()
+
+        for record in records:
+            if record.static:
+                static[record.child_frame] = record
+                continue
+            if record.log_time_ns != pending_key:
+                flush()
+                pending_key = record.log_time_ns
+            pending.append(stamped(record, record.stamp_ns))
+        flush()
+        if static:
+            self.bag.write(TF_STATIC_TOPIC, TFMessage(transforms=[
+                stamped(record, static_time_ns) for record in static.values()]), static_time_ns)
 
     def picture_values(self):
         """Return the grid as the OccupancyGrid values the figures draw (mobile 70)."""

@@ -199,10 +199,11 @@ def _placed_scans(bag, topic, poses, max_beams):
 
 def _run(bag, topic, poses, out_dir, params, limits, values, navigator, animate):
     # Pass 1: where the scans are, for the grid's extent.
-    extent, scans, placed_count = None, bag.topics[topic].count, 0
-    for _, placed in _placed_scans(bag, topic, poses, limits.max_beams):
+    extent, scans, placed_count, first_stamp = None, bag.topics[topic].count, 0, None
+    for scan, placed in _placed_scans(bag, topic, poses, limits.max_beams):
         extent = merge_extents(extent, scan_extent(placed))
         placed_count += 1
+        first_stamp = scan.stamp_ns if first_stamp is None else first_stamp
     if placed_count == 0:
         reasons = '; '.join(f'{n} x {why}' for why, n in poses.skipped.most_common(3))
         raise ReplayError(f'no scan of {topic} in {bag.path} could be placed'
@@ -229,8 +230,11 @@ def _run(bag, topic, poses, out_dir, params, limits, values, navigator, animate)
     update_ms = []
     custom = {'replayed_bag': str(bag.path), 'scan_topic': topic, 'pose': poses.mode,
               'map_frame': str(poses.map_frame), 'navigator': navigator}
-    output = None
+    output = ReplayOutput(out_dir, grid, poses.map_frame, topic, params.map_mobile_value,
+                          animate, custom, with_transforms=poses.mode == 'tf')
     try:
+        if poses.mode == 'tf':
+            output.write_transforms(bag.transforms(), first_stamp)
         for scan, placed in _placed_scans(bag, topic, poses, limits.max_beams):
             started = time.perf_counter()
             try:
@@ -241,17 +245,13 @@ def _run(bag, topic, poses, out_dir, params, limits, values, navigator, animate)
                 poses.skipped[f'rejected by the label update: {str(error)[:60]}'] += 1
                 continue
             elapsed_ms = 1e3 * (time.perf_counter() - started)
-            if output is None:
-                output = ReplayOutput(out_dir, grid, poses.map_frame, topic,
-                                      params.map_mobile_value, animate, custom)
             output.add(scan, placed.pose[:2], elapsed_ms)
             update_ms.append(elapsed_ms)
-        if output is None:
+        if not update_ms:
             raise ReplayError(f'no scan of {topic} in {bag.path} could be folded into the map')
         output.close(f'{Path(bag.path).name} ({navigator})')
     finally:
-        if output is not None:
-            output.__exit__(None, None, None)
+        output.__exit__(None, None, None)
     update_ms.sort()
     return ReplaySummary(topic, poses.map_frame, scans, output.maps, dict(poses.skipped),
                          width, height, origin, update_ms[len(update_ms) // 2])

@@ -134,6 +134,12 @@ def test_a_moving_upside_down_laser_maps_the_walls_where_they_are(tf_replay, tf_
     bag, labels, info = final_labels(tf_replay)
     check_one_map_per_scan(bag, '/scan', len(SCAN_TIMES))
     assert {m.header.frame_id for _, m in bag.messages['/map']} == {'map'}
+    # The transforms come along (for RViz): every /tf message, /tf_static once.
+    assert bag.counts()['/tf'] == 111
+    ((static_time, static),) = bag.messages['/tf_static']
+    assert static_time == bag.messages['/map'][0][0]
+    assert [(t.header.frame_id, t.child_frame_id) for t in static.transforms] == \
+        [('base_link', 'laser')]
     rows, cols = np.indices(labels.shape)
     x = info.origin.position.x + (cols + 0.5) * info.resolution
     y = info.origin.position.y + (rows + 0.5) * info.resolution
