@@ -3,14 +3,16 @@ Small bags written by the tests themselves, with ``rosbags`` (no rclpy): scans, 
 
 Messages are built from rosbags' Jazzy type store and written as CDR into a rosbag2 folder
 (``mcap`` or ``sqlite3`` storage). `laser_scan`, `tf_message` and `pose_array` build the
-messages; `write_bag` writes ``(topic, msg_type, log_time_ns, message)`` items.
+messages; `write_bag` writes ``(topic, msg_type, log_time_ns, message)`` items;
+`write_ros1_bag` writes them as a ROS 1 bag (Noetic types, the old ``tf/tfMessage`` if asked).
 """
 
 import math
 
 import numpy as np
+from rosbags.rosbag1 import Writer as Writer1
 from rosbags.rosbag2 import StoragePlugin, Writer
-from rosbags.typesys import get_typestore, Stores
+from rosbags.typesys import get_types_from_msg, get_typestore, Stores
 
 STORE = get_typestore(Stores.ROS2_JAZZY)
 S = 1_000_000_000
@@ -91,4 +93,54 @@ def write_bag(path, items, storage='mcap'):
             if topic not in connections:
                 connections[topic] = writer.add_connection(topic, msg_type, typestore=STORE)
             writer.write(connections[topic], time_ns, STORE.serialize_cdr(message, msg_type))
+    return path
+
+
+ROS1_STORE = get_typestore(Stores.ROS1_NOETIC)
+# tf2's TFMessage (not in rosbags' Noetic store), and the old tf's message, as ROS 1 bags
+# before tf2 hold it on /tf.
+for _name in ('tf2_msgs/msg/TFMessage', 'tf/msg/tfMessage'):
+    ROS1_STORE.register(get_types_from_msg('geometry_msgs/TransformStamped[] transforms', _name))
+
+
+def to_ros1(message, rename=None):
+    """Return a message of the Jazzy store as the same message of ROS 1 (``seq`` 0)."""
+    name = (rename or {}).get(message.__msgtype__, message.__msgtype__)
+    cls = ROS1_STORE.types[name]
+    values = {}
+    for field in cls.__dataclass_fields__:
+        if field == '__msgtype__':
+            continue
+        value = getattr(message, field, 0)          # seq: absent in ROS 2
+        if hasattr(value, '__msgtype__'):
+            value = to_ros1(value)
+        elif isinstance(value, list):
+            value = [to_ros1(v) if hasattr(v, '__msgtype__') else v for v in value]
+        values[field] = value
+    return cls(**values)
+
+
+def write_ros1_bag(path, items, rename=None):
+    """
+    Write a ROS 1 bag (``rosbag`` format 2.0) from Jazzy-store items, as `write_bag` takes.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The ``.bag`` file to be.
+    items : iterable of (str, str, int, object)
+        ``(topic, msg_type, log_time_ns, message)`` of the Jazzy store.
+    rename : dict of str to str, optional
+        ROS 1 type names for Jazzy ones, e.g. ``{TF_MESSAGE: 'tf/msg/tfMessage'}``.
+
+    """
+    rename = rename or {}
+    connections = {}
+    with Writer1(path) as writer:
+        for topic, msg_type, time_ns, message in items:
+            ros1_type = rename.get(msg_type, msg_type)
+            if topic not in connections:
+                connections[topic] = writer.add_connection(topic, ros1_type, typestore=ROS1_STORE)
+            writer.write(connections[topic], time_ns,
+                         ROS1_STORE.serialize_ros1(to_ros1(message, rename), ros1_type))
     return path

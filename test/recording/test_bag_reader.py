@@ -11,7 +11,7 @@ import subprocess
 import sys
 
 from bag_building import (LASER_SCAN, laser_scan, POSE_ARRAY, pose_array, S, TF_MESSAGE,
-                          tf_message, transform_stamped, write_bag)
+                          tf_message, transform_stamped, write_bag, write_ros1_bag)
 from dpn_navigator.core.frames import TfBuffer
 from dpn_navigator.recording.bag_reader import BagReader, BagReadError, fill_tf_buffer
 import numpy as np
@@ -86,6 +86,24 @@ def test_transforms_and_a_buffer_filled_from_them(sample_bag):
     laser = buffer.lookup('map', 'laser', 1500_000_000)
     assert_allclose(laser.translation[:2], (1.0 + 1.0 + 0.2 * math.cos(math.pi / 4),
                                             0.2 * math.sin(math.pi / 4)), atol=1e-9)
+
+
+def test_a_ros1_bag_with_old_tf_messages_and_slashed_frames(tmp_path):
+    items = sample_items()
+    for _, _, _, message in items:
+        for transform in getattr(message, 'transforms', []):
+            transform.header.frame_id = '/' + transform.header.frame_id
+            transform.child_frame_id = '/' + transform.child_frame_id
+    path = write_ros1_bag(tmp_path / 'old.bag', items, rename={TF_MESSAGE: 'tf/msg/tfMessage'})
+    with BagReader(path) as bag:
+        assert bag.topics['/tf'].msg_type == 'tf/msg/tfMessage'
+        records = list(bag.transforms())
+        (scan, _) = bag.laser_scans('/scan')
+        (people,) = bag.pose_arrays('/people')
+    assert [(r.parent_frame, r.child_frame, r.static) for r in records] == [
+        ('base_link', 'laser', True), ('odom', 'base_link', False), ('map', 'odom', False),
+        ('odom', 'base_link', False), ('map', 'odom', False)]
+    assert scan.stamp_ns == 1 * S + 123 and people.positions.shape == (2, 3)
 
 
 def test_pose_arrays(sample_bag):

@@ -14,7 +14,7 @@ import subprocess
 import sys
 
 from bag_building import (LASER_SCAN, laser_scan, S, TF_MESSAGE, tf_message,
-                          transform_stamped, write_bag)
+                          transform_stamped, write_bag, write_ros1_bag)
 from bag_reading import read_bag, stamp_ns
 from dpn_navigator.core.cell_label import CellLabel, OCCUPANCY_VALUE
 from dpn_navigator.core.frames import Transform3D
@@ -165,6 +165,30 @@ def test_a_moving_upside_down_laser_maps_the_walls_where_they_are(tf_replay, tf_
     inner = distance_to_walls(x, y) > 1.2
     inside = (x > ROOM[0]) & (x < ROOM[1]) & (y > ROOM[2]) & (y < ROOM[3]) & inner
     assert np.mean(labels[inside] == CellLabel.EXPLORED) >= 0.9
+
+
+def slashed(items):
+    """Return bag items with ROS 1 style frame names: a leading '/' on every frame id."""
+    for _, _, _, message in items:
+        for transform in getattr(message, 'transforms', []):
+            transform.header.frame_id = '/' + transform.header.frame_id
+            transform.child_frame_id = '/' + transform.child_frame_id
+        if hasattr(message, 'ranges'):
+            message.header.frame_id = '/' + message.header.frame_id
+    return items
+
+
+@pytest.mark.parametrize('tf_type', [TF_MESSAGE, 'tf/msg/tfMessage'])
+def test_a_ros1_bag_with_tf_replays_like_the_rosbag2_one(tf_replay, tmp_path, tf_type):
+    """ROS 1: Noetic types, tf2's TFMessage or the old tf/tfMessage, frames named '/odom'."""
+    bag = write_ros1_bag(tmp_path / 'moving.bag', slashed(moving_laser_items()),
+                         rename={TF_MESSAGE: tf_type})
+    assert run([bag, '--out', tmp_path / 'out']) == 0
+    _, labels, info = final_labels(tmp_path / 'out')
+    _, expected, expected_info = final_labels(tf_replay)
+    assert (info.width, info.height, info.origin.position.x) == \
+        (expected_info.width, expected_info.height, expected_info.origin.position.x)
+    np.testing.assert_array_equal(labels, expected)
 
 
 def test_a_scan_with_no_pose_is_skipped_and_counted(tf_bag, tmp_path, capsys):
