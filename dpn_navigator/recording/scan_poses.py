@@ -191,8 +191,11 @@ class ScanPoses:
         if laser_in_map is None:
             return None
         try:
-            check_scan(scan.ranges, scan.angle_min, abs(scan.angle_increment), scan.range_min,
-                       scan.range_max)
+            # The node's checks (angle_max against the beam count too); a driver counting its
+            # beams clockwise (negative increment) is checked as if counted the other way.
+            sign = -1.0 if scan.angle_increment < 0.0 else 1.0
+            check_scan(scan.ranges, sign * scan.angle_min, sign * scan.angle_increment,
+                       scan.range_min, scan.range_max, sign * scan.angle_max)
             plane = planar_laser(laser_in_map, scan.angle_min, scan.angle_increment,
                                  len(scan.ranges))
         except LaserNotLevelError:

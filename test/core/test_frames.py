@@ -18,8 +18,10 @@ import math
 
 from dpn_navigator.core.frames import (ConnectivityError, ExtrapolationError, FrameLookupError,
                                        InvalidTransformError, TfBuffer, Transform3D)
+from dpn_navigator.core.frames import laser_plane as laser_plane_module
 from dpn_navigator.core.frames import tf_buffer as tf_buffer_module
 from dpn_navigator.core.frames import transform3d as transform3d_module
+from dpn_navigator.core.frames.laser_plane import LaserNotLevelError, planar_laser
 from dpn_navigator.core.frames.transform3d import quaternion_from_rpy, slerp
 from hypothesis import given, strategies as st
 import numpy as np
@@ -55,7 +57,7 @@ poses = st.tuples(offsets, offsets, offsets, angles,
 
 
 def test_the_docstring_examples_run():
-    for module in (transform3d_module, tf_buffer_module):
+    for module in (transform3d_module, tf_buffer_module, laser_plane_module):
         result = doctest.testmod(module)
         assert result.attempted > 0 and result.failed == 0
 
@@ -352,3 +354,45 @@ def test_lookups_match_matrices_of_the_interpolated_links(odom_poses, base_poses
     assert_allclose(matrix(buffer.lookup('map', 'laser', stamp)), expected, atol=1e-9)
     assert_allclose(matrix(buffer.lookup('laser', 'map', stamp)), np.linalg.inv(expected),
                     atol=1e-9)
+
+
+# --- laser_plane: a 3-D mount as the planar scan the core takes -------------------------------
+
+def beam_headings(plane, beams):
+    """Return the map-plane heading of each beam in the order of `PlanarLaser.ranges`."""
+    index = plane.ranges(np.arange(beams))
+    return index, plane.pose[2] + plane.angle_min + np.arange(beams) * plane.angle_increment
+
+
+@pytest.mark.parametrize('roll, increment', [(0.0, 0.1), (math.pi, 0.1), (0.0, -0.1),
+                                             (math.pi, -0.1), (-math.pi, 0.1)])
+def test_each_beam_keeps_its_true_heading(roll, increment):
+    beams, angle_min = 11, (-0.5 if increment > 0 else 0.5)
+    mount = Transform3D.from_xyz_rpy(1.0, -2.0, 0.3, roll=roll, yaw=0.7)
+    plane = planar_laser(mount, angle_min, increment, beams)
+    assert plane.angle_increment > 0.0
+    assert plane.angle_max == pytest.approx(plane.angle_min + (beams - 1) * increment * np.sign(
+        increment))
+    index, headings = beam_headings(plane, beams)
+    for i, heading in zip(index, headings):
+        # The true direction of beam i, through the 3-D rotation.
+        angle = angle_min + i * increment
+        direction = mount.rotation_matrix() @ np.array([math.cos(angle), math.sin(angle), 0.0])
+        assert math.cos(heading - math.atan2(direction[1], direction[0])) == pytest.approx(1.0)
+    assert plane.pose[:2] == pytest.approx((1.0, -2.0))
+    assert plane.upside_down == (abs(roll) > 1.0)
+
+
+def test_a_slightly_tilted_laser_is_taken_as_planar_and_a_steep_one_refused():
+    plane = planar_laser(Transform3D.from_xyz_rpy(pitch=math.radians(5)), -1.0, 0.1, 21)
+    assert plane.tilt == pytest.approx(math.radians(5)) and not plane.reverse
+    with pytest.raises(LaserNotLevelError, match='tilted 30.0 deg'):
+        planar_laser(Transform3D.from_xyz_rpy(roll=math.radians(30)), -1.0, 0.1, 21)
+
+
+@pytest.mark.parametrize('args, message', [((-1.0, 0.0, 5), 'must not be 0'),
+                                           ((math.nan, 0.1, 5), 'angle_min must be finite'),
+                                           ((-1.0, 0.1, 0), 'at least one beam')])
+def test_malformed_scans_are_refused(args, message):
+    with pytest.raises(ValueError, match=message):
+        planar_laser(Transform3D.identity(), *args)

@@ -371,3 +371,29 @@ def test_the_executable_runs_as_a_process(tmp_path):
 ])
 def test_the_grid_covers_the_extent_unless_given(given, expected):
     assert grid_box((0.0, 10.0, 0.0, 5.8), 0.5, given) == expected
+
+
+def record(**fields):
+    """Return a ScanRecord of 5 beams, with fields replaced."""
+    from dpn_navigator.recording.bag_reader import ScanRecord
+    values = {'topic': '/scan', 'log_time_ns': S, 'stamp_ns': S, 'frame_id': 'laser',
+              'angle_min': -0.2, 'angle_max': 0.2, 'angle_increment': 0.1,
+              'time_increment': 0.0, 'scan_time': 0.1, 'range_min': 0.1, 'range_max': 5.0,
+              'ranges': np.array([1, 2, 3, 4, 5], np.float32), 'intensities': np.zeros(0)}
+    values.update(fields)
+    return ScanRecord(**values)
+
+
+def test_scans_the_node_would_reject_are_skipped_and_counted():
+    from dpn_navigator.recording.scan_poses import ScanPoses
+    poses = ScanPoses('fixed')
+    assert poses.place(record()).pose == (0.0, 0.0, 0.0)
+    assert poses.map_frame == 'laser'
+    reversed_scan = poses.place(record(angle_min=0.2, angle_max=-0.2, angle_increment=-0.1))
+    assert reversed_scan.angle_min == pytest.approx(-0.2)
+    np.testing.assert_array_equal(reversed_scan.ranges, [5, 4, 3, 2, 1])
+    assert poses.place(record(angle_max=1.0)) is None            # 5 beams cannot span 1.2 rad
+    assert poses.place(record(range_max=0.05)) is None
+    assert poses.place(record(angle_increment=0.0)) is None
+    assert sum(poses.skipped.values()) == 3
+    assert all(reason.startswith('malformed scan') for reason in poses.skipped)
