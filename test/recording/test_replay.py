@@ -263,6 +263,7 @@ def test_real_recordings_replay_with_a_fixed_laser(name, tmp_path):
     np.testing.assert_array_equal(np.array(first_scan.ranges, np.float32), original.ranges)
 
 
+@pytest.mark.slow
 def test_a_benchmark_episode_bag_replays_into_the_same_walls(tmp_path):
     from dpn_navigator.benchmark.episode import run_episode
     from dpn_navigator.benchmark.episode_bag import EpisodeBagRecorder
