@@ -221,6 +221,13 @@ def _run(bag, topic, poses, out_dir, params, limits, values, navigator, animate)
     except ValueError as error:
         raise ReplayError(f'{error}; give map_width, map_height, origin_x and origin_y in a '
                           '--params-file') from None
+    x_min, x_max, y_min, y_max = extent
+    if given and not (origin[0] <= x_min and x_max <= origin[0] + width
+                      and origin[1] <= y_min and y_max <= origin[1] + height):
+        print(f'{PROG}: warning: the grid of the params file, {width:g} x {height:g} m at '
+              f'({origin[0]:g}, {origin[1]:g}), does not hold the extent of the scans, x '
+              f'{x_min:.1f}..{x_max:.1f}, y {y_min:.1f}..{y_max:.1f} m: what lies outside is '
+              'not mapped', file=sys.stderr)
     # Pass 2: the labelling, as the node's Navigator builds its grid.
     warm_up_label_update()
     warm_up_map_values()

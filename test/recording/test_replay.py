@@ -231,6 +231,17 @@ def test_fixed_pose_takes_the_laser_frame_as_the_map_frame(tf_bag, tmp_path):
     assert info.origin.position.x < 0.0 < info.origin.position.x + info.width * info.resolution
 
 
+def test_a_params_file_grid_too_small_for_the_scans_is_warned_about(tf_bag, tmp_path, capsys):
+    params = tmp_path / 'params.yaml'
+    params.write_text('/**/dpn:\n  ros__parameters:\n    map_width: 5.0\n    map_height: 5.0\n'
+                      '    origin_x: 0.0\n    origin_y: 0.0\n')
+    assert run([tf_bag, '--out', tmp_path / 'out', '--params-file', params]) == 0
+    (line,) = capsys.readouterr().err.splitlines()
+    assert line.startswith('dpn-replay: warning: the grid of the params file, 5 x 5 m at (0, 0)')
+    _, last = read_bag(tmp_path / 'out' / 'replay').messages['/map'][-1]
+    assert (last.info.width, last.info.height) == (10, 10)
+
+
 def test_the_paper_navigator_and_a_params_file(tf_bag, tmp_path):
     params = tmp_path / 'params.yaml'
     params.write_text('/**:\n  ros__parameters:\n    resolution: 0.25\n'
