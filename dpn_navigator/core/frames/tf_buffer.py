@@ -380,13 +380,21 @@ class TfBuffer:
         source_chain, target_chain = self._chains(target_frame, source_frame)
         if stamp == 0 and zero_is_latest:
             stamp = self.latest_common_time(target_frame, source_frame)
-        ancestor_from_source = Transform3D.identity()
-        for frame in reversed(source_chain):
-            ancestor_from_source = ancestor_from_source @ self._links[frame].at(frame, stamp)
-        ancestor_from_target = Transform3D.identity()
-        for frame in reversed(target_chain):
-            ancestor_from_target = ancestor_from_target @ self._links[frame].at(frame, stamp)
+        ancestor_from_source = self._chain(source_chain, stamp)
+        ancestor_from_target = self._chain(target_chain, stamp)
+        if ancestor_from_target is None:            # the target is the common ancestor
+            return ancestor_from_source
+        if ancestor_from_source is None:            # the source is the common ancestor
+            return ancestor_from_target.inverse()
         return ancestor_from_target.inverse() @ ancestor_from_source
+
+    def _chain(self, chain, stamp):
+        """Return the pose of ``chain[0]`` in the parent of ``chain[-1]`` (None if empty)."""
+        result = None
+        for frame in reversed(chain):
+            link = self._links[frame].at(frame, stamp)
+            result = link if result is None else result @ link
+        return result
 
     def can_transform(self, target_frame, source_frame, stamp_ns=0, zero_is_latest=True):
         """

@@ -40,16 +40,32 @@ def unit_quaternion(rotation):
         ``TF_DENORMALIZED_QUATERNION``).
 
     """
-    q = np.asarray(rotation, dtype=np.float64)
-    if q.shape != (4,):
-        raise ValueError(f'a quaternion has 4 components (x, y, z, w), got shape {q.shape}')
-    if not np.all(np.isfinite(q)):
-        raise ValueError(f'quaternion {q.tolist()} has a non-finite component')
-    norm_squared = float(q @ q)
+    return np.array(_unit_quaternion(rotation))
+
+
+def _floats(values, count, what):
+    """Return ``values`` as a tuple of ``count`` floats; ValueError for another shape."""
+    try:
+        result = tuple(float(v) for v in values)
+    except (TypeError, ValueError):
+        result = None
+    if result is None or len(result) != count:
+        shape = np.shape(values)
+        raise ValueError(f'{what}, got shape {shape}: {values!r}')
+    return result
+
+
+def _unit_quaternion(rotation):
+    """`unit_quaternion` as a tuple of floats."""
+    q = _floats(rotation, 4, 'a quaternion has 4 components (x, y, z, w)')
+    if not all(math.isfinite(v) for v in q):
+        raise ValueError(f'quaternion {list(q)} has a non-finite component')
+    norm_squared = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]
     if not abs(norm_squared - 1.0) < QUATERNION_NORM_TOLERANCE:
-        raise ValueError(f'quaternion {q.tolist()} is not of unit length (squared norm '
+        raise ValueError(f'quaternion {list(q)} is not of unit length (squared norm '
                          f'{norm_squared:.6g})')
-    return q / math.sqrt(norm_squared)
+    scale = 1.0 / math.sqrt(norm_squared)
+    return (q[0] * scale, q[1] * scale, q[2] * scale, q[3] * scale)
 
 
 def quaternion_multiply(a, b):
@@ -72,6 +88,48 @@ def quaternion_multiply(a, b):
                      aw * by - ax * bz + ay * bw + az * bx,
                      aw * bz + ax * by - ay * bx + az * bw,
                      aw * bw - ax * bx - ay * by - az * bz])
+
+
+def _multiply(a, b):
+    """Return the Hamilton product of two ``(x, y, z, w)`` float tuples (the hot path)."""
+    ax, ay, az, aw = a
+    bx, by, bz, bw = b
+    return (aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw,
+            aw * bw - ax * bx - ay * by - az * bz)
+
+
+def _rotate(q, v):
+    """Rotate the float vector ``v`` by the unit quaternion ``q`` (``v + 2u x (u x v + w v)``)."""
+    x, y, z, w = q
+    vx, vy, vz = v
+    # t = 2 (u x v)
+    tx = 2.0 * (y * vz - z * vy)
+    ty = 2.0 * (z * vx - x * vz)
+    tz = 2.0 * (x * vy - y * vx)
+    return (vx + w * tx + (y * tz - z * ty),
+            vy + w * ty + (z * tx - x * tz),
+            vz + w * tz + (x * ty - y * tx))
+
+
+def _normalised(q):
+    scale = 1.0 / math.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
+    return (q[0] * scale, q[1] * scale, q[2] * scale, q[3] * scale)
+
+
+def _slerp(a, b, ratio):
+    """`slerp` on float tuples."""
+    dot = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]
+    if dot < 0.0:
+        b, dot = (-b[0], -b[1], -b[2], -b[3]), -dot
+    if dot > 1.0 - 1e-12:
+        return _normalised(tuple(p + ratio * (q - p) for p, q in zip(a, b)))
+    theta = math.acos(dot)
+    sin_theta = math.sin(theta)
+    wa = math.sin((1.0 - ratio) * theta) / sin_theta
+    wb = math.sin(ratio * theta) / sin_theta
+    return tuple(wa * p + wb * q for p, q in zip(a, b))
 
 
 def quaternion_from_rpy(roll, pitch, yaw):
@@ -113,15 +171,8 @@ def slerp(a, b, ratio):
         A unit quaternion.
 
     """
-    dot = float(a @ b)
-    if dot < 0.0:
-        b, dot = -b, -dot
-    if dot > 1.0 - 1e-12:
-        q = a + ratio * (b - a)      # nearly equal: the chord, normalised
-        return q / math.sqrt(float(q @ q))
-    theta = math.acos(dot)
-    sin_theta = math.sin(theta)
-    return (math.sin((1.0 - ratio) * theta) * a + math.sin(ratio * theta) * b) / sin_theta
+    # Nearly equal quaternions (dot > 1 - 1e-12): the chord, normalised.
+    return np.array(_slerp(tuple(map(float, a)), tuple(map(float, b)), float(ratio)))
 
 
 class Transform3D:
@@ -139,8 +190,9 @@ class Transform3D:
     Attributes
     ----------
     translation : (3,) ndarray of float64, [m]
+        Read-only: a transform never changes (buffers share them).
     rotation : (4,) ndarray of float64
-        Unit quaternion ``(x, y, z, w)``.
+        Unit quaternion ``(x, y, z, w)``, read-only.
 
     Raises
     ------
@@ -156,14 +208,28 @@ class Transform3D:
 
     """
 
-    __slots__ = ('translation', 'rotation')
+    __slots__ = ('translation', 'rotation', '_t', '_q')
 
     def __init__(self, translation=(0.0, 0.0, 0.0), rotation=(0.0, 0.0, 0.0, 1.0)):
-        t = np.array(translation, dtype=np.float64)
-        if t.shape != (3,) or not np.all(np.isfinite(t)):
+        t = _floats(translation, 3, 'a translation is 3 finite numbers [m]')
+        if not all(math.isfinite(v) for v in t):
             raise ValueError(f'a translation is 3 finite numbers [m], got {translation!r}')
-        self.translation = t
-        self.rotation = unit_quaternion(rotation)
+        self._t, self._q = t, _unit_quaternion(rotation)
+        self.translation = np.array(self._t)
+        self.rotation = np.array(self._q)
+        self.translation.flags.writeable = False
+        self.rotation.flags.writeable = False
+
+    @classmethod
+    def _of(cls, t, q):
+        """Return a transform of float tuples already checked (no validation: the hot path)."""
+        result = cls.__new__(cls)
+        result._t, result._q = t, q
+        result.translation = np.array(t)
+        result.rotation = np.array(q)
+        result.translation.flags.writeable = False
+        result.rotation.flags.writeable = False
+        return result
 
     @classmethod
     def identity(cls):
@@ -209,21 +275,19 @@ class Transform3D:
         Transform3D
 
         """
-        result = Transform3D.__new__(Transform3D)
-        result.translation = self.translation + self.rotation_matrix() @ other.translation
-        q = quaternion_multiply(self.rotation, other.rotation)
-        result.rotation = q / math.sqrt(float(q @ q))
-        return result
+        moved = _rotate(self._q, other._t)
+        return Transform3D._of(
+            (self._t[0] + moved[0], self._t[1] + moved[1], self._t[2] + moved[2]),
+            _normalised(_multiply(self._q, other._q)))
 
     __matmul__ = compose
 
     def inverse(self):
         """Return ``T_ba`` for ``self = T_ab``."""
-        result = Transform3D.__new__(Transform3D)
-        x, y, z, w = self.rotation
-        result.rotation = np.array([-x, -y, -z, w])
-        result.translation = -(self.rotation_matrix().T @ self.translation)
-        return result
+        x, y, z, w = self._q
+        conjugate = (-x, -y, -z, w)
+        back = _rotate(conjugate, self._t)
+        return Transform3D._of((-back[0], -back[1], -back[2]), conjugate)
 
     def apply(self, points):
         """
@@ -270,10 +334,9 @@ class Transform3D:
         Transform3D
 
         """
-        result = Transform3D.__new__(Transform3D)
-        result.translation = self.translation + ratio * (other.translation - self.translation)
-        result.rotation = slerp(self.rotation, other.rotation, ratio)
-        return result
+        ratio = float(ratio)
+        return Transform3D._of(tuple(a + ratio * (b - a) for a, b in zip(self._t, other._t)),
+                               _slerp(self._q, other._q, ratio))
 
     @property
     def roll(self):
