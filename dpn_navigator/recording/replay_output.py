@@ -22,7 +22,6 @@ What ``dpn-replay`` writes: a rosbag2 MCAP bag of maps, scans and markers; a CSV
 
 import csv
 from pathlib import Path
-import warnings
 
 import numpy as np
 
@@ -253,14 +252,11 @@ class ReplayOutput:
         from ..tools import figures
         geometry = self.grid.geometry
         trail = np.array(self._trail) if len(self._trail) >= 2 else None
-        with warnings.catch_warnings():
-            # A laser standing still draws no path: the legend is empty, and that is fine.
-            warnings.filterwarnings('ignore', 'No artists with labels', UserWarning)
-            figures.save_map_figure(self.out_dir / PNG_NAME, self.picture_values(),
-                                    geometry.resolution, geometry.origin, executed=trail,
-                                    title=title)
-            if self.animate and self.frames:
-                self._save_gif(title)
+        figures.save_map_figure(self.out_dir / PNG_NAME, self.picture_values(),
+                                geometry.resolution, geometry.origin, executed=trail,
+                                title=title)
+        if self.animate and self.frames:
+            self._save_gif(title)
 
     def _save_gif(self, title):
         from ..benchmark.animation import save_animation
