@@ -4,17 +4,22 @@ One benchmark episode without ROS: the navigator and the pybullet world in locks
 The same ``Navigator`` the ``dpn`` node wraps drives the same ``World`` the ``pybullet_world``
 node wraps, scan by scan, as fast as the CPU allows and deterministically for a seed.
 
-Episode rules:
+Episode rules (``docs/benchmark.md``; the constants in ``episode_metrics``):
 
-- The time limit is ``30 s + 3 * L / v_max``. ``L`` is the task's shortest path on the true
-  map, for a robot that keeps 0.35 m (the Husky's half width) from walls, and ``v_max`` is the
-  navigator's top speed.
-- The episode ends when the navigator reports the goal reached (within its goal tolerance) or
-  at the time limit.
-- **Success**: the goal is reached with no contact. Otherwise the failure reason is:
+- The time limit is ``30 s + 3 * L / v_ref``. ``L`` is the task's shortest path on the true
+  map, for a robot that keeps 0.35 m (the Husky's half width) from walls, and ``v_ref`` is one
+  fixed reference speed for every navigator (``episode_metrics.REFERENCE_SPEED``, 1 m/s), not
+  the speed a navigator declares.
+- The episode ends when the benchmark sees the true pose within
+  ``episode_metrics.GOAL_TOLERANCE`` of the goal, when the navigator reports the goal reached,
+  or at the time limit.
+- **Success** is the benchmark's: the true pose within the tolerance before the time limit,
+  with no contact. ``end_reason`` says why an episode failed as the benchmark sees it
+  (``episode_metrics.end_reason``: collision, false arrival, no path, stuck, oscillating,
+  timeout while moving). The older ``failure`` column keeps its coarse reasons:
   - ``collision`` when the Husky touched a wall or a wanderer, even if it then arrived;
   - ``no_path`` when the navigator ended with no path;
-  - ``timeout`` when the time ran out.
+  - ``timeout`` otherwise.
 
 """
 
@@ -28,6 +33,8 @@ import numpy as np
 from .baselines.costmap_grid import CostmapConfig, CostmapGrid
 from .baselines.oracle_grid import OracleGrid
 from .detection import DETECTION_FIELDS, DetectionMeter
+from .episode_metrics import GOAL_TOLERANCE, METRIC_FIELDS, time_limit as rule_time_limit
+from .episode_metrics import TrajectoryRecorder
 from .ground_truth import wall_belt, wanderer_hit_points
 from ..core import astar, CellLabel, Navigator, NavigatorConfig, NavigatorStatus, path_cost
 from ..core.grid_geometry import GridGeometry
@@ -77,6 +84,8 @@ class EpisodeResult:
     detection : DetectionResult or None
         The map measured as a detector, scan by scan (``detection.DetectionMeter``); None
         when the episode ran without it.
+    metrics : EpisodeMetrics or None
+        The benchmark's own view of the episode (``episode_metrics``).
     detection_wall_time : float or None
         Wall-clock time spent measuring it [s]; left out of comparisons, as it varies.
 
@@ -99,12 +108,15 @@ class EpisodeResult:
     walls_labelled_mobile: int
     ghost_obstacles: int
     detection: object = None
+    metrics: object = None
     detection_wall_time: float = field(default=None, compare=False)
 
     def as_row(self):
         """Return the result as a flat dict, for CSV writing (detection fields None if off)."""
         row = {name: getattr(self, name) for name in self.__dataclass_fields__}
         detection = row.pop('detection')
+        metrics = row.pop('metrics')
+        row.update(metrics.as_row() if metrics is not None else dict.fromkeys(METRIC_FIELDS))
         row.update(detection.as_row() if detection is not None else
                    dict.fromkeys(DETECTION_FIELDS))
         return row
@@ -334,7 +346,7 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
         setup = task_setup(scenario, task_index)
     shortest = setup.shortest_path
     if time_limit is None:
-        time_limit = 30.0 + 3.0 * shortest / navigator_config.follower.max_linear_speed
+        time_limit = rule_time_limit(shortest)
     travelled = 0.0
     world_config = WorldConfig(n_wanderers=wanderers, seed=seed)
     if wanderer_config is not None:
@@ -348,6 +360,7 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
         navigator.set_goal(*task.goal)
         oracle = map_model == 'oracle'
         last_xy = world.husky_pose[:2]
+        trajectory = TrajectoryRecorder(world.wanderer_radius)
         meter = None
         if detection and not oracle:
             started = time.perf_counter()
@@ -358,6 +371,8 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
                 world.wanderer_radius, navigator_config.safety_radius)
             detection_time = time.perf_counter() - started
         while world.time < time_limit:
+            trajectory.record(world.time, world.husky_pose, world.husky_velocity,
+                              world.wanderer_positions)
             if oracle:
                 grid.set_wanderers(world.wanderer_positions)
             if meter is not None:
@@ -372,18 +387,25 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
                 detection_time += time.perf_counter() - started
             if recorder is not None:
                 recorder(world, navigator)
-            if out.status is NavigatorStatus.GOAL_REACHED:
+            if (out.status is NavigatorStatus.GOAL_REACHED
+                    or math.dist(world.husky_pose[:2], task.goal[:2]) <= GOAL_TOLERANCE):
                 break
             scan = world.advance(out.command.linear, out.command.angular)
             travelled += math.dist(last_xy, world.husky_pose[:2])
             last_xy = world.husky_pose[:2]
+        else:
+            trajectory.record(world.time, world.husky_pose, world.husky_velocity,
+                              world.wanderer_positions)
         contacts = world.contacts
         walls_mobile, ghosts = map_quality(
             navigator.grid.labels, navigator.grid.geometry, scenario.occupied,
             scenario.geometry, world.wanderer_positions, world.wanderer_radius,
             navigator_config.safety_radius)
         end_time = world.time
-    reached = navigator.status is NavigatorStatus.GOAL_REACHED
+    reported_goal = navigator.status is NavigatorStatus.GOAL_REACHED
+    metrics = trajectory.metrics(task.goal, shortest, time_limit, travelled, contacts.events,
+                                 reported_goal, navigator.status is NavigatorStatus.NO_PATH)
+    reached = metrics.judged_success
     if contacts.events:
         failure = 'collision'
     elif reached:
@@ -400,7 +422,7 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
         forgets=navigator.forgets,
         wall_contacts=contacts.wall_events, wanderer_contacts=contacts.wanderer_events,
         walls_labelled_mobile=walls_mobile, ghost_obstacles=ghosts,
-        detection=None if meter is None else meter.result(),
+        detection=None if meter is None else meter.result(), metrics=metrics,
         detection_wall_time=None if meter is None else round(detection_time, 3))
 
 
