@@ -55,7 +55,10 @@ def build_parser():
                              "(docs/safety.md); paper: without this project's additions "
                              '(A* proximity cost, forgetting unseen obstacles when stuck, the '
                              'label rules of docs/detection.md); costmap: a Nav2-style '
-                             'obstacle + inflation costmap; oracle: the true walls and '
+                             "obstacle + inflation costmap run by Nav2 Jazzy's default "
+                             "behaviour tree (1 Hz replanning, NavFn's cost of unknown space, "
+                             'the recoveries); costmap-bare: the costmap without them; '
+                             'oracle: the true walls and '
                              "wanderers (the last two with dpn's planner and follower; "
                              'docs/benchmark.md) (default: %(default)s)')
     parser.add_argument('--seed', type=int, default=0,

@@ -31,6 +31,7 @@ import time
 import numpy as np
 
 from .baselines.costmap_grid import CostmapConfig, CostmapGrid
+from .baselines.nav2_navigator import Nav2Navigator
 from .baselines.oracle_grid import OracleGrid
 from .detection import DETECTION_FIELDS, DetectionMeter
 from .episode_metrics import GOAL_TOLERANCE, METRIC_FIELDS, time_limit as rule_time_limit
@@ -251,9 +252,10 @@ def build_map(map_model, navigator_config, scenario, wanderer_radius, range_max)
     Parameters
     ----------
     map_model : str
-        ``'labels'`` (the paper's ``LabelGrid``), ``'costmap'`` (``CostmapGrid`` with Nav2
-        Jazzy's default ranges scaled to the laser, its layer in ``COSTMAP_LAYER_RESOLUTION``
-        cells) or ``'oracle'`` (``OracleGrid``).
+        ``'labels'`` (the paper's ``LabelGrid``), ``'costmap'`` or ``'nav2'`` (``CostmapGrid``
+        with Nav2 Jazzy's default ranges scaled to the laser, its layer in
+        ``COSTMAP_LAYER_RESOLUTION`` cells; ``nav2`` runs it with ``Nav2Navigator``) or
+        ``'oracle'`` (``OracleGrid``).
     navigator_config : NavigatorConfig
         Its grid size, resolution, origin and safety radius are the map's.
     scenario : sim_bridge.scenario.Scenario
@@ -277,7 +279,7 @@ def build_map(map_model, navigator_config, scenario, wanderer_radius, range_max)
     if map_model == 'labels':
         return None
     config = navigator_config
-    if map_model == 'costmap':
+    if map_model in ('costmap', 'nav2'):
         return CostmapGrid(config.width, config.height, config.resolution, config.origin,
                            CostmapConfig.scaled_to_laser(range_max),
                            layer_resolution=COSTMAP_LAYER_RESOLUTION)
@@ -286,7 +288,7 @@ def build_map(map_model, navigator_config, scenario, wanderer_radius, range_max)
                                 tuple(config.origin))
         belt = wall_belt(scenario.occupied, scenario.geometry, geometry, config.safety_radius)
         return OracleGrid(geometry, belt, wanderer_radius + config.safety_radius)
-    raise ValueError(f'unknown map model {map_model!r}: labels, costmap or oracle')
+    raise ValueError(f'unknown map model {map_model!r}: labels, costmap, nav2 or oracle')
 
 
 def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
@@ -356,7 +358,8 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
         scan = world.scan()
         grid = build_map(map_model, navigator_config, scenario, world.wanderer_radius,
                          scan.range_max)
-        navigator = Navigator(navigator_config, grid)
+        navigator = (Nav2Navigator(navigator_config, grid) if map_model == 'nav2'
+                     else Navigator(navigator_config, grid))
         navigator.set_goal(*task.goal)
         oracle = map_model == 'oracle'
         last_xy = world.husky_pose[:2]

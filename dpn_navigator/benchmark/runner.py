@@ -95,7 +95,7 @@ def _task_setup(map_key, index, task):
 
 #: The kernels an episode runs besides A* and the planning masks, by ``protocol.MAP_MODELS``.
 _MAP_MODEL_WARM_UPS = {'labels': (warm_up_label_update,), 'costmap': (warm_up_costmap,),
-                       'oracle': ()}
+                       'nav2': (warm_up_costmap,), 'oracle': ()}
 
 
 def warm_up_kernels(map_model):
