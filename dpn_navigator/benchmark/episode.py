@@ -33,10 +33,12 @@ import numpy as np
 from .baselines.costmap_grid import CostmapConfig, CostmapGrid
 from .baselines.nav2_navigator import Nav2Navigator
 from .baselines.oracle_grid import OracleGrid
+from .baselines.wanderer_forecast import forecast_positions
 from .detection import DETECTION_FIELDS, DetectionMeter
 from .episode_metrics import GOAL_TOLERANCE, METRIC_FIELDS, time_limit as rule_time_limit
 from .episode_metrics import TrajectoryRecorder
 from .ground_truth import wall_belt, wanderer_hit_points
+from .navigator_plugin import PluginNavigator
 from ..core import astar, CellLabel, Navigator, NavigatorConfig, NavigatorStatus, path_cost
 from ..core.grid_geometry import GridGeometry
 from ..core.pose2d import compose
@@ -45,6 +47,8 @@ from ..core.pose2d import compose
 HUSKY_HALF_WIDTH = 0.35
 #: Cell side of the grid the reference shortest path is planned on [m].
 REFERENCE_CELL = 0.25
+#: Stream of the pose-noise generator, beside the episode's seed (the world has its own).
+POSE_NOISE_STREAM = 0x9E3779B9
 #: Cell side of the costmap navigator's obstacle layer [m] (Nav2's costmaps: 0.05 to 0.1 m).
 COSTMAP_LAYER_RESOLUTION = 0.1
 
@@ -255,7 +259,8 @@ def build_map(map_model, navigator_config, scenario, wanderer_radius, range_max)
         ``'labels'`` (the paper's ``LabelGrid``), ``'costmap'`` or ``'nav2'`` (``CostmapGrid``
         with Nav2 Jazzy's default ranges scaled to the laser, its layer in
         ``COSTMAP_LAYER_RESOLUTION`` cells; ``nav2`` runs it with ``Nav2Navigator``) or
-        ``'oracle'`` (``OracleGrid``).
+        ``'oracle'`` or ``'foresight'`` (``OracleGrid``; ``foresight`` is fed the agents'
+        forecast positions near the robot, ``baselines.wanderer_forecast``).
     navigator_config : NavigatorConfig
         Its grid size, resolution, origin and safety radius are the map's.
     scenario : sim_bridge.scenario.Scenario
@@ -283,17 +288,19 @@ def build_map(map_model, navigator_config, scenario, wanderer_radius, range_max)
         return CostmapGrid(config.width, config.height, config.resolution, config.origin,
                            CostmapConfig.scaled_to_laser(range_max),
                            layer_resolution=COSTMAP_LAYER_RESOLUTION)
-    if map_model == 'oracle':
+    if map_model in ('oracle', 'foresight'):
         geometry = GridGeometry(config.width, config.height, config.resolution,
                                 tuple(config.origin))
         belt = wall_belt(scenario.occupied, scenario.geometry, geometry, config.safety_radius)
         return OracleGrid(geometry, belt, wanderer_radius + config.safety_radius)
-    raise ValueError(f'unknown map model {map_model!r}: labels, costmap, nav2 or oracle')
+    raise ValueError(f'unknown map model {map_model!r}: labels, costmap, nav2, oracle or '
+                     'foresight')
 
 
 def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
                 time_limit=None, recorder=None, navigator_options=None, detection=True,
-                setup=None, map_model='labels', wanderer_config=None):
+                setup=None, map_model='labels', wanderer_config=None, pose_noise=None,
+                navigator_class=None):
     """
     Run one episode in lockstep and measure it.
 
@@ -328,7 +335,14 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
         true positions before every step and has no detection measures.
     wanderer_config : sim_bridge.wanderers.WandererConfig, optional
         The wanderers' behaviour (default: ``WorldConfig``'s); its ``clearance`` must be the
-        default one when ``setup`` holds a prebuilt wanderer grid.
+        one ``setup``'s wanderer grid was built for (``AGENT_MODELS`` has the presets).
+    pose_noise : (float, float), optional
+        Standard deviations of the pose the navigator is given [m, rad]: Gaussian, drawn per
+        scan from a generator seeded by ``seed`` (the benchmark judges the true pose).
+    navigator_class : type, optional
+        A plug-in navigator (``navigator_plugin``), built as ``navigator_class(config)`` in
+        place of the built-in one; ``map_model`` is then unused, and there are no detection or
+        map-quality measures.
 
     Returns
     -------
@@ -356,12 +370,25 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
     with World(scenario, world_config, start=task.start,
                wanderer_grid=setup.wanderer_grid) as world:
         scan = world.scan()
-        grid = build_map(map_model, navigator_config, scenario, world.wanderer_radius,
-                         scan.range_max)
-        navigator = (Nav2Navigator(navigator_config, grid) if map_model == 'nav2'
-                     else Navigator(navigator_config, grid))
+        if navigator_class is not None:
+            navigator = PluginNavigator(navigator_class(navigator_config))
+            map_model = 'plugin'
+            detection = False
+        else:
+            grid = build_map(map_model, navigator_config, scenario, world.wanderer_radius,
+                             scan.range_max)
+            navigator = (Nav2Navigator(navigator_config, grid) if map_model == 'nav2'
+                         else Navigator(navigator_config, grid))
+        noise = None
+        if pose_noise is not None and any(pose_noise):
+            noise = (np.random.default_rng([seed, POSE_NOISE_STREAM]),
+                     np.array([pose_noise[0], pose_noise[0], pose_noise[1]], dtype=float))
         navigator.set_goal(*task.goal)
-        oracle = map_model == 'oracle'
+        oracle = map_model in ('oracle', 'foresight')
+        forecast = None
+        if map_model == 'foresight':
+            forecast = {'reach': world.wanderer_radius + navigator_config.safety_radius,
+                        'previous': None, 'time': world.time}
         last_xy = world.husky_pose[:2]
         trajectory = TrajectoryRecorder(world.wanderer_radius)
         meter = None
@@ -376,13 +403,22 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
         while world.time < time_limit:
             trajectory.record(world.time, world.husky_pose, world.husky_velocity,
                               world.wanderer_positions)
-            if oracle:
+            if forecast is not None:
+                now = world.wanderer_positions
+                grid.set_wanderers(forecast_positions(
+                    now, forecast['previous'], world.time - forecast['time'],
+                    world.husky_pose[:2], forecast['reach']))
+                forecast.update(previous=now, time=world.time)
+            elif oracle:
                 grid.set_wanderers(world.wanderer_positions)
             if meter is not None:
                 path = navigator.path
                 path_labels = None if path is None else navigator.grid.labels[path[:, 0],
                                                                               path[:, 1]]
-            out = navigator.step(world.time, world.husky_pose, scan.ranges, scan.angle_min,
+            pose = world.husky_pose
+            if noise is not None:
+                pose = tuple(np.asarray(pose, dtype=float) + noise[0].normal(0.0, noise[1]))
+            out = navigator.step(world.time, pose, scan.ranges, scan.angle_min,
                                  scan.angle_increment, scan.range_min, scan.range_max)
             if meter is not None:
                 started = time.perf_counter()
@@ -400,10 +436,12 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
             trajectory.record(world.time, world.husky_pose, world.husky_velocity,
                               world.wanderer_positions)
         contacts = world.contacts
-        walls_mobile, ghosts = map_quality(
-            navigator.grid.labels, navigator.grid.geometry, scenario.occupied,
-            scenario.geometry, world.wanderer_positions, world.wanderer_radius,
-            navigator_config.safety_radius)
+        walls_mobile = ghosts = 0
+        if navigator.grid is not None:
+            walls_mobile, ghosts = map_quality(
+                navigator.grid.labels, navigator.grid.geometry, scenario.occupied,
+                scenario.geometry, world.wanderer_positions, world.wanderer_radius,
+                navigator_config.safety_radius)
         end_time = world.time
     reported_goal = navigator.status is NavigatorStatus.GOAL_REACHED
     metrics = trajectory.metrics(task.goal, shortest, time_limit, travelled, contacts.events,

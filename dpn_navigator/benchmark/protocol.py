@@ -26,6 +26,8 @@ import numpy as np
 #: follower, the turn sweep included; they forget nothing (the costmap has no decay, the oracle
 #: nothing to forget). ``costmap`` is the Nav2-faithful one (recoveries, 1 Hz replanning,
 #: NavFn's unknown cost); ``costmap-bare`` the costmap alone, as it ran before 27 November.
+#: ``oracle`` blocks only the agents near the robot, at their forecast positions over 2 s
+#: (``baselines.wanderer_forecast``); ``oracle-bare`` every agent where it stands, as before.
 #: ``dpn_no_sweep`` is dpn with the turn sweep off (``NavigatorConfig.turn_sweep_memory``, on
 #: by default), as shipped before 25 November; paper turns it off too.
 NAVIGATORS = {
@@ -40,6 +42,7 @@ NAVIGATORS = {
     'costmap': {'forget_obstacles_after': 0.0},
     'costmap-bare': {'forget_obstacles_after': 0.0},
     'oracle': {'forget_obstacles_after': 0.0},
+    'oracle-bare': {'forget_obstacles_after': 0.0},
 }
 
 #: The map each ``--navigator`` plans on: ``labels`` (the paper's labelled grid,
@@ -48,7 +51,7 @@ NAVIGATORS = {
 #: Nav2's default behaviour tree (``baselines.nav2_navigator.Nav2Navigator``: 1 Hz replanning,
 #: NavFn's cost of unknown space, the recoveries), ``costmap`` the bare costmap without them.
 MAP_MODELS = {'dpn': 'labels', 'dpn_no_sweep': 'labels', 'paper': 'labels', 'costmap': 'nav2',
-              'costmap-bare': 'costmap', 'oracle': 'oracle'}
+              'costmap-bare': 'costmap', 'oracle': 'foresight', 'oracle-bare': 'oracle'}
 
 #: A ``--maps`` range of map numbers, e.g. ``1-34``.
 _NUMBER_RANGE = re.compile(r'\d+-\d+')
