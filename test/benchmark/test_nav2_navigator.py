@@ -113,3 +113,31 @@ def test_a_spin_next_to_a_wall_fails_and_the_round_robin_moves_on():
     nav._round_robin = 1                                 # next: spin
     nav._start_next_behaviour(0.0, (10.0, 10.0, 0.0))
     assert nav._behaviour[0] is nav2.Recovery.WAIT
+
+
+def test_the_controller_stops_for_a_lethal_cell_ahead_and_fails_without_progress():
+    nav = navigator()
+    nav.set_goal(18.0, 10.0)
+    outputs = list(drive(nav, (2.0, 10.0, 0.0), 0.5))
+    assert outputs[-1][2].command.linear > 0.0
+    pose = outputs[-1][1]
+    # A wall right ahead on the path (cells 0.5 to 0.9 m ahead), seen after the last plan.
+    grid = nav.grid
+    rows, cols = grid.geometry.world_to_cell(np.array([pose[0] + 0.7]), np.array([pose[1]]))
+    grid.labels[rows[0], cols[0]] = CellLabel.STEADY_OBSTACLE
+    out = nav.decide(0.55, pose)
+    assert out.command.linear == 0.0 and 'lethal cell on the path ahead' in out.reason
+    # Held without progress: after 10 s the first failure clears the costmap (the context
+    # clear), the second one starts the recovery round robin.
+    nav._next_plan = math.inf                          # no replanning in this test
+    clears = nav.clears
+    t = 0.6
+    while t < 11.0:
+        nav.decide(t, pose)
+        t += 0.1
+    assert nav.clears == clears + 1 and nav.recoveries == 0
+    grid.labels[rows[0], cols[0]] = CellLabel.STEADY_OBSTACLE
+    while t < 22.0 and nav.recoveries == 0:
+        nav.decide(t, pose)
+        t += 0.1
+    assert nav.recoveries == 1 and nav.clears == clears + 2   # the round robin's first: clear
