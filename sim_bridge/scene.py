@@ -53,8 +53,9 @@ class Scene:
     ----------
     scenario : Scenario
         Its occupied cells become static boxes.
-    agent_urdf : str or pathlib.Path
-        The wanderers' model (the P3-AT by default; ``agent_urdf`` for another agent).
+    agent_urdf : str or pathlib.Path, or sequence of them
+        The wanderers' model (the P3-AT by default; ``agent_urdf`` for another agent), or
+        one per wanderer.
     n_wanderers : int
         Number of P3-AT bodies.
     wall_height : float
@@ -115,9 +116,9 @@ class Scene:
             self.husky = pybullet.loadURDF(
                 os.path.join(pybullet_data.getDataPath(), HUSKY_URDF),
                 flags=pybullet.URDF_MERGE_FIXED_LINKS, physicsClientId=client)
-            self.wanderer_bodies = [pybullet.loadURDF(str(self._agent_urdf),
-                                                      physicsClientId=client)
-                                    for _ in range(n_wanderers)]
+            urdfs = self._agent_urdfs(n_wanderers)
+            self.wanderer_bodies = [pybullet.loadURDF(str(urdf), physicsClientId=client)
+                                    for urdf in urdfs]
         for link in range(-1, pybullet.getNumJoints(self.husky, physicsClientId=client)):
             pybullet.setCollisionFilterGroupMask(self.husky, link, HUSKY_GROUP,
                                                  WALL_GROUP | WANDERER_GROUP,
@@ -125,10 +126,9 @@ class Scene:
         for body in self.wanderer_bodies:
             pybullet.setCollisionFilterGroupMask(body, -1, WANDERER_GROUP, HUSKY_GROUP,
                                                  physicsClientId=client)
-        shape = (self._mesh_shape(*urdf_collision_mesh(self._agent_urdf)) if n_wanderers
-                 else None)
-        self.wanderer_ray_bodies = [self._ray_body(shape, WANDERER_RAY_GROUP, gui)
-                                    for _ in range(n_wanderers)]
+        shapes = {urdf: self._mesh_shape(*urdf_collision_mesh(urdf)) for urdf in set(urdfs)}
+        self.wanderer_ray_bodies = [self._ray_body(shapes[urdf], WANDERER_RAY_GROUP, gui)
+                                    for urdf in urdfs]
         self._walls = frozenset(self.wall_bodies)
         self._wanderer_index = {body: i for i, body in enumerate(self.wanderer_bodies)}
         # pybullet places a body by its base's centre of mass; keep each one's offset.
@@ -226,6 +226,15 @@ class Scene:
                 wanderers.add(self._wanderer_index[other])
             depth = max(depth, -distance)
         return wall, wanderers, depth
+
+    def _agent_urdfs(self, n_wanderers):
+        """Return each wanderer's URDF: ``agent_urdf``, or its items one per wanderer."""
+        if isinstance(self._agent_urdf, (str, Path)):
+            return [self._agent_urdf] * n_wanderers
+        urdfs = list(self._agent_urdf)
+        if len(urdfs) != n_wanderers:
+            raise ValueError(f'{len(urdfs)} agent URDFs for {n_wanderers} wanderers')
+        return urdfs
 
     def _mesh_shape(self, vertices, triangles):
         return pybullet.createCollisionShape(

@@ -113,7 +113,8 @@ def add_world_options(parser):
     parser.add_argument('--agents', choices=sorted(AGENT_MODELS), default='p3at',
                         help='the moving agents: p3at, the wandering Pioneer 3-ATs that stop '
                              'for the Husky; pedestrians, people of 0.3 m radius at 0.8-1.4 '
-                             'm/s who do not (docs/benchmark.md) (default: %(default)s)')
+                             'm/s who do not; mixed, half and half (docs/benchmark.md) '
+                             '(default: %(default)s)')
     parser.add_argument('--pose-noise', nargs=2, type=float, metavar=('SIGMA_XY', 'SIGMA_YAW'),
                         help='Gaussian noise on the pose the navigator is given [m, rad], per '
                              'scan (the benchmark judges the true pose)')

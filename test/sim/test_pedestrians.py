@@ -66,3 +66,21 @@ def test_a_world_of_pedestrians_scans_them_as_cylinders(tmp_path):
             hit += int((world.scan_wanderer_beams() >= 0).sum())
         assert hit > 0                               # the laser sees them
         assert world.contacts.events == 0
+
+
+def test_a_mixed_crowd_has_both_kinds():
+    from sim_bridge.wanderers import MIXED
+    assert [kind.body for kind in MIXED.kinds(5)] == ['p3at'] * 3 + ['cylinder'] * 2
+    assert MIXED.largest_radius == P3AT_RADIUS
+    with pytest.raises(ValueError):
+        WandererConfig(others=WandererConfig(clearance=2.0), others_share=0.5)
+    scenario = room()
+    config = WorldConfig(n_wanderers=4, seed=1, wanderer=MIXED)
+    with World(scenario, config, start=(2.0, 6.0, 0.0),
+               wanderer_grid=wanderer_clearance_grid(scenario, MIXED)) as world:
+        wanderers = world._wanderers
+        assert wanderers.radii == [P3AT_RADIUS, P3AT_RADIUS, 0.3, 0.3]
+        assert np.all(wanderers.speeds[:2] <= 0.7) and np.all(wanderers.speeds[2:] >= 0.8)
+        for _ in range(30):
+            world.advance(0.0, 0.0)
+        assert world.contacts.events == 0
