@@ -142,7 +142,8 @@ def episode_options(args):
     Raises
     ------
     ValueError
-        For negative pose noise, or a plug-in navigator that does not load.
+        For negative pose noise, a plug-in navigator that does not load, or one with
+        ``--record``.
 
     """
     from .navigator_plugin import load_navigator_class
@@ -154,6 +155,8 @@ def episode_options(args):
             raise ValueError(f'--pose-noise must be finite and >= 0, got {args.pose_noise}')
         options['pose_noise'] = tuple(args.pose_noise)
     if args.navigator not in NAVIGATORS:
+        if getattr(args, 'record', None):
+            raise ValueError('--record needs a built-in navigator (a bag holds its map)')
         load_navigator_class(args.navigator)               # fail here, not in a worker
         options['navigator_class'] = args.navigator
     return options or None

@@ -94,6 +94,18 @@ def test_every_agent_model_on_a_short_episode(back_and_forth, agents):
     assert result.detection.scans > 100
 
 
+def test_cli_refuses_bad_plug_ins_and_options_before_running(tmp_path, capsys):
+    for args, message in ((['--navigator', 'tiny_navigator:NoStep'], 'no step'),
+                          (['--navigator', 'nomodule'], 'invalid choice'),
+                          (['--navigator', 'tiny_navigator:StraightToGoal', '--record',
+                            str(tmp_path / 'bags')], '--record needs a built-in'),
+                          (['--pose-noise', '-0.1', '0.0'], 'finite and >= 0')):
+        with pytest.raises(SystemExit) as exited:
+            cli.main(['--maps', 'back_and_forth', '--out', str(tmp_path / 'out')] + args)
+        assert exited.value.code == 2 and message in capsys.readouterr().err
+    assert not (tmp_path / 'out' / 'episodes.csv').exists()
+
+
 def test_unknown_episode_options_are_refused():
     with pytest.raises(ValueError, match='unknown agent model'):
         episode_keywords({'agents': 'robots'})
