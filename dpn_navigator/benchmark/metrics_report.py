@@ -7,8 +7,8 @@ map), the time and path-length ratios of the successes, the clearance to moving 
 time in their personal space, jerk, time standing still and the failures by the benchmark's
 reasons (``episode_metrics``); success per map with its interval; paired differences against
 one navigator; and the detection measures per episode (distributions, and how many episodes
-leave a ratio undefined) beside the pooled ones. Rows of a version-1 log (no measures) give
-``-``.
+leave a ratio undefined) beside the pooled ones. Rows of a version-1 log give SPL, the BARN
+score and the ratios from their columns, and ``-`` for the measures that need the trajectory.
 
 """
 
@@ -16,14 +16,44 @@ import math
 
 import numpy as np
 
-from .episode_metrics import END_REASONS
+from .episode_metrics import barn_score, END_REASONS, REFERENCE_SPEED, spl
 from .report import map_order
 from .statistics import format_interval, paired_difference, stratified_bootstrap
 
 
 def _column(rows, name):
-    """Return a column as float, None as nan."""
-    return np.array([math.nan if row.get(name) is None else float(row[name]) for row in rows])
+    """
+    Return a column as float, None as nan.
+
+    SPL, the BARN score and the time and path ratios of a version-1 row (None there) are
+    computed from its ``success``, ``time``, ``path_length`` and ``shortest_path``, as
+    ``episode_metrics`` defines them.
+    """
+    values = []
+    for row in rows:
+        value = row.get(name)
+        if value is None and name in _DERIVED and row.get('shortest_path') is not None:
+            value = _DERIVED[name](row)
+        values.append(math.nan if value is None else float(value))
+    return np.array(values)
+
+
+def _ratio_if_success(row, value):
+    """Return ``value`` for a successful episode with a finite ``L``, else None."""
+    ok = row['success'] and math.isfinite(row['shortest_path']) and row['shortest_path'] > 0
+    return value if ok else None
+
+
+#: The measures a version-1 row has the inputs of.
+_DERIVED = {
+    'spl': lambda row: spl(row['success'], row['shortest_path'], row['path_length']),
+    'barn_score': lambda row: barn_score(row['success'], row['shortest_path'], row['time']),
+    'time_ratio': lambda row: _ratio_if_success(
+        row, row['time'] / (row['shortest_path'] / REFERENCE_SPEED) if row['shortest_path']
+        else None),
+    'path_ratio': lambda row: _ratio_if_success(
+        row, row['path_length'] / row['shortest_path'] if row['shortest_path'] else None),
+}
 
 
 def _median(values):

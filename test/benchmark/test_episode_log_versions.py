@@ -33,6 +33,9 @@ def test_a_version_1_log_reads_and_reports_but_is_not_resumed(tmp_path):
     assert all(row['end_reason'] is None and row['spl'] is None for row in read)
     text = summary_markdown(read)
     assert '| dpn | 2 | 50.0 [' in text and '| - | - |' in text
+    # SPL and the BARN score come from the version-1 columns: (11 / 12.5 + 0) / 2 = 0.44, and
+    # 11 / clip(10, 22, 88) / 2 = 0.25.
+    assert '| 0.440 [' in text and '| 0.250 [' in text
     with pytest.raises(ValueError, match='version-1'):
         EpisodeLog(path)
 
