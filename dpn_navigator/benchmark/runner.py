@@ -81,21 +81,22 @@ def _scenario(map_key, index):
 
 
 @functools.lru_cache(maxsize=8)
-def _wanderer_grid(map_key, index):
-    """Build a map's wanderer clearance grid once per worker process."""
-    from sim_bridge.world import wanderer_clearance_grid, WorldConfig
-    return wanderer_clearance_grid(_scenario(map_key, index), WorldConfig().wanderer)
+def _wanderer_grid(map_key, index, agents='p3at'):
+    """Build a map's clearance grid for an agent model once per worker process."""
+    from sim_bridge.wanderers import AGENT_MODELS
+    from sim_bridge.world import wanderer_clearance_grid
+    return wanderer_clearance_grid(_scenario(map_key, index), AGENT_MODELS[agents])
 
 
 @functools.lru_cache(maxsize=24)
-def _task_setup(map_key, index, task):
+def _task_setup(map_key, index, task, agents='p3at'):
     """Compute a task's `TaskSetup` once per worker process."""
-    return task_setup(_scenario(map_key, index), task, _wanderer_grid(map_key, index))
+    return task_setup(_scenario(map_key, index), task, _wanderer_grid(map_key, index, agents))
 
 
 #: The kernels an episode runs besides A* and the planning masks, by ``protocol.MAP_MODELS``.
 _MAP_MODEL_WARM_UPS = {'labels': (warm_up_label_update,), 'costmap': (warm_up_costmap,),
-                       'oracle': ()}
+                       'nav2': (warm_up_costmap,), 'oracle': (), 'foresight': ()}
 
 
 def warm_up_kernels(map_model):
@@ -113,7 +114,7 @@ def warm_up_kernels(map_model):
 
 
 def run_spec(spec, index=None, navigator_options=None, detection=True, record_dir=None,
-             map_model='labels'):
+             map_model='labels', episode_options=None):
     """
     Run one episode and return its log row; record it into a bag if asked.
 
@@ -132,6 +133,10 @@ def run_spec(spec, index=None, navigator_options=None, detection=True, record_di
         ``episode_bag.episode_bag_name`` (``EpisodeBagRecorder``).
     map_model : str
         The map the navigator plans on (``protocol.MAP_MODELS``).
+    episode_options : dict, optional
+        `EPISODE_OPTIONS` for ``run_episode``: ``agents`` (a name of
+        ``sim_bridge.wanderers.AGENT_MODELS``), ``pose_noise`` (``(sigma_xy, sigma_yaw)``)
+        and ``navigator_class`` (a plug-in's ``'package.module:Class'``).
 
     Returns
     -------
@@ -145,12 +150,14 @@ def run_spec(spec, index=None, navigator_options=None, detection=True, record_di
         raise ValueError(f'map {spec.map_key!r} has {len(scenario.tasks)} tasks; there is no '
                          f'task {spec.task}')
     warm_up_kernels(map_model)
+    extra = episode_keywords(episode_options)
+    agents = (episode_options or {}).get('agents', 'p3at')
     recorder = None if record_dir is None else _episode_bag(spec, scenario, record_dir)
     try:
         result = run_episode(scenario, spec.task, spec.wanderers, spec.seed,
                              navigator_options=navigator_options, detection=detection,
-                             setup=_task_setup(spec.map_key, index, spec.task),
-                             recorder=recorder, map_model=map_model)
+                             setup=_task_setup(spec.map_key, index, spec.task, agents),
+                             recorder=recorder, map_model=map_model, **extra)
     finally:
         if recorder is not None:
             recorder.close()
@@ -159,6 +166,39 @@ def run_spec(spec, index=None, navigator_options=None, detection=True, record_di
     row.update(map=spec.map_key, number=scenario.number, family=scenario.family or '',
                repetition=spec.repetition, wall_time=round(time.perf_counter() - started, 3))
     return row
+
+
+#: Keys of ``episode_options``.
+EPISODE_OPTIONS = ('agents', 'pose_noise', 'navigator_class')
+
+
+def episode_keywords(episode_options):
+    """
+    Turn ``episode_options`` into ``run_episode`` keywords.
+
+    Raises
+    ------
+    ValueError
+        For an unknown key or agent model, or a plug-in that does not load.
+
+    """
+    from sim_bridge.wanderers import AGENT_MODELS
+    from .navigator_plugin import load_navigator_class
+    options = dict(episode_options or {})
+    unknown = set(options) - set(EPISODE_OPTIONS)
+    if unknown:
+        raise ValueError(f'unknown episode options {sorted(unknown)}; known: {EPISODE_OPTIONS}')
+    keywords = {}
+    agents = options.get('agents', 'p3at')
+    if agents not in AGENT_MODELS:
+        raise ValueError(f'unknown agent model {agents!r}; one of {sorted(AGENT_MODELS)}')
+    if agents != 'p3at':
+        keywords['wanderer_config'] = AGENT_MODELS[agents]
+    if options.get('pose_noise'):
+        keywords['pose_noise'] = tuple(options['pose_noise'])
+    if options.get('navigator_class'):
+        keywords['navigator_class'] = load_navigator_class(options['navigator_class'])
+    return keywords
 
 
 def _episode_bag(spec, scenario, record_dir):
@@ -201,7 +241,8 @@ def default_workers():
 
 
 def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, progress=True,
-                 navigator_options=None, detection=True, record_dir=None, map_model='labels'):
+                 navigator_options=None, detection=True, record_dir=None, map_model='labels',
+                 episode_options=None):
     """
     Run the episodes a log does not hold yet and append their rows to it.
 
@@ -229,6 +270,8 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
         Record every episode run now (not those already in the log) as a bag in this folder.
     map_model : str
         The map every episode's navigator plans on (``protocol.MAP_MODELS``).
+    episode_options : dict, optional
+        As for `run_spec` (agents, pose noise, a plug-in navigator), for every episode.
 
     Returns
     -------
@@ -264,10 +307,10 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
             if ray_address is not None:
                 results, workers = _ray_results(pending, ray_address, index,
                                                 navigator_options, detection, record_dir,
-                                                map_model)
+                                                map_model, episode_options)
             else:
                 results = _local_results(pending, workers, index, navigator_options, detection,
-                                         record_dir, map_model)
+                                         record_dir, map_model, episode_options)
             for row in results:
                 log.append(row)
                 ran += 1
@@ -282,23 +325,24 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
 
 
 def _local_results(pending, workers, index, navigator_options, detection, record_dir,
-                   map_model):
+                   map_model, episode_options=None):
     """Yield the rows of pending episodes from local worker processes, as they finish."""
     if workers == 1 or len(pending) <= 1:
         for spec in pending:
-            yield run_spec(spec, index, navigator_options, detection, record_dir, map_model)
+            yield run_spec(spec, index, navigator_options, detection, record_dir, map_model,
+                           episode_options)
         return
     # spawn: each worker starts clean (its own pybullet client, no forked state).
     context = multiprocessing.get_context('spawn')
     with context.Pool(min(workers, len(pending))) as pool:
         yield from pool.imap_unordered(
             _run_spec_star,
-            [(spec, index, navigator_options, detection, record_dir, map_model)
-             for spec in pending])
+            [(spec, index, navigator_options, detection, record_dir, map_model,
+              episode_options) for spec in pending])
 
 
 def _ray_results(pending, address, index, navigator_options, detection, record_dir,
-                 map_model):
+                 map_model, episode_options=None):
     """Start the pending episodes on Ray; return a generator of rows and Ray's CPU count."""
     import ray
     if not ray.is_initialized():
@@ -309,7 +353,7 @@ def _ray_results(pending, address, index, navigator_options, detection, record_d
 
     def rows():
         waiting = [remote.remote(spec, index, navigator_options, detection, record_dir,
-                                 map_model)
+                                 map_model, episode_options)
                    for spec in pending]
         while waiting:
             finished, waiting = ray.wait(waiting, num_returns=1)
