@@ -24,6 +24,7 @@ wanderers' spawn points, speeds, goals and therefore trajectories.
 
 """
 
+import copy
 from dataclasses import dataclass
 import math
 from pathlib import Path
@@ -277,6 +278,59 @@ class Wanderers:
             self.positions[:] = self._xy
             self.yaws[:] = self._yaw
         return moved
+
+    def forecast(self, times, dt, husky_xy_at):
+        """
+        Return where the wanderers will be, stepping a copy of them; this object is unchanged.
+
+        The simulation is deterministic: a copy of the state and of the random generator
+        steps exactly as the wanderers will, as long as the Husky is where ``husky_xy_at``
+        says (they stop for it and plan around it).
+
+        Parameters
+        ----------
+        times : (S,) array_like of float
+            Non-decreasing times from now [s], ``>= 0``.
+        dt : float
+            The world's time step [s] (``1 / physics_rate``), positive.
+        husky_xy_at : callable
+            ``husky_xy_at(t)`` is the Husky's position ``(x, y)`` [m] at ``t`` seconds from
+            now.
+
+        Returns
+        -------
+        positions : (S, count, 2) ndarray of float64
+            The positions at each time, rounded down to a whole number of steps [m].
+
+        """
+        times = np.asarray(times, dtype=np.float64).reshape(-1)
+        if not (dt > 0.0 and math.isfinite(dt)):
+            raise ValueError(f'dt must be positive and finite, got {dt!r}')
+        if times.size and (times[0] < 0.0 or np.any(np.diff(times) < 0.0)):
+            raise ValueError('times must be non-decreasing and >= 0')
+        twin = self._twin()
+        out = np.empty((times.size, len(self.yaws), 2))
+        ticks = np.floor(times / dt + 1e-9).astype(np.int64)
+        tick = 0
+        for s, wanted in enumerate(ticks):
+            while tick < wanted:
+                twin.step(dt, husky_xy_at(tick * dt))
+                tick += 1
+            out[s] = twin.positions
+        return out
+
+    def _twin(self):
+        """Return a copy that steps independently (the grids shared, read-only)."""
+        twin = copy.copy(self)
+        twin.rng = copy.deepcopy(self.rng)
+        twin.positions = self.positions.copy()
+        twin.yaws = self.yaws.copy()
+        twin.speeds = self.speeds.copy()
+        for name in ('_speeds', '_speed_now', '_anchors', '_centring', '_stopped', '_patience'):
+            setattr(twin, name, list(getattr(self, name)))
+        twin._paths = [list(path) for path in self._paths]
+        twin._xy, twin._yaw = [], []
+        return twin
 
     def _advance(self, i, dt, husky_xy):
         """Turn and move wanderer ``i`` along its path; return True when it moved."""

@@ -193,6 +193,16 @@ class World:
         """Return the radius of the circle around a wanderer's footprint [m]."""
         return self._wanderers.radius
 
+    def forecast_wanderers(self, times, husky_xy_at):
+        """
+        Return the wanderers' true future positions, the Husky at ``husky_xy_at(t)``.
+
+        ``times`` [s from now] and ``husky_xy_at`` as for ``Wanderers.forecast``; the world is
+        unchanged. Exact while the Husky is where ``husky_xy_at`` puts it (the space-time
+        oracle's foresight). Returns a ``(S, K, 2)`` array [m].
+        """
+        return self._wanderers.forecast(times, self._dt, husky_xy_at)
+
     def scan_wanderer_beams(self):
         """
         Return which wanderer each beam of the current scan hit (ground truth, for measuring).

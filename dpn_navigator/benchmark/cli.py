@@ -60,9 +60,11 @@ def build_parser():
                              "obstacle + inflation costmap run by Nav2 Jazzy's default "
                              "behaviour tree (1 Hz replanning, NavFn's cost of unknown space, "
                              'the recoveries); costmap-bare: the costmap without them; '
-                             'oracle: the true walls and the wanderers near the robot where '
-                             'they will be over 2 s (oracle-bare: every wanderer where it '
-                             "stands); the references with dpn's planner and follower "
+                             "oracle: the true walls and every agent's true future over 10 s, "
+                             'planned on in space and time (it waits where that pays); '
+                             'oracle-foresight: the agents near the robot at a constant-'
+                             'velocity forecast over 2 s; oracle-bare: every agent where it '
+                             "stands; the references with dpn's planner and follower "
                              '(docs/benchmark.md); package.module:Class: your own navigator, '
                              'a class implementing the protocol of '
                              'dpn_navigator.benchmark.navigator_plugin (default: %(default)s)')

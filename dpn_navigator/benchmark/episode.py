@@ -33,6 +33,7 @@ import numpy as np
 from .baselines.costmap_grid import CostmapConfig, CostmapGrid
 from .baselines.nav2_navigator import Nav2Navigator
 from .baselines.oracle_grid import OracleGrid
+from .baselines.spacetime_oracle import SpaceTimeOracle
 from .baselines.wanderer_forecast import forecast_positions
 from .detection import DETECTION_FIELDS, DetectionMeter
 from .episode_metrics import GOAL_TOLERANCE, METRIC_FIELDS, time_limit as rule_time_limit
@@ -259,8 +260,10 @@ def build_map(map_model, navigator_config, scenario, wanderer_radius, range_max)
         ``'labels'`` (the paper's ``LabelGrid``), ``'costmap'`` or ``'nav2'`` (``CostmapGrid``
         with Nav2 Jazzy's default ranges scaled to the laser, its layer in
         ``COSTMAP_LAYER_RESOLUTION`` cells; ``nav2`` runs it with ``Nav2Navigator``) or
-        ``'oracle'`` or ``'foresight'`` (``OracleGrid``; ``foresight`` is fed the agents'
-        forecast positions near the robot, ``baselines.wanderer_forecast``).
+        ``'oracle'``, ``'foresight'`` or ``'spacetime'`` (``OracleGrid``; ``foresight`` is fed
+        the agents' forecast positions near the robot, ``baselines.wanderer_forecast``;
+        ``spacetime`` holds the walls alone, and ``SpaceTimeOracle`` plans on it with the
+        agents' true future).
     navigator_config : NavigatorConfig
         Its grid size, resolution, origin and safety radius are the map's.
     scenario : sim_bridge.scenario.Scenario
@@ -288,13 +291,13 @@ def build_map(map_model, navigator_config, scenario, wanderer_radius, range_max)
         return CostmapGrid(config.width, config.height, config.resolution, config.origin,
                            CostmapConfig.scaled_to_laser(range_max),
                            layer_resolution=COSTMAP_LAYER_RESOLUTION)
-    if map_model in ('oracle', 'foresight'):
+    if map_model in ('oracle', 'foresight', 'spacetime'):
         geometry = GridGeometry(config.width, config.height, config.resolution,
                                 tuple(config.origin))
         belt = wall_belt(scenario.occupied, scenario.geometry, geometry, config.safety_radius)
         return OracleGrid(geometry, belt, wanderer_radius + config.safety_radius)
-    raise ValueError(f'unknown map model {map_model!r}: labels, costmap, nav2, oracle or '
-                     'foresight')
+    raise ValueError(f'unknown map model {map_model!r}: labels, costmap, nav2, oracle, '
+                     'foresight or spacetime')
 
 
 def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
@@ -377,14 +380,20 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
         else:
             grid = build_map(map_model, navigator_config, scenario, world.wanderer_radius,
                              scan.range_max)
-            navigator = (Nav2Navigator(navigator_config, grid) if map_model == 'nav2'
-                         else Navigator(navigator_config, grid))
+            if map_model == 'nav2':
+                navigator = Nav2Navigator(navigator_config, grid)
+            elif map_model == 'spacetime':
+                navigator = SpaceTimeOracle(
+                    navigator_config, grid, world.forecast_wanderers,
+                    world.wanderer_radius + navigator_config.safety_radius)
+            else:
+                navigator = Navigator(navigator_config, grid)
         noise = None
         if pose_noise is not None and any(pose_noise):
             noise = (np.random.default_rng([seed, POSE_NOISE_STREAM]),
                      np.array([pose_noise[0], pose_noise[0], pose_noise[1]], dtype=float))
         navigator.set_goal(*task.goal)
-        oracle = map_model in ('oracle', 'foresight')
+        oracle = map_model in ('oracle', 'foresight', 'spacetime')
         forecast = None
         if map_model == 'foresight':
             forecast = {'reach': world.wanderer_radius + navigator_config.safety_radius,

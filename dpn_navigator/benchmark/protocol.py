@@ -26,8 +26,11 @@ import numpy as np
 #: follower, the turn sweep included; they forget nothing (the costmap has no decay, the oracle
 #: nothing to forget). ``costmap`` is the Nav2-faithful one (recoveries, 1 Hz replanning,
 #: NavFn's unknown cost); ``costmap-bare`` the costmap alone, as it ran before 27 November.
-#: ``oracle`` blocks only the agents near the robot, at their forecast positions over 2 s
-#: (``baselines.wanderer_forecast``); ``oracle-bare`` every agent where it stands, as before.
+#: ``oracle`` plans in space and time on the agents' true future over 10 s and waits where
+#: that pays (``baselines.spacetime_oracle``); ``oracle-foresight`` blocks only the agents
+#: near the robot, at their constant-velocity forecast over 2 s
+#: (``baselines.wanderer_forecast``), the ``oracle`` of 27 November; ``oracle-bare`` every
+#: agent where it stands, the oracle before that.
 #: ``dpn_no_sweep`` is dpn with the turn sweep off (``NavigatorConfig.turn_sweep_memory``, on
 #: by default), as shipped before 25 November; paper turns it off too.
 NAVIGATORS = {
@@ -42,16 +45,19 @@ NAVIGATORS = {
     'costmap': {'forget_obstacles_after': 0.0},
     'costmap-bare': {'forget_obstacles_after': 0.0},
     'oracle': {'forget_obstacles_after': 0.0},
+    'oracle-foresight': {'forget_obstacles_after': 0.0},
     'oracle-bare': {'forget_obstacles_after': 0.0},
 }
 
 #: The map each ``--navigator`` plans on: ``labels`` (the paper's labelled grid,
 #: ``LabelGrid``), ``costmap`` (Nav2's obstacle and inflation layers, ``CostmapGrid``) or
-#: ``oracle`` (the true walls and wanderers, ``OracleGrid``); ``nav2`` is the costmap run by
+#: ``oracle``, ``foresight`` or ``spacetime`` (the true walls and wanderers, ``OracleGrid``;
+#: ``spacetime``: the walls, planned on by ``SpaceTimeOracle``); ``nav2`` is the costmap run by
 #: Nav2's default behaviour tree (``baselines.nav2_navigator.Nav2Navigator``: 1 Hz replanning,
 #: NavFn's cost of unknown space, the recoveries), ``costmap`` the bare costmap without them.
 MAP_MODELS = {'dpn': 'labels', 'dpn_no_sweep': 'labels', 'paper': 'labels', 'costmap': 'nav2',
-              'costmap-bare': 'costmap', 'oracle': 'foresight', 'oracle-bare': 'oracle'}
+              'costmap-bare': 'costmap', 'oracle': 'spacetime', 'oracle-foresight': 'foresight',
+              'oracle-bare': 'oracle'}
 
 #: A ``--maps`` range of map numbers, e.g. ``1-34``.
 _NUMBER_RANGE = re.compile(r'\d+-\d+')

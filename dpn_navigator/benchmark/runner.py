@@ -96,7 +96,8 @@ def _task_setup(map_key, index, task, agents='p3at'):
 
 #: The kernels an episode runs besides A* and the planning masks, by ``protocol.MAP_MODELS``.
 _MAP_MODEL_WARM_UPS = {'labels': (warm_up_label_update,), 'costmap': (warm_up_costmap,),
-                       'nav2': (warm_up_costmap,), 'oracle': (), 'foresight': ()}
+                       'nav2': (warm_up_costmap,), 'oracle': (), 'foresight': (),
+                       'spacetime': ()}
 
 
 def warm_up_kernels(map_model):

@@ -1,0 +1,240 @@
+"""
+The space-time oracle: the true walls, the agents' true future, and a plan in space and time.
+
+The benchmark's upper reference. It knows the walls (an ``OracleGrid`` with no agents on it)
+and, through a forecast callable the episode hands it (``World.forecast_wanderers``: a copy of
+the deterministic simulation stepped ahead), where every agent will be over the next
+`SpaceTimeConfig.horizon` seconds. Every `SpaceTimeConfig.replan_period` it plans with
+time-expanded A* (``spacetime_search``) on its grid: waiting is a move, and a cell is blocked
+at a time step when an agent's centre will then be within ``R + r`` of the cell's centre (the
+bare oracle's inflation). The robot's limits enter as the time a move takes at the follower's
+top speed, rounded up to whole steps (a turn in place is not counted: the replanning absorbs
+it, and `SpaceTimeConfig.margin` steps of slack around every move absorb the delay).
+
+The agents react to the robot (P3-ATs stop for it, all plan around it when stopped), so their
+future depends on the robot's: the forecast places the robot on its last plan (still, before
+the first), and the next plan corrects it. The plan is then followed with the navigator's own
+path follower: between two waits it follows the plan's cells; during a wait it turns toward
+the next cell in place and holds.
+
+"""
+
+from dataclasses import dataclass
+import math
+
+import numpy as np
+
+from .spacetime_search import spacetime_plan, static_time_to_goal
+from ..ground_truth import near_any
+from ...core.cell_label import blocked_mask
+from ...core.control.path_follower import follow_path, STOP, VelocityCommand
+from ...core.navigator import Navigator, NavigatorOutput, NavigatorStatus, ReplanCause
+
+
+@dataclass(frozen=True)
+class SpaceTimeConfig:
+    """
+    The space-time oracle's planning.
+
+    Attributes
+    ----------
+    horizon : float
+        How far ahead the agents' true positions are known [s].
+    step : float
+        The plan's time step [s].
+    replan_period : float
+        Time between two plans [s].
+    margin : int
+        Steps of slack: a cell must be free this many steps before and after the robot is in
+        it.
+    max_expansions : int
+        The search's bound on expanded states per plan.
+
+    """
+
+    horizon: float = 10.0
+    step: float = 0.25
+    replan_period: float = 0.5
+    margin: int = 1
+    max_expansions: int = 60_000
+
+    def __post_init__(self):
+        for name in ('horizon', 'step', 'replan_period'):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0.0):
+                raise ValueError(f'{name} must be positive and finite, got {value!r}')
+        if self.horizon < self.step:
+            raise ValueError('horizon must be at least one step')
+        if self.margin < 0 or self.max_expansions < 1:
+            raise ValueError('margin must be >= 0 and max_expansions >= 1')
+
+
+class SpaceTimeOracle(Navigator):
+    """
+    A navigator that plans in space and time on the true walls and the agents' true future.
+
+    Parameters
+    ----------
+    config : NavigatorConfig
+    grid : OracleGrid
+        The true walls (its agents are never set).
+    forecast : callable
+        ``forecast(times, husky_xy_at)``: the agents' positions ``(S, K, 2)`` [m] at
+        ``times`` [s from now], the robot at ``husky_xy_at(t)`` (``World.forecast_wanderers``).
+    reach : float
+        ``R + r`` [m]: a cell is blocked while an agent's centre is this close to its centre.
+    planning : SpaceTimeConfig, optional
+
+    Attributes
+    ----------
+    plans : int
+        Space-time plans made since the goal was set.
+    waits : int
+        Decisions taken while the plan waits.
+
+    """
+
+    def __init__(self, config, grid, forecast, reach, planning=None):
+        super().__init__(config, grid)
+        self.turn_sweep = None            # the walls are known: no turn meets an unseen one
+        self.planning = planning if planning is not None else SpaceTimeConfig()
+        self._forecast = forecast
+        self._reach = float(reach)
+        step = self.planning.step
+        speed = config.follower.max_linear_speed
+        self._straight = max(1, math.ceil(config.resolution / (speed * step) - 1e-9))
+        self._diagonal = max(1, math.ceil(config.resolution * math.sqrt(2.0) / (speed * step)
+                                          - 1e-9))
+        self._steps = max(1, int(round(self.planning.horizon / step)))
+        self._walls = blocked_mask(grid.labels)
+        self._to_go = None
+        self._schedule = None        # (times [s], xy (N, 2) [m]) of the plan being followed
+        self._next_plan = -math.inf
+        self.plans = 0
+        self.waits = 0
+
+    def set_goal(self, x, y):
+        """Set the goal [m]; the next step plans (see ``Navigator.set_goal``)."""
+        super().set_goal(x, y)
+        goal = tuple(int(v) for v in self.grid.geometry.world_to_cell(x, y))
+        self._to_go = static_time_to_goal(self._walls, goal, self._straight, self._diagonal)
+        self._schedule = None
+        self._next_plan = -math.inf
+        self.plans = 0
+        self.waits = 0
+
+    def _decide(self, stamp, pose, replan_flag):
+        if self.goal is None or self.status is NavigatorStatus.GOAL_REACHED:
+            return NavigatorOutput(STOP, self.status, self.reason)
+        if math.hypot(self.goal[0] - pose[0], self.goal[1] - pose[1]) <= \
+                self.config.follower.goal_tolerance:
+            self.status = NavigatorStatus.GOAL_REACHED
+            self.reason = 'inside the goal tolerance'
+            return NavigatorOutput(STOP, self.status, self.reason)
+        replanned = False
+        if stamp >= self._next_plan:
+            self._plan_in_time(stamp, pose)
+            self._next_plan = stamp + self.planning.replan_period
+            replanned = True
+        cause = ReplanCause.OTHER if replanned else ReplanCause.NONE
+        if self._schedule is None:
+            return NavigatorOutput(STOP, self.status, self.reason, replanned, cause)
+        return NavigatorOutput(self._command(stamp, pose), self.status, self.reason, replanned,
+                               cause)
+
+    def _plan_in_time(self, stamp, pose):
+        """Forecast the agents, plan in space and time, keep the schedule."""
+        geometry = self.grid.geometry
+        start = tuple(int(v) for v in geometry.world_to_cell(pose[0], pose[1]))
+        goal = tuple(int(v) for v in geometry.world_to_cell(*self.goal))
+        self.replans += 1
+        self.plans += 1
+        if not geometry.contains_cell(*start):
+            self._schedule = None
+            self._no_path('the robot is outside the map')
+            return
+        step = self.planning.step
+        times = np.arange(self._steps + 1) * step
+        previous = self._schedule
+
+        def husky_xy_at(t):
+            if previous is None:
+                return pose[0], pose[1]
+            when, xy = previous
+            absolute = stamp + t
+            if absolute <= stamp:
+                return pose[0], pose[1]
+            return (float(np.interp(absolute, when, xy[:, 0])),
+                    float(np.interp(absolute, when, xy[:, 1])))
+
+        agents = np.asarray(self._forecast(times, husky_xy_at), dtype=np.float64)
+        blocked = self._blocked_over_time(agents)
+        plan, _ = spacetime_plan(self._walls, blocked, start, goal, self._to_go,
+                                 self._straight, self._diagonal, self.planning.margin,
+                                 self.planning.max_expansions)
+        if plan is None:
+            self._schedule = None
+            self._no_path('every plan meets an agent or a wall within the horizon')
+            return
+        cells = np.array([(r, c) for r, c, _ in plan], dtype=np.int64)
+        xs, ys = geometry.cell_to_world(cells[:, 0], cells[:, 1])
+        xy = np.column_stack((xs, ys)).astype(np.float64)
+        xy[0] = pose[0], pose[1]
+        if tuple(cells[-1]) == goal:
+            xy[-1] = self.goal
+        when = stamp + np.array([k for _, _, k in plan], dtype=np.float64) * step
+        self._schedule = (when, xy)
+        self.path = cells
+        self._path_xy = xy
+        self.status = NavigatorStatus.ACTIVE
+        self.reason = ''
+
+    def _blocked_over_time(self, agents):
+        """Return the cells within ``reach`` of an agent at each step, (T + 1, H, W) bool."""
+        shape = self.grid.geometry.shape
+        blocked = np.zeros((agents.shape[0],) + shape, dtype=bool)
+        if agents.shape[1] == 0:
+            return blocked
+        geometry = self.grid.geometry
+        reach = self._reach
+        for k in range(agents.shape[0]):
+            layer = blocked[k]
+            for x, y in agents[k]:
+                rows, cols = geometry.cell_window(x - reach, x + reach, y - reach, y + reach)
+                if rows.start == rows.stop or cols.start == cols.stop:
+                    continue
+                x_centres, y_centres = geometry.window_centres(rows, cols)
+                xx, yy = np.meshgrid(x_centres, y_centres)
+                near = near_any(xx.ravel(), yy.ravel(), [(x, y)], reach).reshape(xx.shape)
+                layer[rows, cols] |= near
+        return blocked
+
+    def _command(self, stamp, pose):
+        """Follow the schedule: drive between waits, hold (turned to the next cell) in one."""
+        when, xy = self._schedule
+        i = int(np.searchsorted(when, stamp, side='right')) - 1
+        i = min(max(i, 0), len(when) - 1)
+        same = np.all(np.isclose(xy[1:], xy[:-1]), axis=1)      # entry j waits to j + 1
+        config = self.config.follower
+        if i < len(when) - 1 and same[i]:
+            self.waits += 1
+            anchor = xy[i]
+            if math.hypot(anchor[0] - pose[0], anchor[1] - pose[1]) > 0.25:
+                return _without_goal(follow_path(pose, xy[i:i + 1], config))
+            ahead = np.flatnonzero(~same[i:])
+            if ahead.size == 0:
+                return STOP
+            target = xy[i + ahead[0] + 1]
+            turn = follow_path(pose, target[None], config)
+            return VelocityCommand(0.0, turn.angular, turn=turn.turn)
+        last = len(xy) - 1
+        waits_ahead = np.flatnonzero(same[i + 1:])
+        if waits_ahead.size:
+            last = i + 1 + int(waits_ahead[0])
+        return _without_goal(follow_path(pose, xy[i + 1:last + 1] if last > i else xy[-1:],
+                                         config))
+
+
+def _without_goal(command):
+    """Return a command that holds where a leg of the plan ends (its 'goal' is not the goal)."""
+    return STOP if command.goal_reached else command
