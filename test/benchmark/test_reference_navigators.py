@@ -109,13 +109,17 @@ def test_every_navigator_has_a_map_model_and_the_references_forget_nothing():
         assert config.follower == dpn.follower
 
 
-@pytest.mark.parametrize('name', ['oracle', 'costmap'])
+@pytest.mark.parametrize('name', ['oracle', 'oracle-foresight', 'costmap'])
 def test_reference_navigators_reach_the_goal_without_wanderers(back_and_forth, name):
     result = run_episode(back_and_forth, 1, wanderers=0, seed=3,
                          navigator_options=NAVIGATORS[name], map_model=MAP_MODELS[name])
     assert result.success and result.wall_contacts == 0
     assert result.path_length >= 0.9 * result.shortest_path
     if name == 'oracle':
+        # The space-time oracle plans once a second (SpaceTimeConfig.replan_period).
+        assert result.detection is None
+        assert abs(result.replans - result.time) <= 1.0
+    elif name == 'oracle-foresight':
         assert result.detection is None                     # it builds no map to measure
         assert result.replans == 1                          # the walls are known at once
     else:

@@ -25,7 +25,6 @@ import math
 import numpy as np
 
 from .spacetime_search import spacetime_plan, static_time_to_goal
-from ..ground_truth import near_any
 from ...core.cell_label import blocked_mask
 from ...core.control.path_follower import follow_path, STOP, VelocityCommand
 from ...core.navigator import Navigator, NavigatorOutput, NavigatorStatus, ReplanCause
@@ -52,9 +51,9 @@ class SpaceTimeConfig:
 
     """
 
-    horizon: float = 10.0
+    horizon: float = 8.0
     step: float = 0.25
-    replan_period: float = 0.5
+    replan_period: float = 1.0
     margin: int = 1
     max_expansions: int = 60_000
 
@@ -191,22 +190,25 @@ class SpaceTimeOracle(Navigator):
 
     def _blocked_over_time(self, agents):
         """Return the cells within ``reach`` of an agent at each step, (T + 1, H, W) bool."""
-        shape = self.grid.geometry.shape
-        blocked = np.zeros((agents.shape[0],) + shape, dtype=bool)
-        if agents.shape[1] == 0:
-            return blocked
         geometry = self.grid.geometry
+        steps, count = agents.shape[:2]
+        blocked = np.zeros((steps,) + geometry.shape, dtype=bool)
+        if count == 0:
+            return blocked
         reach = self._reach
-        for k in range(agents.shape[0]):
-            layer = blocked[k]
-            for x, y in agents[k]:
-                rows, cols = geometry.cell_window(x - reach, x + reach, y - reach, y + reach)
-                if rows.start == rows.stop or cols.start == cols.stop:
-                    continue
-                x_centres, y_centres = geometry.window_centres(rows, cols)
-                xx, yy = np.meshgrid(x_centres, y_centres)
-                near = near_any(xx.ravel(), yy.ravel(), [(x, y)], reach).reshape(xx.shape)
-                layer[rows, cols] |= near
+        # Every (step, agent) against the cells of a square stencil around the agent's cell.
+        span = int(math.ceil(reach / geometry.resolution)) + 1
+        offsets = np.arange(-span, span + 1)
+        d_row, d_col = (v.ravel() for v in np.meshgrid(offsets, offsets, indexing='ij'))
+        points = agents.reshape(-1, 2)
+        row0, col0 = geometry.world_to_cell(points[:, 0], points[:, 1])
+        rows = row0[:, None] + d_row[None, :]
+        cols = col0[:, None] + d_col[None, :]
+        x_centres, y_centres = geometry.cell_to_world(rows, cols)
+        near = np.hypot(x_centres - points[:, 0, None], y_centres - points[:, 1, None]) <= reach
+        near &= geometry.contains_cell(rows, cols)
+        layer = np.repeat(np.arange(steps), count)[:, None] + np.zeros_like(rows)
+        blocked[layer[near], rows[near], cols[near]] = True
         return blocked
 
     def _command(self, stamp, pose):

@@ -1,0 +1,142 @@
+"""
+The space-time oracle in a scripted scene: waiting for a crossing agent is the way through.
+
+A straight corridor from west to east, a side passage joining it from the south at x = 8 m and
+a niche across from it; a bypass loop north of the corridor. An agent walks slowly out of the
+side passage, across the corridor, into the niche: it holds the corridor for about 6 s just
+when the robot gets there. Knowing that, the space-time oracle waits at the crossing and goes
+on straight; the bare oracle (the agent where it stands, ``OracleGrid``), finding its route
+blocked, takes the bypass. Both drive the same kinematic robot (the Husky's limits) with no
+physics; a contact is the robot's and the agent's circles overlapping.
+"""
+
+import math
+
+from dpn_navigator.benchmark.baselines.oracle_grid import OracleGrid
+from dpn_navigator.benchmark.baselines.spacetime_oracle import SpaceTimeConfig, \
+    SpaceTimeOracle
+from dpn_navigator.benchmark.ground_truth import wall_belt
+from dpn_navigator.core import CellLabel, GridGeometry, Navigator, NavigatorConfig
+from dpn_navigator.core.cell_label import blocked_mask
+from dpn_navigator.core.navigator import NavigatorStatus
+import numpy as np
+from numpy.testing import assert_array_equal
+import pytest
+from sim_bridge.husky import DriveLimits, HUSKY_RADIUS, integrate_pose, ramp
+
+WIDTH, HEIGHT = 16.0, 9.0
+START, GOAL = (1.25, 4.0, 0.0), (14.75, 4.0)
+AGENT_RADIUS, AGENT_SPEED = 0.4, 0.4
+AGENT_FROM, AGENT_TO = (8.0, 0.8), (8.0, 5.6)
+SCAN = {'ranges': np.full(19, 30.0), 'angle_min': -math.pi / 2,
+        'angle_increment': math.pi / 18, 'range_min': 0.1, 'range_max': 30.0}
+
+
+def scene_walls():
+    """Return the true walls on a 0.1 m grid: free corridors, everything else wall."""
+    truth = GridGeometry(WIDTH, HEIGHT, 0.1)
+    x, y = truth.cell_to_world(*np.indices(truth.shape))
+    free = ((y >= 3.0) & (y <= 5.0))                                     # the corridor
+    free |= (x >= 7.0) & (x <= 9.0) & (y <= 3.0) & (y >= 0.2)            # side passage
+    free |= (x >= 7.0) & (x <= 9.0) & (y >= 5.0) & (y <= 6.2)            # niche
+    free |= (y >= 6.7) & (y <= 8.7) & (x >= 1.0) & (x <= 15.0)           # bypass
+    free |= ((x >= 1.0) & (x <= 3.0) | (x >= 13.0) & (x <= 15.0)) & (y >= 3.0) & (y <= 8.7)
+    free &= (x >= 0.2) & (x <= WIDTH - 0.2)
+    return ~free, truth
+
+
+def agent_xy(t):
+    """Return the agent's position [m] at time ``t`` [s]: up the side passage, then still."""
+    travel = min(max(t, 0.0) * AGENT_SPEED, AGENT_TO[1] - AGENT_FROM[1])
+    return AGENT_FROM[0], AGENT_FROM[1] + travel
+
+
+def make_grid(config):
+    walls, truth = scene_walls()
+    geometry = GridGeometry(WIDTH, HEIGHT, config.resolution)
+    belt = wall_belt(walls, truth, geometry, config.safety_radius)
+    return OracleGrid(geometry, belt, AGENT_RADIUS + config.safety_radius)
+
+
+def drive(navigator, time_limit=60.0, bare=False):
+    """Run the robot; return (reached, time [s], path length [m], contacts)."""
+    limits = DriveLimits()
+    pose, velocity = START, (0.0, 0.0)
+    navigator.set_goal(*GOAL)
+    travelled, contacts, command = 0.0, 0, (0.0, 0.0)
+    for tick in range(int(time_limit * 50)):
+        t = tick / 50.0
+        if tick % 5 == 0:
+            if bare:
+                navigator.grid.set_wanderers([agent_xy(t)])
+            out = navigator.step(t, pose, **SCAN)
+            if out.status is NavigatorStatus.GOAL_REACHED:
+                return True, t, travelled, contacts
+            command = (out.command.linear, out.command.angular)
+        velocity = (ramp(velocity[0], command[0], limits.max_linear_accel, 0.02),
+                    ramp(velocity[1], command[1], limits.max_angular_accel, 0.02))
+        new = integrate_pose(pose, velocity[0], velocity[1], 0.02)
+        travelled += math.dist(new[:2], pose[:2])
+        pose = new
+        if math.dist(pose[:2], agent_xy(t + 0.02)) < HUSKY_RADIUS + AGENT_RADIUS:
+            contacts += 1
+    return False, time_limit, travelled, contacts
+
+
+@pytest.fixture(scope='module')
+def config():
+    return NavigatorConfig(width=WIDTH, height=HEIGHT, forget_obstacles_after=0.0)
+
+
+def scripted_forecast(clock):
+    """Return the forecast callable: the agent's scripted future from ``clock[0]`` on."""
+    def forecast(times, husky_xy_at):
+        return np.array([[agent_xy(clock[0] + t)] for t in times])
+    return forecast
+
+
+class ClockedOracle(SpaceTimeOracle):
+    """The space-time oracle with its forecast read at the time of each step."""
+
+    def __init__(self, config, grid, clock):
+        super().__init__(config, grid, scripted_forecast(clock), AGENT_RADIUS
+                         + config.safety_radius, SpaceTimeConfig())
+        self._clock = clock
+
+    def step(self, stamp, pose, *args, **kwargs):
+        self._clock[0] = stamp
+        return super().step(stamp, pose, *args, **kwargs)
+
+
+def test_the_space_time_oracle_waits_where_the_bare_one_detours(config):
+    oracle = ClockedOracle(config, make_grid(config), [0.0])
+    reached, arrival, length, contacts = drive(oracle)
+    assert reached and contacts == 0
+    straight = GOAL[0] - START[0]
+    assert length < 1.1 * straight                   # the corridor, no bypass
+    assert oracle.waits > 0                          # it held at the crossing
+    # Without the agent it arrives sooner: the wait was needed.
+    free = SpaceTimeOracle(config, make_grid(config),
+                           lambda times, husky: np.zeros((len(times), 0, 2)),
+                           AGENT_RADIUS + config.safety_radius)
+    free_reached, free_arrival, _, _ = drive(free)
+    assert free_reached and free_arrival + 2.0 < arrival
+    bare = Navigator(config, make_grid(config))
+    bare_reached, bare_arrival, bare_length, bare_contacts = drive(bare, bare=True)
+    assert (not bare_reached or bare_contacts or bare_length > 1.5 * length)
+    assert not bare_reached or bare_arrival > arrival
+
+
+def test_blocked_cells_over_time_are_the_oracle_grids(config):
+    """Each step's blocked cells: those the bare oracle blocks for the agents then."""
+    grid = make_grid(config)
+    oracle = SpaceTimeOracle(config, grid, None, AGENT_RADIUS + config.safety_radius)
+    rng = np.random.default_rng(4)
+    agents = rng.uniform([-1.0, -1.0], [WIDTH + 1.0, HEIGHT + 1.0], size=(5, 3, 2))
+    blocked = oracle._blocked_over_time(agents)
+    for k in range(agents.shape[0]):
+        twin = make_grid(config)
+        twin.set_wanderers(agents[k])
+        twin.update((0.0, 0.0, 0.0), **SCAN, safety_radius=config.safety_radius)
+        assert_array_equal(blocked[k] | oracle._walls, blocked_mask(twin.labels))
+        assert (twin.labels == CellLabel.MOBILE_OBSTACLE).any() or not blocked[k].any()
