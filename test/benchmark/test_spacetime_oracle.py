@@ -140,3 +140,33 @@ def test_blocked_cells_over_time_are_the_oracle_grids(config):
         twin.update((0.0, 0.0, 0.0), **SCAN, safety_radius=config.safety_radius)
         assert_array_equal(blocked[k] | oracle._walls, blocked_mask(twin.labels))
         assert (twin.labels == CellLabel.MOBILE_OBSTACLE).any() or not blocked[k].any()
+
+
+@pytest.mark.parametrize('agents', ['p3at', 'mixed'])
+def test_the_worlds_forecast_is_its_future_and_changes_nothing(agents):
+    """Stepping a copy of the agents gives their very positions later; the world goes on."""
+    from sim_bridge.scenario import load_scenario
+    from sim_bridge.wanderers import AGENT_MODELS
+    from sim_bridge.world import World, WorldConfig
+    scenario = load_scenario('maze')
+    config = WorldConfig(n_wanderers=10, seed=7, wanderer=AGENT_MODELS[agents])
+    times = np.arange(0.0, 6.01, 0.25)
+    with World(scenario, config) as world, World(scenario, config) as twin:
+        for _ in range(10):                        # 1 s, the Husky still
+            world.advance(0.0, 0.0)
+            twin.advance(0.0, 0.0)
+        husky = world.husky_pose[:2]
+        forecast = world.forecast_wanderers(times, lambda t: husky)
+        start = world.tick
+        seen = []
+        for t in times:
+            while world.tick - start < math.floor(t * 50 + 1e-9):   # rounded down
+                world.step(0.0, 0.0)
+                twin.step(0.0, 0.0)
+            seen.append(world.wanderer_positions)
+        assert_array_equal(forecast, np.array(seen))
+        assert np.abs(np.diff(forecast, axis=0)).max() > 0.0         # they do move
+        # The world that forecast is where the twin that did not is.
+        assert_array_equal(world.wanderer_positions, twin.wanderer_positions)
+    with pytest.raises(ValueError, match='non-decreasing'):
+        World(scenario, config).forecast_wanderers([1.0, 0.5], lambda t: (0.0, 0.0))
