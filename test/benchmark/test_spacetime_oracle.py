@@ -134,8 +134,12 @@ def test_blocked_cells_over_time_are_the_oracle_grids(config):
     rng = np.random.default_rng(4)
     agents = rng.uniform([-1.0, -1.0], [WIDTH + 1.0, HEIGHT + 1.0], size=(5, 3, 2))
     blocked = oracle._blocked_over_time(agents)
+    walls, truth = scene_walls()
+    belt = wall_belt(walls, truth, grid.geometry, config.safety_radius)
+    # R + r and the clearance for the robot's straying from its cells' centres.
+    reach = AGENT_RADIUS + config.safety_radius + SpaceTimeConfig().clearance
     for k in range(agents.shape[0]):
-        twin = make_grid(config)
+        twin = OracleGrid(grid.geometry, belt, reach)
         twin.set_wanderers(agents[k])
         twin.update((0.0, 0.0, 0.0), **SCAN, safety_radius=config.safety_radius)
         assert_array_equal(blocked[k] | oracle._walls, blocked_mask(twin.labels))

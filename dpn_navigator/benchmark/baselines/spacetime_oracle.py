@@ -48,6 +48,10 @@ class SpaceTimeConfig:
         it.
     max_expansions : int
         The search's bound on expanded states per plan.
+    clearance : float
+        Added to ``R + r`` around every agent [m] (the robot's centre strays from its cell's
+        centre while it drives the plan); 0.25 was tried against pedestrians and did not help
+        (docs/benchmark.md).
 
     """
 
@@ -56,6 +60,7 @@ class SpaceTimeConfig:
     replan_period: float = 1.0
     margin: int = 1
     max_expansions: int = 60_000
+    clearance: float = 0.0
 
     def __post_init__(self):
         for name in ('horizon', 'step', 'replan_period'):
@@ -64,6 +69,8 @@ class SpaceTimeConfig:
                 raise ValueError(f'{name} must be positive and finite, got {value!r}')
         if self.horizon < self.step:
             raise ValueError('horizon must be at least one step')
+        if not (math.isfinite(self.clearance) and self.clearance >= 0.0):
+            raise ValueError(f'clearance must be finite and >= 0, got {self.clearance!r}')
         if self.margin < 0 or self.max_expansions < 1:
             raise ValueError('margin must be >= 0 and max_expansions >= 1')
 
@@ -98,7 +105,7 @@ class SpaceTimeOracle(Navigator):
         self.turn_sweep = None            # the walls are known: no turn meets an unseen one
         self.planning = planning if planning is not None else SpaceTimeConfig()
         self._forecast = forecast
-        self._reach = float(reach)
+        self._reach = float(reach) + self.planning.clearance
         step = self.planning.step
         speed = config.follower.max_linear_speed
         self._straight = max(1, math.ceil(config.resolution / (speed * step) - 1e-9))
