@@ -35,7 +35,8 @@ NAVIGATORS = {
               'fine_evidence_resolution': 0.0, 'fine_evidence_radius': 0.0, 'mobile_expiry': 0.0,
               'track_confirm_time': 0.0, 'track_still_distance': 0.0, 'track_exclusive': False,
               'trail_distance': 0.0, 'object_memory': 0.0,
-              'object_memory_short_segments': False, 'turn_sweep_memory': 0.0},
+              'object_memory_short_segments': False, 'no_return_reach': 1.0,
+              'surface_time': 0.0, 'turn_sweep_memory': 0.0},
     'costmap': {'forget_obstacles_after': 0.0},
     'oracle': {'forget_obstacles_after': 0.0},
 }
