@@ -14,7 +14,7 @@ The definitions are in `MEASURES` (the page's text) and in the code of `measure_
 """
 
 import argparse
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 import math
 import os
 from pathlib import Path
@@ -27,6 +27,7 @@ from ..core.cell_label import CellLabel, OCCUPANCY_VALUE, ScanInput
 from ..core.mapping.label_grid import LabelGrid
 from ..core.navigator import Navigator, NavigatorConfig
 from ..core.scan_polygon import scan_points
+from ..recording.bag_reader import BagReader, LASER_SCAN, POSE_ARRAY, stamp_to_ns
 
 #: The map's cell side [m] (the paper's 0.5 m).
 RESOLUTION = 0.5
@@ -74,63 +75,60 @@ class Recording:
     annotated: bool
 
 
-def _read_messages(path):
-    """Yield ``(topic, message)`` of a ROS 1 or ROS 2 bag in log-time order."""
-    from rosbags.highlevel import AnyReader
-    from rosbags.typesys import get_typestore, Stores
-    with AnyReader([Path(path)], default_typestore=get_typestore(Stores.ROS1_NOETIC)) as reader:
-        for connection, _, raw in reader.messages():
-            yield connection.topic, reader.deserialize(raw, connection.msgtype)
-
-
-def _stamp_key(header):
-    return (int(header.stamp.sec), int(header.stamp.nanosec))
-
-
 def read_recording(path):
     """
     Read a recording and its annotation (the ``<name>_extracted.bag`` beside it, if any).
 
-    The annotation's ``PoseArray`` messages carry no stamp; each belongs to the
-    ``/training_scan`` logged right after it, whose stamp is that of the recording's scan.
+    The recording's one ``LaserScan`` topic gives the scans. The annotation's ``PoseArray``
+    messages (``/leg_cluster_positions``) carry no stamp; each belongs to the ``LaserScan``
+    (``/training_scan``) logged right after it, whose stamp is that of the recording's scan.
 
     Parameters
     ----------
     path : str or Path
-        A ``.bag`` file with one ``LaserScan`` topic.
+        A bag with one ``LaserScan`` topic.
 
     Returns
     -------
     Recording
 
+    Raises
+    ------
+    ValueError
+        When the bag has no single ``LaserScan`` topic or no scan.
+
     """
     path = Path(path)
     scans = []
     keys = []
-    for _, message in _read_messages(path):
-        if not hasattr(message, 'ranges'):
-            continue
-        stamp = message.header.stamp.sec + 1e-9 * message.header.stamp.nanosec
-        scans.append((stamp, np.asarray(message.ranges, dtype=np.float64),
-                      float(message.angle_min), float(message.angle_increment),
-                      float(message.range_min), float(message.range_max)))
-        keys.append(_stamp_key(message.header))
+    with BagReader(path) as bag:
+        topics = bag.topics_of_type(LASER_SCAN)
+        if len(topics) != 1:
+            raise ValueError(f'{path}: need one LaserScan topic, found {topics}')
+        for scan in bag.laser_scans(topics[0]):
+            scans.append((1e-9 * scan.stamp_ns, scan.ranges.astype(np.float64),
+                          scan.angle_min, scan.angle_increment, scan.range_min,
+                          scan.range_max))
+            keys.append(scan.stamp_ns)
     if not scans:
         raise ValueError(f'{path}: no LaserScan message')
     extracted = path.with_name(path.stem + '_extracted.bag')
     legs = [None] * len(scans)
     if extracted.exists():
         index = {key: k for k, key in enumerate(keys)}
-        pending = None
-        for topic, message in _read_messages(extracted):
-            if topic.endswith('leg_cluster_positions'):
-                pending = np.array([(pose.position.x, pose.position.y)
-                                    for pose in message.poses], dtype=np.float64).reshape(-1, 2)
-            elif hasattr(message, 'ranges') and pending is not None:
-                k = index.get(_stamp_key(message.header))
-                if k is not None:
-                    legs[k] = pending
-                pending = None
+        with BagReader(extracted) as bag:
+            pending = None
+            wanted = bag.topics_of_type(POSE_ARRAY) + bag.topics_of_type(LASER_SCAN)
+            for _, _, message in bag.messages(wanted):
+                if hasattr(message, 'poses'):
+                    pending = np.array([(pose.position.x, pose.position.y)
+                                        for pose in message.poses],
+                                       dtype=np.float64).reshape(-1, 2)
+                elif pending is not None:
+                    k = index.get(stamp_to_ns(message.header.stamp))
+                    if k is not None:
+                        legs[k] = pending
+                    pending = None
     return Recording(path.stem, scans, legs, extracted.exists())
 
 
@@ -394,6 +392,7 @@ def draw_maps(path, panels, config, legs=None):
     Parameters
     ----------
     path : Path
+        The PNG file.
     panels : list of (str, (H, W) ndarray of uint8)
         Title and labels of each map.
     config : NavigatorConfig
@@ -415,3 +414,221 @@ def draw_maps(path, panels, config, legs=None):
     figure.tight_layout()
     figure.savefig(path, dpi=80)
     pyplot.close(figure)
+
+
+#: The rule sets of the table: name, ``--navigator``, overrides of ``NavigatorConfig``.
+#: ``dpn, no real-sensor rules`` is the dpn rule before issue 28's rules.
+TABLE_RULES = (
+    ('paper', 'paper', {}),
+    ('dpn, no real-sensor rules', 'dpn', {'no_return_reach': 1.0, 'surface_time': 0.0}),
+    ('dpn', 'dpn', {}),
+)
+
+#: Recording groups: title, whether annotated, ``no_echo_below_range_min``.
+GROUPS = (
+    ('stationary laser, annotated walkers, as recorded', True, False),
+    ('the same, no-echo codes read as no return (`no_echo_below_range_min`)', True, True),
+    ('stationary laser, people walking, no annotation (static: hit in >= 50 % of the scans '
+     'that see it)', False, False),
+)
+
+
+def default_data_dir():
+    """Return ``$DPN_REALDATA_DIR`` or the repository's ``../shared/realdata``."""
+    override = os.environ.get('DPN_REALDATA_DIR')
+    if override:
+        return Path(override)
+    return Path(__file__).resolve().parents[2].parent / 'shared' / 'realdata'
+
+
+def measure(recordings, truths, log=print):
+    """
+    Run every rule set over every recording group; return ``{(group, rule): Counts}``.
+
+    Also returns the final labels per ``(recording name, rule, no_echo)`` for the figures.
+    """
+    results = {}
+    finals = {}
+    for group, annotated, no_echo in GROUPS:
+        members = [k for k, rec in enumerate(recordings) if rec.annotated == annotated]
+        for name, navigator, overrides in TABLE_RULES:
+            total = Counts()
+            for k in members:
+                config = grid_config(recordings[k], navigator,
+                                     no_echo_below_range_min=no_echo, **overrides)
+                labels, visible, _, seconds = run_core(recordings[k], config)
+                total = total.add(measure_run(truths[k], labels, visible, seconds))
+                finals[(recordings[k].name, name, no_echo)] = (config, labels[-1])
+            results[(group, name)] = total
+            log(f'{group[:40]:40s} {name:28s} ' + ' '.join(
+                _format(value, 3) for value in total.ratios()))
+    return results, finals
+
+
+def resample(scan, beams):
+    """Return a scan resampled to ``beams`` beams over the same field of view (nearest beam)."""
+    stamp, ranges, angle_min, increment, range_min, range_max = scan
+    span = increment * (ranges.shape[0] - 1)
+    source = np.rint(np.linspace(0.0, ranges.shape[0] - 1, beams)).astype(np.int64)
+    return (stamp, ranges[source], angle_min, span / (beams - 1), range_min, range_max)
+
+
+def update_cost(recording, beams=None, no_echo=True, rounds=3):
+    """
+    Time ``LabelGrid.update`` under the paper's and dpn's rules, interleaved per scan.
+
+    Returns
+    -------
+    paper, dpn : float
+        Median wall time of one update [s] over every scan and round.
+
+    """
+    import time
+    scans = recording.scans if beams is None else [resample(s, beams) for s in recording.scans]
+    times = {'paper': [], 'dpn': []}
+    for _ in range(rounds):
+        grids = {}
+        for navigator in times:
+            config = grid_config(recording, navigator, no_echo_below_range_min=no_echo)
+            grids[navigator] = LabelGrid(config.width, config.height, config.resolution,
+                                         config.origin, config.label_rule())
+        for scan in scans:
+            for navigator, grid in grids.items():
+                start = time.perf_counter()
+                grid.update((0.0, 0.0, 0.0), scan[1], scan[2], scan[3], scan[4], scan[5],
+                            0.6, stamp=scan[0])
+                times[navigator].append(time.perf_counter() - start)
+    return float(np.median(times['paper'])), float(np.median(times['dpn']))
+
+
+_DEFINITIONS = """\
+## Definitions
+
+The core runs as the `dpn` node runs it (`Navigator.observe`, the node's `NavigatorConfig`
+with `paper`'s or `dpn`'s overrides as in `dpn-benchmark --navigator`), over every scan of a
+recording, with the laser standing at the origin of the map frame (the bags have no TF) on a
+grid of 0.5 m cells covering `range_max` around it. `r` is the safety radius (0.6 m), a cell is
+*visible* in a scan when f1 or f2 is 1 for it, and labels are read after each scan's update.
+
+Ground truth:
+
+- **Static cells**: cells hit (f1 = 1) in at least 50 % of the scans that see them (f1 or
+  f2 = 1), counted over the whole recording with its no-echo codes read as no return, on the
+  paper's f1 and f2: the same cells for every rule set and reading.
+- **Measured scans**: the annotated scans of an annotated recording (the authors annotated a
+  scan only when legs were in their region, laser angles -15 .. +15 deg up to 5 m); every scan
+  of a recording without annotation.
+- **Walkers**: annotated leg clusters (their positions, `/leg_cluster_positions`, are paired
+  with the scan whose stamp the `/training_scan` logged right after them carries), grouped
+  into persons when within 0.8 m of each other (a stride); a hit within 0.25 m of a leg
+  position is a walker's hit. Without annotation, a walker's hit is a hit whose cell is not
+  static, and hits within 0.8 m of each other (single link) are one person when at least 3.
+- **Near a walker**: a cell whose centre lies within `r` + 0.35 m of a leg position (of a
+  walker's hit, without annotation): f1 marks cells within `r` of a hit, and a person reaches
+  about 0.35 m around a leg (half a stride, half the shoulders).
+
+Measures, over the measured scans:
+
+{table}
+"""
+
+
+#: The measures' definitions, one table row each.
+_MEASURE_ROWS = (
+    ('precision of *mobile*', 'visible cells labelled mobile that are near a walker, over '
+     'visible cells labelled mobile; summed over the scans and recordings of a group, then '
+     'divided'),
+    ('recall, walker cells', "non-static cells within `r` of a walker's hit labelled "
+     'mobile, over those cells; summed, then divided'),
+    ('recall, walkers', 'persons with hits of whom some cell within `r` of a hit is '
+     'labelled mobile, over persons with hits, per scan'),
+    ('static cells ever mobile', 'static cells that some measured scan saw and left '
+     'labelled mobile with no walker near, over static cells ever seen; each cell once'),
+    ('mobile ghosts / scan', 'cells labelled mobile anywhere on the grid, neither static '
+     'nor near a walker, per scan'),
+)
+MEASURES = _DEFINITIONS.format(table='\n'.join(
+    ['| measure | definition |', '|---|---|']
+    + [f'| {name} | {text} |' for name, text in _MEASURE_ROWS]))
+
+
+def write_page(out, results, costs, figures, data_dir):
+    """Write ``<out>.md`` (the page) with the table, the cost and the figures."""
+    lines = ['# Detection on real recordings', '',
+             'Back to the [README](../README.md). Made by '
+             '`python -m dpn_navigator.tools.real_data --out docs/real_data` from the '
+             f'recordings in `{data_dir.name}/` (`../shared/realdata/`, see its `SOURCES.md`: '
+             'Hokuyo lasers standing still, people walking, the annotations of the authors '
+             'of leg_tracker), in a few minutes.', '',
+             '| recordings (0.5 m cells) | rule set | precision of *mobile* | recall, walker '
+             'cells | recall, walkers (per person and scan) | static cells ever mobile | '
+             'mobile ghosts / scan | scans |', '|---|---|---:|---:|---:|---:|---:|---:|']
+    for group, _, _ in GROUPS:
+        for name, _, _ in TABLE_RULES:
+            counts = results[(group, name)]
+            precision, cells, persons, static, ghosts = counts.ratios()
+            lines.append(f'| {group} | {name} | {_format(precision)} | {_format(cells)} | '
+                         f'{_format(persons)} | {_format(static, 1, " %")} | '
+                         f'{_format(ghosts)} | {counts.scans} |')
+    lines += ['', MEASURES, '## Cost', '',
+              '`LabelGrid.update` alone (no planning, no turn sweep), paper and dpn timed '
+              'interleaved scan by scan on the same recording, three rounds, medians:', '',
+              '| scans | paper [ms] | dpn [ms] | ratio |', '|---|---:|---:|---:|']
+    for title, (paper, dpn) in costs:
+        lines.append(f'| {title} | {1e3 * paper:.3f} | {1e3 * dpn:.3f} | '
+                     f'{dpn / paper:.1f} |')
+    lines += ['', '## Final labelled maps', '',
+              'White explored, black steady, grey mobile, blue-grey never seen; red dots: every '
+              'annotated leg position of the recording; the laser at the origin.', '']
+    for title, path in figures:
+        lines += [f'![{title}]({path})', '']
+    Path(str(out) + '.md').write_text('\n'.join(lines))
+
+
+def main(argv=None):
+    """Measure every recording of a folder and write the page and its figures."""
+    parser = argparse.ArgumentParser(
+        prog='real_data', description='Measure the labels on real laser recordings.')
+    parser.add_argument('--data', type=Path, default=None,
+                        help='folder of the recordings (default $DPN_REALDATA_DIR or '
+                        '<repo>/../shared/realdata)')
+    parser.add_argument('--out', type=Path, default=Path('docs/real_data'),
+                        help='figures go into this folder, the page to <OUT>.md')
+    parser.add_argument('--no-cost', action='store_true', help='skip the cost measure')
+    args = parser.parse_args(argv)
+    data_dir = args.data or default_data_dir()
+    paths = find_recordings(data_dir) if data_dir.is_dir() else []
+    if not paths:
+        print(f'real_data: no recordings in {data_dir}', file=sys.stderr)
+        return 2
+    recordings = [read_recording(path) for path in paths]
+    truths = [ground_truth(rec, NavigatorConfig(width=1.0, height=1.0).safety_radius)
+              for rec in recordings]
+    results, finals = measure(recordings, truths)
+    costs = []
+    if not args.no_cost:
+        for rec in recordings:
+            if rec.annotated:
+                costs.append((f'{rec.name}, {rec.scans[0][1].shape[0]} beams',
+                              update_cost(rec)))
+                costs.append((f'{rec.name} resampled to 1081 beams over 270 deg (UTM-30LX)',
+                              update_cost(rec, beams=1081)))
+    args.out.mkdir(parents=True, exist_ok=True)
+    figures = []
+    for rec in recordings:
+        no_echo = rec.annotated
+        panels = [(name, finals[(rec.name, name, no_echo)][1]) for name, _, _ in TABLE_RULES]
+        config = finals[(rec.name, 'dpn', no_echo)][0]
+        legs = [leg for leg in rec.legs if leg is not None]
+        path = args.out / f'{rec.name}.png'
+        draw_maps(path, panels, config, np.vstack(legs) if legs else None)
+        reading = ', no-echo codes read as no return' if no_echo else ''
+        figures.append((f'{rec.name}{reading}: final labels, paper, dpn without and with the '
+                        'real-sensor rules', f'{args.out.name}/{path.name}'))
+    write_page(args.out, results, costs, figures, data_dir)
+    print(f'real_data: wrote {args.out}.md and {len(figures)} figures in {args.out}/')
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())

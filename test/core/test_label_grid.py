@@ -9,10 +9,10 @@ from dpn_navigator.core.mapping.label_update import surely_free_update
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from literal_reference import FSM, literal_update, literal_update_with_rule
-from real_sensor_rules import LiteralSurfaceMemory
 import numpy as np
 from numpy.testing import assert_array_equal
 import pytest
+from real_sensor_rules import LiteralSurfaceMemory
 
 N, E, S, M = (CellLabel.NON_EXPLORED, CellLabel.EXPLORED,
               CellLabel.STEADY_OBSTACLE, CellLabel.MOBILE_OBSTACLE)

@@ -3,11 +3,11 @@
 import math
 
 from dpn_navigator.core.cell_label import CellLabel
+from dpn_navigator.core.grid_geometry import GridGeometry
 from dpn_navigator.core.mapping.label_grid import LabelGrid, LabelRule
 from dpn_navigator.core.mapping.scan_reading import read_no_echo
 from dpn_navigator.core.mapping.surface_memory import SurfaceMemory
 from dpn_navigator.core.navigator import NavigatorConfig
-from dpn_navigator.core.grid_geometry import GridGeometry
 import numpy as np
 from numpy.testing import assert_array_equal
 import pytest
@@ -19,7 +19,7 @@ INCREMENT = math.pi / (BEAMS - 1)
 
 
 def grid_for(rule, side=16.0):
-    """A grid of ``side`` metres centred on the laser at the origin."""
+    """Return a grid of ``side`` metres centred on the laser at the origin."""
     return LabelGrid(side, side, 0.5, (-side / 2, -side / 2), rule)
 
 
@@ -134,8 +134,8 @@ def dpn_rule(**changes):
 
 
 @pytest.mark.parametrize('surface_time, wall_ever_mobile', [(0.0, True), (1.0, False)])
-def test_a_flickering_wall_is_a_surface_and_a_walker_still_moves(surface_time,
-                                                                    wall_ever_mobile):
+def test_a_flickering_wall_is_a_surface_and_a_walker_still_moves(
+        surface_time, wall_ever_mobile):
     # A wall 3 m ahead returns in every scan but two, where its middle has no echo (the
     # polygon then shows its place empty); a person walks across 1.5 m ahead afterwards.
     grid = grid_for(dpn_rule(surface_time=surface_time, no_return_reach=1.0))

@@ -12,7 +12,7 @@ MAX_SCAN_PERIOD = 0.5
 
 
 def literal_read(ranges, range_min, no_echo):
-    """Each reading, with a finite ``0 <= range < range_min`` read as ``+inf`` when asked."""
+    """Return each reading, a finite ``0 <= range < range_min`` read as ``+inf`` if asked."""
     read = []
     for reading in ranges:
         reading = float(reading)
@@ -23,7 +23,7 @@ def literal_read(ranges, range_min, no_echo):
 
 
 def literal_shorten(vertices, ranges, range_max, range_min, reach):
-    """The polygon with each no-return beam's vertex moved to ``reach`` of its length."""
+    """Return the polygon with each no-return beam's vertex moved to ``reach`` of its length."""
     x, y = vertices[0]
     shortened = [vertices[0]]
     for i, reading in enumerate(ranges):
@@ -38,7 +38,7 @@ def literal_shorten(vertices, ranges, range_max, range_min, reach):
 
 
 def literal_fine_ranges(ranges, range_min, range_max, reach):
-    """The ranges the fine evidence takes: a no-return beam read as a return at its reach."""
+    """Return the ranges of the fine evidence: a no-return beam a return at its reach."""
     if reach >= 1.0:
         return list(ranges)
     distance = reach * range_max
@@ -63,12 +63,12 @@ class LiteralSurfaceMemory:
         self.last_scan = None
 
     def place(self, x, y):
-        """The place (row, col) of a point."""
+        """Return the place ``(row, col)`` of a point."""
         return (math.floor((y - self.origin[1]) / self.margin),
                 math.floor((x - self.origin[0]) / self.margin))
 
     def level(self, place, now):
-        """The hit time a place holds at ``now``."""
+        """Return the hit time a place holds at ``now``."""
         if place not in self.buckets:
             return 0.0
         hit_time, filled = self.buckets[place]
@@ -76,7 +76,7 @@ class LiteralSurfaceMemory:
         return max(hit_time - age * self.drain, 0.0)
 
     def surface_hits(self, hits, now, shape):
-        """Which hits lie within one place of a known surface; then fill the places hit."""
+        """Tell which hits lie within one place of a known surface; then fill the places hit."""
         rows, cols = shape
         known = []
         for x, y in hits:

@@ -14,7 +14,7 @@ from .jit import kernel
 
 @kernel
 def bucket_level(hit_time, filled, row, col, now, drain):
-    """The hit time of cell ``(row, col)`` at ``now`` [s]: drained since it was filled."""
+    """Return the hit time of cell ``(row, col)`` at ``now`` [s], drained since filled."""
     age = max(now - filled[row, col], 0.0)
     return max(hit_time[row, col] - age * drain, 0.0)
 
