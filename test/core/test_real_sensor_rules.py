@@ -80,8 +80,10 @@ def test_surface_memory_equals_its_literal_twin():
                                rng.uniform([-1.5, -1.0], [3.5, 3.0], (rng.integers(0, 6), 2))])
         if rng.random() < 0.3:
             hits = hits[3:]                                     # the surface has no echo
-        got = memory.surface_hits(hits[:, 0], hits[:, 1], stamp)
-        want = twin.surface_hits([tuple(h) for h in hits], stamp, geometry_shape(memory))
+        fill = rng.random(hits.shape[0]) < 0.8 if scan % 2 else None
+        got = memory.on_surface(hits[:, 0], hits[:, 1], stamp)
+        memory.fill(hits[:, 0], hits[:, 1], stamp, fill)
+        want = twin.surface_hits([tuple(h) for h in hits], stamp, geometry_shape(memory), fill)
         assert got.tolist() == want
         for (row, col), (hit_time, filled) in twin.buckets.items():
             assert memory.hit_time[row, col] == hit_time and memory.filled[row, col] == filled

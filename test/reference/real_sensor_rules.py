@@ -75,7 +75,7 @@ class LiteralSurfaceMemory:
         age = max(now - filled, 0.0)
         return max(hit_time - age * self.drain, 0.0)
 
-    def surface_hits(self, hits, now, shape):
+    def surface_hits(self, hits, now, shape, fill=None):
         """Tell which hits lie within one place of a known surface; then fill the places hit."""
         rows, cols = shape
         known = []
@@ -89,7 +89,9 @@ class LiteralSurfaceMemory:
                                                         MAX_SCAN_PERIOD)
         self.last_scan = now
         places = set()
-        for x, y in hits:
+        for k, (x, y) in enumerate(hits):
+            if fill is not None and not fill[k]:
+                continue
             row, col = self.place(x, y)
             if 0 <= row < rows and 0 <= col < cols:
                 places.add((row, col))

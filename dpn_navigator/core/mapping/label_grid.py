@@ -735,7 +735,7 @@ class LabelGrid(PlanningMap):
 
         The evidence of each hit (the coarse free space's and the fine's) is taken away on
         known surfaces before the object rule spreads it along the segments; then the scan's
-        hits fill the surface memory.
+        hits fill the surface memory, but those of objects followed and seen to move.
         """
         vertices_x, vertices_y, hits_x, hits_y, hit_beams, _ = points
         rule = self.rule
@@ -747,7 +747,7 @@ class LabelGrid(PlanningMap):
                                                 evidence_bound)
         if self.fine_evidence is not None:
             evidence = evidence | self.fine_evidence.evidence(hits_x, hits_y)
-        on_surface = self.surface_memory.surface_hits(hits_x, hits_y, stamp)
+        on_surface = self.surface_memory.on_surface(hits_x, hits_y, stamp)
         moving = motion_evidence.moving_hits(hits_x, hits_y, hit_beams, evidence & ~on_surface,
                                              segment_gap, object_size, min_hits,
                                              vertices_x[0], vertices_y[0], ranges.shape[0])
@@ -760,10 +760,14 @@ class LabelGrid(PlanningMap):
             followed = self.tracks.update(
                 stamp, (vertices_x[0], vertices_y[0]), hits_x, hits_y, hit_beams,
                 ranges.shape[0], moving, segment_gap, pose[2] + angle_min, angle_increment,
-                beam_reach)
+                beam_reach, surface=on_surface)
             followed &= ~on_surface
+            # The hits of objects followed and seen to move fill no place.
+            fill = ~np.isin(self.tracks.hit_ids, self.tracks.ids[self.tracks.moved])
         else:
             followed = np.zeros(hits_x.shape[0], dtype=bool)
+            fill = None
+        self.surface_memory.fill(hits_x, hits_y, stamp, fill)
         return followed, points
 
     def _trails(self, safety_radius, stamp):

@@ -9,7 +9,8 @@ pace lasts about 0.6 s.
 
 So each place (a square cell of side ``margin``, the laser's range noise) keeps a leaky bucket
 of *hit time*: every scan that hits the place adds the time since the scan before (at most
-`MAX_SCAN_PERIOD`), and the bucket drains by ``surface_time`` every ``memory`` seconds,
+`MAX_SCAN_PERIOD`), except with the hits of an object followed and seen to move (a walker's
+body slides over a place longer than a leg stands), and the bucket drains by ``surface_time`` every ``memory`` seconds,
 holding at most twice ``surface_time``. A place whose bucket holds at least ``surface_time``
 is a **known surface**; a hit on a place within one cell of a known surface (within about the
 range noise of it) shows no motion and continues no motion track.
@@ -67,15 +68,12 @@ class SurfaceMemory:
         self.filled = np.full(self.geometry.shape, -np.inf)  # when last filled [s]
         self._last_scan = None
 
-    def surface_hits(self, hits_x, hits_y, stamp):
+    def on_surface(self, hits_x, hits_y, stamp):
         """
-        Tell which hits of a scan lie on known surfaces, then fill the places they hit.
+        Tell which hits of a scan lie on known surfaces.
 
         A hit is on a known surface when a place within one row and column of its own holds
-        at least ``surface_time`` of hit time at ``stamp`` (before this scan's hits). Then
-        each place the scan hit gains the time since the scan before (at most
-        `MAX_SCAN_PERIOD`; nothing for the first scan or one no newer), once, up to twice
-        ``surface_time``.
+        at least ``surface_time`` of hit time at ``stamp``.
 
         Parameters
         ----------
@@ -89,14 +87,40 @@ class SurfaceMemory:
         (K,) ndarray of bool
 
         """
+        x0, y0 = self.geometry.origin
+        return surface_kernels.surface_known(
+            self.hit_time, self.filled, np.ascontiguousarray(hits_x, dtype=np.float64),
+            np.ascontiguousarray(hits_y, dtype=np.float64), float(x0), float(y0),
+            self.geometry.resolution, float(stamp), self.drain, self.surface_time)
+
+    def fill(self, hits_x, hits_y, stamp, fill=None):
+        """
+        Fill the places a scan hit, once per place.
+
+        Each place hit (by a hit marked in ``fill``) gains the time since the scan before (at
+        most `MAX_SCAN_PERIOD`; nothing for the first scan or one no newer), up to twice
+        ``surface_time``.
+
+        Parameters
+        ----------
+        hits_x, hits_y : (K,) ndarray of float64
+            The scan's hit points [m].
+        stamp : float
+            Its time [s].
+        fill : (K,) ndarray of bool, optional
+            The hits that fill their place; default all.
+
+        """
         period = 0.0 if self._last_scan is None else min(max(stamp - self._last_scan, 0.0),
                                                          MAX_SCAN_PERIOD)
         self._last_scan = stamp
         x0, y0 = self.geometry.origin
-        return surface_kernels.surface_hits(
-            self.hit_time, self.filled, np.ascontiguousarray(hits_x, dtype=np.float64),
-            np.ascontiguousarray(hits_y, dtype=np.float64), float(x0), float(y0),
-            self.geometry.resolution, float(stamp), self.drain, self.surface_time,
+        hits_x = np.ascontiguousarray(hits_x, dtype=np.float64)
+        fill = (np.ones(hits_x.shape[0], dtype=bool) if fill is None
+                else np.ascontiguousarray(fill, dtype=bool))
+        surface_kernels.surface_fill(
+            self.hit_time, self.filled, hits_x, np.ascontiguousarray(hits_y, dtype=np.float64),
+            fill, float(x0), float(y0), self.geometry.resolution, float(stamp), self.drain,
             self.capacity, period)
 
     def reset(self):
