@@ -217,6 +217,10 @@ class MotionTracks:
         beam_reach : (L,) ndarray of float64, optional
             How far each beam saw free space [m]: its range, ``range_max`` for no return, 0
             for an invalid beam; without it no segment is seen to move by the place it left.
+        surface : (K,) ndarray of bool, optional
+            Hits on known surfaces (``surface_memory``): a segment with at least half its
+            hits on them continues no track, is not seen to move by a place left empty and
+            is not remembered as a place an object stood.
 
         Returns
         -------
