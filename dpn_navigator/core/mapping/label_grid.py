@@ -698,7 +698,8 @@ class LabelGrid(PlanningMap):
         """
         points = scan_hits(
             _NO_BOOL if self.seen_free is None else self.seen_free, self.geometry, pose, ranges,
-            angle_min, angle_increment, range_min, range_max, self._kernel_rule)
+            angle_min, angle_increment, range_min, range_max, self._kernel_rule,
+            find_moving=self.surface_memory is None)
         vertices_x, vertices_y, hits_x, hits_y, hit_beams, moving = points
         if self.rule.no_return_reach < 1.0:
             shorten_no_returns(vertices_x, vertices_y, ranges, range_min, range_max,
@@ -763,7 +764,8 @@ class LabelGrid(PlanningMap):
                 beam_reach, surface=on_surface)
             followed &= ~on_surface
             # The hits of objects followed and seen to move fill no place.
-            fill = ~np.isin(self.tracks.hit_ids, self.tracks.ids[self.tracks.moved])
+            moved = self.tracks.ids[self.tracks.moved]
+            fill = ~np.isin(self.tracks.hit_ids, moved) if moved.size else None
         else:
             followed = np.zeros(hits_x.shape[0], dtype=bool)
             fill = None
