@@ -764,8 +764,10 @@ class LabelGrid(PlanningMap):
                 beam_reach, surface=on_surface)
             followed &= ~on_surface
             # The hits of objects followed and seen to move fill no place.
-            moved = self.tracks.ids[self.tracks.moved]
-            fill = ~np.isin(self.tracks.hit_ids, moved) if moved.size else None
+            fill = None
+            for track in self.tracks.ids[self.tracks.moved]:      # a few tracks at most
+                fill = self.tracks.hit_ids != track if fill is None else (
+                    fill & (self.tracks.hit_ids != track))
         else:
             followed = np.zeros(hits_x.shape[0], dtype=bool)
             fill = None
