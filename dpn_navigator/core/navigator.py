@@ -167,10 +167,11 @@ class NavigatorConfig:
         "(the paper, REP 117; Nav2's inf_is_valid true); 0: it clears nothing (inf_is_valid "
         'false)', 0.0, 1.0)
     surface_time: float = setting(
-        1.0, 's', 'intermittent surfaces: a place (a cell of `noise_margin`) hit for this '
+        2.0, 's', 'intermittent surfaces: a place (a cell of `noise_margin`) hit for this '
         'long in all is a known surface; hits within one place of it show no motion and '
-        'continue no motion track (longer than a leg stands at walking pace, about 0.6 s); '
-        '0: off (the paper)', 0.0, 3600.0)
+        'continue no motion track (longer than a leg stands at walking pace, about 0.6 s, '
+        'or a walker or robot pauses briefly; 1 s: more precision on real recordings, less '
+        'recall in the simulator, [real data](real_data.md)); 0: off (the paper)', 0.0, 3600.0)
     surface_memory: float = setting(
         10.0, 's', "intermittent surfaces: a place's hit time drains by `surface_time` in this "
         'long', 0.001, 86400.0)
