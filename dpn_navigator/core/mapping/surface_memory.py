@@ -11,11 +11,12 @@ So each place (a square cell of side ``margin``, the laser's range noise) keeps 
 of *hit time*: every scan that hits the place adds the time since the scan before (at most
 `MAX_SCAN_PERIOD`), except with the hits of an object followed and seen to move (a moving
 body's side slides over a place longer than a leg stands), and the bucket drains by
-``surface_time`` every ``memory`` seconds, holding at most twice ``surface_time``. A place whose bucket holds at least ``surface_time``
-is a **known surface**; a hit on a place within one cell of a known surface (within about the
-range noise of it) shows no motion and continues no motion track.
+``surface_time`` every ``memory`` seconds, holding at most twice ``surface_time``. A place
+whose bucket holds at least ``surface_time`` is a **known surface**; a hit on a place within
+one cell of a known surface (within about the range noise of it) shows no motion and
+continues no motion track.
 
-One compiled kernel per scan (``_kernels.surface_memory``); only additions, subtractions
+Two compiled kernels per scan (``_kernels.surface_memory``); only additions, subtractions
 and products, so the literal twin of the tests (``test/reference/real_sensor_rules.py``)
 computes the same floats one hit at a time.
 
