@@ -34,7 +34,8 @@ from .settings import BIG, setting
 FORGET_KEEP_RADII = 2.0
 
 #: Extra A* cost of a stale cell in the search for the stale cells that close the route
-#: [cells]: that search crosses as few of them as it can.
+#: [cells], plus one per scan that hit it: that search crosses as few of them as it can, and
+#: the least often seen.
 STALE_CELL_COST = 20.0
 
 
@@ -200,7 +201,7 @@ class NavigatorConfig:
         3.0, 'm', 'route commitment: how much cheaper a new route must be to replace the '
         'current one (read only with `route_block_distance` > 0)', 0.0, 1000.0)
     mobile_wait_time: float = setting(
-        8.0, 's', 'waiting: a mobile cell within `route_block_distance` is planned through at '
+        5.0, 's', 'waiting: a mobile blob within `route_block_distance` is planned through at '
         'the cost of driving this long plus the time already waited for it, and the robot '
         'stops 1 m before it; a detour is taken when it is shorter than waiting; 0: such '
         'cells block (read only with `route_block_distance` > 0)', 0.0, 3600.0)
@@ -209,9 +210,9 @@ class NavigatorConfig:
         'plans through unknown space at 253 against 50 for free, about 4 cells); 0: unknown '
         'counts as free (the paper)', 0.0, 100.0)
     forgotten_obstacle_cost: float = setting(
-        4.0, 'cells', 'exploration memory: extra A\\* cost of entering a non-explored cell that '
-        'was once an obstacle (a forgotten wall of an explored dead end), instead of '
-        '`unknown_cell_cost`; 0: off (the paper)', 0.0, 100.0)
+        20.0, 'cells', 'exploration memory: extra A\\* cost of entering a non-explored cell '
+        'once an obstacle (a forgotten wall of an explored dead end), instead of '
+        '`unknown_cell_cost`: passable as a last resort; 0: off (the paper)', 0.0, 1000.0)
     follower: FollowerConfig = field(default_factory=FollowerConfig)
 
     def __post_init__(self):
@@ -336,7 +337,8 @@ class Navigator:
                              else None)
         self.commitment = None if config.route_block_distance == 0.0 else RouteCommitment(
             config.route_block_distance, config.route_switch_margin, config.mobile_wait_time,
-            config.follower.max_linear_speed, config.resolution)
+            config.follower.max_linear_speed, config.resolution,
+            blob_depth=2.0 * config.safety_radius + config.resolution)
         self._trusted_after = None             # the no-path spell ends at this stamp [s]
         self._next_wait_replan = -math.inf
 
@@ -647,7 +649,8 @@ class Navigator:
         With no path, drop the stale obstacle cells that alone close the route.
 
         Plans again with the obstacle cells no hit confirmed for ``stale_obstacle_age`` opened
-        (at `STALE_CELL_COST` each, so that the search crosses as few as it can) and drops
+        (at `STALE_CELL_COST` and their hits each, so that the search crosses as few and as
+        rarely seen ones as it can) and drops
         those on the path found (``ObstacleConfirmations.drop``); cells within
         ``FORGET_KEEP_RADII`` safety radii of the robot are kept.
 
@@ -672,7 +675,7 @@ class Navigator:
             return False
         extra, opened = terms
         opened = stale if opened is None else opened | stale
-        stale_cost = np.where(stale, STALE_CELL_COST, 0.0)
+        stale_cost = np.where(stale, STALE_CELL_COST + self._confirmations.hits, 0.0)
         extra = stale_cost if extra is None else extra + stale_cost
         cells = self._masks.plan(start, goal, self._footprint(pose), cut_corners=False,
                                  extra_cost=extra, opened=opened)

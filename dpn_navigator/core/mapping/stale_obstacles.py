@@ -17,6 +17,9 @@ import numpy as np
 
 from ..cell_label import blocked_mask, CellLabel, ScanInput
 
+#: ``ObstacleConfirmations.hits`` stops counting here.
+MAX_HITS = 1000
+
 
 class ObstacleConfirmations:
     """
@@ -31,6 +34,9 @@ class ObstacleConfirmations:
     ----------
     confirmed : (rows, cols) ndarray of float64
         Stamp of the last scan with f1 = 1 on each cell [s], ``-inf`` before any.
+    hits : (rows, cols) ndarray of uint16
+        How many scans had f1 = 1 on each cell (at most `MAX_HITS`): a wall is hit by many,
+        a glimpse of a wanderer by few.
     dropped : int
         How many cells `drop` has dropped since `reset`.
 
@@ -38,12 +44,14 @@ class ObstacleConfirmations:
 
     def __init__(self, shape):
         self.confirmed = np.full(shape, -math.inf)
+        self.hits = np.zeros(shape, dtype=np.uint16)
         self.dropped = 0
         self._last_stamp = -math.inf
 
     def reset(self):
         """Forget every confirmation (a new goal keeps them: they describe the map)."""
         self.confirmed.fill(-math.inf)
+        self.hits.fill(0)
         self.dropped = 0
         self._last_stamp = -math.inf
 
@@ -66,8 +74,10 @@ class ObstacleConfirmations:
         self._last_stamp = stamp
         rows, cols, inputs = window
         if inputs.size:
-            view = self.confirmed[rows, cols]
-            view[inputs == ScanInput.HIT] = stamp
+            hit = inputs == ScanInput.HIT
+            self.confirmed[rows, cols][hit] = stamp
+            counts = self.hits[rows, cols]
+            counts[hit & (counts < MAX_HITS)] += 1
 
     def stale(self, labels, stamp, age):
         """

@@ -9,9 +9,9 @@ to the other, and back when it walks into that one: the robot shuttles between c
 - a mobile cell farther than ``block_distance`` from the robot does not block (it will have
   moved on by the time the robot gets there);
 - a mobile cell within it costs the expected wait, ``wait_time`` plus the time already
-  waited, as a distance at ``speed`` (0 ``wait_time``: it blocks), so that a detour is taken
-  only when it is shorter than waiting, and the robot stops in front of it to wait
-  (`must_wait`);
+  waited, as a distance at ``speed`` spread over the cells a moving object's blob spans
+  along a path (``blob_depth``) (0 ``wait_time``: it blocks), so that a detour is taken only
+  when it is shorter than waiting, and the robot stops in front of it to wait (`must_wait`);
 - a new plan replaces the current route only when it is cheaper by ``switch_margin``, or
   when the current route is blocked.
 
@@ -44,6 +44,9 @@ class RouteCommitment:
         Speed that turns a wait into a distance [m/s], > 0.
     resolution : float
         Cell side [m], > 0.
+    blob_depth : float
+        How deep a moving object's blob of mobile cells is along a path crossing it [m]
+        (its body and the safety radius on both sides), > 0; the wait is spread over it.
 
     Attributes
     ----------
@@ -56,19 +59,21 @@ class RouteCommitment:
 
     """
 
-    def __init__(self, block_distance, switch_margin, wait_time, speed, resolution):
+    def __init__(self, block_distance, switch_margin, wait_time, speed, resolution,
+                 blob_depth=1.7):
         if not (math.isfinite(block_distance) and block_distance > 0.0):
             raise ValueError(f'block_distance must be positive, got {block_distance!r}')
         for name, value in (('switch_margin', switch_margin), ('wait_time', wait_time)):
             if not (math.isfinite(value) and value >= 0.0):
                 raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
-        if not (speed > 0.0 and resolution > 0.0):
-            raise ValueError('speed and resolution must be positive')
+        if not (speed > 0.0 and resolution > 0.0 and blob_depth > 0.0):
+            raise ValueError('speed, resolution and blob_depth must be positive')
         self.block_distance = float(block_distance)
         self.switch_margin = float(switch_margin)
         self.wait_time = float(wait_time)
         self.speed = float(speed)
         self.resolution = float(resolution)
+        self.blob_depth = float(blob_depth)
         self.waited = 0.0
         self.switches = 0
         self.kept = 0
@@ -95,14 +100,16 @@ class RouteCommitment:
         opened : (rows, cols) ndarray of bool
             Mobile cells planned through: the far ones, and the near ones when waiting is on.
         cost : (rows, cols) ndarray of float64
-            The wait on the near opened cells [cells], 0 elsewhere.
+            The wait on the near opened cells [cells], 0 elsewhere: the wait's distance
+            divided by the cells of a blob's depth.
 
         """
         mobile = labels == CellLabel.MOBILE_OBSTACLE
         near = mobile & self._near(geometry, labels.shape, robot_xy)
         cost = np.zeros(labels.shape)
         if self.wait_time > 0.0:
-            cost[near] = (self.wait_time + self.waited) * self.speed / self.resolution
+            wait_cells = (self.wait_time + self.waited) * self.speed / self.resolution
+            cost[near] = wait_cells / max(1.0, self.blob_depth / self.resolution)
             return mobile, cost
         return mobile & ~near, cost
 
