@@ -519,10 +519,9 @@ class Navigator:
             return NavigatorOutput(STOP, self.status, self.reason)
         replanned = False
         cause = ReplanCause.NONE
-        terms = self._planning_terms(pose)
         waiting_replan = (self.commitment is not None and self.commitment.waited > 0.0
                           and stamp >= self._next_wait_replan)
-        if replan_flag or waiting_replan or self._path_is_stale(pose, terms):
+        if replan_flag or waiting_replan or self._path_is_stale(pose):
             if self.path is None and stamp < self._next_retry:
                 return NavigatorOutput(STOP, self.status, self.reason)
             if self.path is None and self.status is NavigatorStatus.NO_PATH:
@@ -532,7 +531,7 @@ class Navigator:
             if self.path is None and self._forget_is_due(stamp):
                 self._forget_unseen_obstacles(pose)
                 self._no_path_since = stamp
-                terms = self._planning_terms(pose)
+            terms = self._planning_terms(pose)
             replanned = self._plan(pose, terms)
             if self.path is None and self._drop_stale_obstacles(pose, stamp, terms):
                 replanned = self._plan(pose, self._planning_terms(pose))
@@ -563,17 +562,23 @@ class Navigator:
         closest = int(np.argmin(distance))
         return closest, float(distance[closest])
 
-    def _path_is_stale(self, pose, terms=None):
-        """Tell whether there is no path, a cell ahead on it is blocked, or the robot left it."""
+    def _path_is_stale(self, pose):
+        """
+        Tell whether there is no path, a cell ahead on it is blocked, or the robot left it.
+
+        With route commitment, the mobile cells A* plans through do not block
+        (``RouteCommitment.opens``).
+        """
         if self.path is None:
             return True
         closest, distance = self._closest_on_path(pose)
         if distance > self.config.max_path_deviation:
             return True
         ahead = self.path[closest + 1:]
-        blocked = blocked_mask(self.grid.labels[ahead[:, 0], ahead[:, 1]])
-        if terms is not None and terms[1] is not None:
-            blocked &= ~terms[1][ahead[:, 0], ahead[:, 1]]     # mobile cells planned through
+        labels = self.grid.labels[ahead[:, 0], ahead[:, 1]]
+        blocked = blocked_mask(labels)
+        if self.commitment is not None:
+            blocked &= ~self.commitment.opens(labels, self._path_xy[closest + 1:], pose[:2])
         return bool(blocked.any())
 
     def _planning_terms(self, pose):

@@ -1,5 +1,5 @@
 """
-Obstacle cells no laser hit has confirmed for a while: found, and dropped when they alone close the route.
+Obstacle cells no hit has confirmed for a while, dropped when they alone close the route.
 
 A steady or mobile cell stays an obstacle out of view for as long as no scan sees it free. One
 that nothing explains any more (a wanderer seen once and gone, a speck of a wall seen through a

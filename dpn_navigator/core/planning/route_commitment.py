@@ -113,6 +113,30 @@ class RouteCommitment:
             return mobile, cost
         return mobile & ~near, cost
 
+    def opens(self, labels, cells_xy, robot_xy):
+        """
+        Tell which of some cells `mobile_terms` opens, from their labels and centres.
+
+        Parameters
+        ----------
+        labels : (N,) ndarray of uint8
+            The cells' labels.
+        cells_xy : (N, 2) ndarray of float
+            Their centres in the map frame [m].
+        robot_xy : (float, float)
+            The robot [m].
+
+        Returns
+        -------
+        opened : (N,) ndarray of bool
+
+        """
+        mobile = labels == CellLabel.MOBILE_OBSTACLE
+        if self.wait_time > 0.0:
+            return mobile
+        return mobile & (np.hypot(cells_xy[:, 0] - robot_xy[0], cells_xy[:, 1] - robot_xy[1])
+                         > self.block_distance)
+
     def _near(self, geometry, shape, robot_xy):
         """Mark the cells whose centre lies within ``block_distance`` of the robot."""
         near = np.zeros(shape, dtype=bool)
