@@ -763,7 +763,8 @@ class Navigator:
         return obstacle
 
     def _footprint(self, pose, radius=None):
-        """Return the window around the robot and its cells within ``radius`` [m].
+        """
+        Return the window around the robot and its cells within ``radius`` [m].
 
         ``footprint_radius`` by default.
         """

@@ -4,10 +4,10 @@ import ast
 import math
 from pathlib import Path
 
+from dpn_navigator.benchmark.protocol import NOT_GETTING_STUCK_OFF
 from dpn_navigator.core import (CellLabel, Navigator, NavigatorConfig, NavigatorStatus,
                                 ReplanCause)
 from dpn_navigator.core import navigator as navigator_module
-from dpn_navigator.benchmark.protocol import NOT_GETTING_STUCK_OFF
 from dpn_navigator.core.navigator import touches_blocked
 import numpy as np
 import pytest
@@ -58,7 +58,7 @@ def config(**kwargs):
 
 
 def config_before_31(**kwargs):
-    """The navigator without issue 31's parts (test_not_getting_stuck.py tests those)."""
+    """Return the configuration without issue 31's parts (test_not_getting_stuck.py's)."""
     return config(**NOT_GETTING_STUCK_OFF, **kwargs)
 
 

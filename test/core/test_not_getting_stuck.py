@@ -155,7 +155,7 @@ def test_plans_that_the_next_scan_takes_away_do_not_reset_the_recovery_timer():
 # (b) Two parallel corridors, a wanderer flickering far ahead in one --------------------------
 
 def two_corridors():
-    """A 24 x 9 m hall split by a block (x 4-20, y 3-6) into two 2.7 m corridors."""
+    """Make a 24 x 9 m hall split by a block (x 4-20, y 3-6) into two 2.7 m corridors."""
     occupied = solid(24.0, 9.0)
     carve(occupied, 0.3, 0.3, 23.7, 8.7)
     carve(occupied, 4.0, 3.0, 20.0, 6.0, value=True)
@@ -205,7 +205,7 @@ def test_a_distant_wanderer_does_not_flip_the_route_between_corridors():
 
 def corridor_with_dead_end():
     """
-    A 2 m corridor (y 0.3-2.3) from x 0.3 to a hall (x 12.3-19.7, y 0.3-11.7).
+    Make a 2 m corridor (y 0.3-2.3) from x 0.3 to a hall (x 12.3-19.7, y 0.3-11.7).
 
     At x 6-8 a passage leads north to y 9, then east to x 11: a dead end, whose end the robot
     cannot see from the corridor, 1.3 m of wall short of the hall.

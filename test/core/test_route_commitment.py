@@ -10,8 +10,8 @@ import pytest
 
 
 def commitment(**kwargs):
-    options = dict(block_distance=2.0, switch_margin=1.0, wait_time=4.0, speed=1.0,
-                   resolution=0.5, blob_depth=1.0)
+    options = {'block_distance': 2.0, 'switch_margin': 1.0, 'wait_time': 4.0, 'speed': 1.0,
+               'resolution': 0.5, 'blob_depth': 1.0}
     options.update(kwargs)
     return RouteCommitment(**options)
 

@@ -72,6 +72,7 @@ class ExplorationMemory:
         Parameters
         ----------
         labels : (rows, cols) ndarray of uint8
+            The grid's labels.
 
         Returns
         -------

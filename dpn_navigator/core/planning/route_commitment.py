@@ -91,7 +91,9 @@ class RouteCommitment:
         Parameters
         ----------
         labels : (rows, cols) ndarray of uint8
+            The grid's labels.
         geometry : GridGeometry
+            The grid's geometry.
         robot_xy : (float, float)
             The robot in the map frame [m].
 
@@ -210,11 +212,13 @@ class RouteCommitment:
         Parameters
         ----------
         path : (N, 2) ndarray of int
+            The path's ``(row, col)`` cells.
         path_xy : (N, 2) ndarray of float
             The path's cells in the map frame [m].
         closest : int
             Index of the path point closest to the robot.
         labels : (rows, cols) ndarray of uint8
+            The grid's labels.
         stamp : float
             Now [s].
 
