@@ -8,10 +8,12 @@ to the other, and back when it walks into that one: the robot shuttles between c
 
 - a mobile cell farther than ``block_distance`` from the robot does not block (it will have
   moved on by the time the robot gets there);
-- a mobile cell within it costs the expected wait, ``wait_time`` plus the time already
-  waited, as a distance at ``speed`` spread over the cells a moving object's blob spans
-  along a path (``blob_depth``) (0 ``wait_time``: it blocks), so that a detour is taken only
-  when it is shorter than waiting, and the robot stops in front of it to wait (`must_wait`);
+- a mobile cell within it, but farther than `WAIT_STOP_DISTANCE`, costs the expected wait,
+  ``wait_time`` plus the time already waited, as a distance at ``speed`` spread over the
+  cells a moving object's blob spans along a path (``blob_depth``) (0 ``wait_time``: it
+  blocks), so that a detour is taken only when it is shorter than waiting, and the robot
+  stops in front of it to wait (`must_wait`); one closer still blocks, as before (a wanderer
+  that comes up to a waiting robot is given way to, by a detour if there is one);
 - a new plan replaces the current route only when it is cheaper by ``switch_margin``, or
   when the current route is blocked.
 
@@ -23,7 +25,8 @@ import numpy as np
 
 from ..cell_label import blocked_mask, CellLabel
 
-#: The robot stops to wait when a mobile cell on its path is this close ahead, along it [m].
+#: The robot stops to wait when a mobile cell on its path, or beside it, is this close ahead,
+#: along it [m]; mobile cells this close to the robot block.
 WAIT_STOP_DISTANCE = 1.0
 
 
@@ -100,19 +103,21 @@ class RouteCommitment:
         Returns
         -------
         opened : (rows, cols) ndarray of bool
-            Mobile cells planned through: the far ones, and the near ones when waiting is on.
+            Mobile cells planned through: the far ones, and when waiting is on, the near ones
+            farther than `WAIT_STOP_DISTANCE` from the robot.
         cost : (rows, cols) ndarray of float64
             The wait on the near opened cells [cells], 0 elsewhere: the wait's distance
             divided by the cells of a blob's depth.
 
         """
         mobile = labels == CellLabel.MOBILE_OBSTACLE
-        near = mobile & self._near(geometry, labels.shape, robot_xy)
+        near = mobile & self._near(geometry, labels.shape, robot_xy, self.block_distance)
         cost = np.zeros(labels.shape)
         if self.wait_time > 0.0:
             wait_cells = (self.wait_time + self.waited) * self.speed / self.resolution
             cost[near] = wait_cells / max(1.0, self.blob_depth / self.resolution)
-            return mobile, cost
+            return mobile & ~self._near(geometry, labels.shape, robot_xy,
+                                        WAIT_STOP_DISTANCE), cost
         return mobile & ~near, cost
 
     def opens(self, labels, cells_xy, robot_xy):
@@ -134,15 +139,15 @@ class RouteCommitment:
 
         """
         mobile = labels == CellLabel.MOBILE_OBSTACLE
+        distance = np.hypot(cells_xy[:, 0] - robot_xy[0], cells_xy[:, 1] - robot_xy[1])
         if self.wait_time > 0.0:
-            return mobile
-        return mobile & (np.hypot(cells_xy[:, 0] - robot_xy[0], cells_xy[:, 1] - robot_xy[1])
-                         > self.block_distance)
+            return mobile & (distance > WAIT_STOP_DISTANCE)
+        return mobile & (distance > self.block_distance)
 
-    def _near(self, geometry, shape, robot_xy):
-        """Mark the cells whose centre lies within ``block_distance`` of the robot."""
+    @staticmethod
+    def _near(geometry, shape, robot_xy, reach):
+        """Mark the cells whose centre lies within ``reach`` [m] of the robot."""
         near = np.zeros(shape, dtype=bool)
-        reach = self.block_distance
         rows, cols = geometry.cell_window(robot_xy[0] - reach, robot_xy[0] + reach,
                                           robot_xy[1] - reach, robot_xy[1] + reach)
         x_centres, y_centres = geometry.window_centres(rows, cols)
@@ -205,7 +210,7 @@ class RouteCommitment:
 
     def must_wait(self, path, path_xy, closest, labels, stamp):
         """
-        Tell whether a mobile cell on the path lies within `WAIT_STOP_DISTANCE` ahead.
+        Tell whether a mobile cell on the path, or beside it, is `WAIT_STOP_DISTANCE` ahead.
 
         Also keeps ``waited``: the time since the robot started waiting, 0 when it does not.
 
@@ -232,7 +237,12 @@ class RouteCommitment:
         if ahead.shape[0]:
             along = np.cumsum(np.hypot(*np.diff(path_xy[closest:], axis=0).T))
             close = ahead[along <= WAIT_STOP_DISTANCE]
-            wait = bool((labels[close[:, 0], close[:, 1]] == CellLabel.MOBILE_OBSTACLE).any())
+            rows, cols = labels.shape
+            for d_row in (-1, 0, 1):                      # the cells and their 8 neighbours
+                for d_col in (-1, 0, 1):
+                    row = np.clip(close[:, 0] + d_row, 0, rows - 1)
+                    col = np.clip(close[:, 1] + d_col, 0, cols - 1)
+                    wait |= bool((labels[row, col] == CellLabel.MOBILE_OBSTACLE).any())
         if not wait:
             self._waiting_since = None
             self.waited = 0.0
