@@ -5,6 +5,9 @@ Per scan the navigator folds the scan into its ``LabelGrid``, decides whether to
 grid's replan flag, no path yet, a blocked cell ahead on the path, the robot off its path, or a
 new goal), plans with A* on the partly known grid (non-explored counts as free) and turns the
 path into a velocity command. The ROS node and the batch benchmark both drive this object.
+Issue 31's parts (stale obstacles, the honest no-path timer, route commitment and waiting,
+exploration with memory; ``docs/method.md#not-getting-stuck``) hook in here, each in a module
+of its own, each off with its setting at 0.
 
 """
 
@@ -203,8 +206,9 @@ class NavigatorConfig:
     mobile_wait_time: float = setting(
         5.0, 's', 'waiting: a mobile blob within `route_block_distance` is planned through at '
         'the cost of driving this long plus the time already waited for it, and the robot '
-        'stops 1 m before it; a detour is taken when it is shorter than waiting; 0: such '
-        'cells block (read only with `route_block_distance` > 0)', 0.0, 3600.0)
+        'stops 1 m before it; a detour is taken when it is shorter than waiting; mobile cells '
+        'within 1 m of the robot block; 0: such cells block (read only with '
+        '`route_block_distance` > 0)', 0.0, 3600.0)
     unknown_cell_cost: float = setting(
         1.0, 'cells', 'exploration: extra A\\* cost of entering a non-explored cell (NavFn '
         'plans through unknown space at 253 against 50 for free, about 4 cells); 0: unknown '
