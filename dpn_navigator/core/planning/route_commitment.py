@@ -25,8 +25,8 @@ import numpy as np
 
 from ..cell_label import blocked_mask, CellLabel
 
-#: The robot stops to wait when a mobile cell on its path, or beside it, is this close ahead,
-#: along it [m]; mobile cells this close to the robot block.
+#: The robot stops to wait when a mobile cell on its path is this close ahead, along it [m];
+#: mobile cells this close to the robot block.
 WAIT_STOP_DISTANCE = 1.0
 
 
@@ -210,7 +210,7 @@ class RouteCommitment:
 
     def must_wait(self, path, path_xy, closest, labels, stamp):
         """
-        Tell whether a mobile cell on the path, or beside it, is `WAIT_STOP_DISTANCE` ahead.
+        Tell whether a mobile cell on the path lies within `WAIT_STOP_DISTANCE` ahead.
 
         Also keeps ``waited``: the time since the robot started waiting, 0 when it does not.
 
@@ -237,12 +237,7 @@ class RouteCommitment:
         if ahead.shape[0]:
             along = np.cumsum(np.hypot(*np.diff(path_xy[closest:], axis=0).T))
             close = ahead[along <= WAIT_STOP_DISTANCE]
-            rows, cols = labels.shape
-            for d_row in (-1, 0, 1):                      # the cells and their 8 neighbours
-                for d_col in (-1, 0, 1):
-                    row = np.clip(close[:, 0] + d_row, 0, rows - 1)
-                    col = np.clip(close[:, 1] + d_col, 0, cols - 1)
-                    wait |= bool((labels[row, col] == CellLabel.MOBILE_OBSTACLE).any())
+            wait = bool((labels[close[:, 0], close[:, 1]] == CellLabel.MOBILE_OBSTACLE).any())
         if not wait:
             self._waiting_since = None
             self.waited = 0.0
