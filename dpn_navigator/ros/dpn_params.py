@@ -149,6 +149,9 @@ PARAMETERS = (
                 'no_return_reach', 'surface_time', 'surface_memory', 'noise_margin',
                 'robot_length', 'robot_width',
                 'turn_sweep_memory', 'turn_sweep_margin', 'turn_sweep_spot_distance'),
+    *_navigator('stale_obstacle_age', 'path_trust_time', 'route_block_distance',
+                'route_switch_margin', 'mobile_wait_time', 'unknown_cell_cost',
+                'forgotten_obstacle_cost'),
     _part('goal_x', 2.0, 'm', 'goal x in the map frame (back_and_forth, task 0); NaN: wait for '
           'a goal on `goal_pose`', None, None, 'node', 'goal', 0),
     _part('goal_y', 18.0, 'm', 'goal y in the map frame; NaN: wait for a goal on `goal_pose`',
