@@ -187,8 +187,10 @@ def test_a_distant_wanderer_does_not_flip_the_route_between_corridors():
 
     robot.run_until(3.0, record)                     # into the south corridor, x about 5
     assert robot.pose[0] > 4.0
-    # A wanderer stands 8 m ahead in the south corridor for 2 s, then walks off.
-    box_x = robot.pose[0] + 8.0
+    # A wanderer stands 6 m ahead in the south corridor for 2 s, then walks off: farther than
+    # `route_block_distance` (4 m), and within the reach of the no-return beams that cleared
+    # the corridor before it came (`no_return_reach` 0.8 of this scene's 10 m range).
+    box_x = robot.pose[0] + 6.0
     carve(occupied, box_x, 1.4, box_x + 0.5, 1.9, value=True)
     robot.run_until(2.0, record)
     assert navigator.grid.labels[navigator.grid.geometry.world_to_cell(box_x - 0.25, 1.65)] \
