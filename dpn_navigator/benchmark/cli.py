@@ -60,7 +60,7 @@ def build_parser():
                              "obstacle + inflation costmap run by Nav2 Jazzy's default "
                              "behaviour tree (1 Hz replanning, NavFn's cost of unknown space, "
                              'the recoveries); costmap-bare: the costmap without them; '
-                             "oracle: the true walls and every agent's true future over 10 s, "
+                             "oracle: the true walls and every agent's true future over 8 s, "
                              'planned on in space and time (it waits where that pays); '
                              'oracle-foresight: the agents near the robot at a constant-'
                              'velocity forecast over 2 s; oracle-bare: every agent where it '

@@ -18,6 +18,15 @@ import zlib
 
 import numpy as np
 
+#: The settings of issue 31 (a navigator that does not get stuck: stale obstacles, the honest
+#: no-path timer, route commitment and waiting, exploration with memory), each 0 for off. Off
+#: in ``paper``, and in the reference navigators, whose rows stay those of the planner they
+#: were measured with.
+NOT_GETTING_STUCK_OFF = {'stale_obstacle_age': 0.0, 'path_trust_time': 0.0,
+                         'route_block_distance': 0.0, 'route_switch_margin': 0.0,
+                         'mobile_wait_time': 0.0, 'unknown_cell_cost': 0.0,
+                         'forgotten_obstacle_cost': 0.0}
+
 #: ``--navigator`` choices: overrides of ``NavigatorConfig``'s defaults. ``dpn`` is the
 #: navigator as shipped; ``paper`` turns off what this project added to the paper's method (the
 #: obstacle proximity cost of A*, forgetting unseen obstacles when stuck, the label rules:
@@ -26,7 +35,7 @@ import numpy as np
 #: follower, the turn sweep included; they forget nothing (the costmap has no decay, the oracle
 #: nothing to forget). ``costmap`` is the Nav2-faithful one (recoveries, 1 Hz replanning,
 #: NavFn's unknown cost); ``costmap-bare`` the costmap alone, as it ran before 27 November.
-#: ``oracle`` plans in space and time on the agents' true future over 10 s and waits where
+#: ``oracle`` plans in space and time on the agents' true future over 8 s and waits where
 #: that pays (``baselines.spacetime_oracle``); ``oracle-foresight`` blocks only the agents
 #: near the robot, at their constant-velocity forecast over 2 s
 #: (``baselines.wanderer_forecast``), the ``oracle`` of 27 November; ``oracle-bare`` every
@@ -41,12 +50,14 @@ NAVIGATORS = {
               'fine_evidence_resolution': 0.0, 'fine_evidence_radius': 0.0, 'mobile_expiry': 0.0,
               'track_confirm_time': 0.0, 'track_still_distance': 0.0, 'track_exclusive': False,
               'trail_distance': 0.0, 'object_memory': 0.0,
-              'object_memory_short_segments': False, 'turn_sweep_memory': 0.0},
-    'costmap': {'forget_obstacles_after': 0.0},
-    'costmap-bare': {'forget_obstacles_after': 0.0},
-    'oracle': {'forget_obstacles_after': 0.0},
-    'oracle-foresight': {'forget_obstacles_after': 0.0},
-    'oracle-bare': {'forget_obstacles_after': 0.0},
+              'object_memory_short_segments': False, 'no_return_reach': 1.0,
+              'surface_time': 0.0, 'turn_sweep_memory': 0.0,
+              **NOT_GETTING_STUCK_OFF},
+    'costmap': {'forget_obstacles_after': 0.0, **NOT_GETTING_STUCK_OFF},
+    'costmap-bare': {'forget_obstacles_after': 0.0, **NOT_GETTING_STUCK_OFF},
+    'oracle': {'forget_obstacles_after': 0.0, **NOT_GETTING_STUCK_OFF},
+    'oracle-foresight': {'forget_obstacles_after': 0.0, **NOT_GETTING_STUCK_OFF},
+    'oracle-bare': {'forget_obstacles_after': 0.0, **NOT_GETTING_STUCK_OFF},
 }
 
 #: The map each ``--navigator`` plans on: ``labels`` (the paper's labelled grid,

@@ -5,6 +5,9 @@ Per scan the navigator folds the scan into its ``LabelGrid``, decides whether to
 grid's replan flag, no path yet, a blocked cell ahead on the path, the robot off its path, or a
 new goal), plans with A* on the partly known grid (non-explored counts as free) and turns the
 path into a velocity command. The ROS node and the batch benchmark both drive this object.
+Issue 31's parts (stale obstacles, the honest no-path timer, route commitment and waiting,
+exploration with memory; ``docs/method.md#not-getting-stuck``) hook in here, each in a module
+of its own, each off with its setting at 0.
 
 """
 
@@ -19,9 +22,12 @@ from .cell_label import blocked_mask
 from .control.path_follower import follow_path, FollowerConfig, STOP, VelocityCommand
 from .control.turn_sweep import TurnSweep
 from .mapping.label_grid import LabelGrid, LabelRule, warm_up_label_update
+from .mapping.stale_obstacles import ObstacleConfirmations
 from .planning.astar_search import warm_up_astar
+from .planning.exploration_memory import ExplorationMemory
 from .planning.planning_masks import PlanningMasks, touches_blocked  # noqa: F401 (re-exported)
 from .planning.planning_masks import warm_up_planning_masks
+from .planning.route_commitment import RouteCommitment
 from .pose2d import compose
 from .scan_polygon import check_pose, scan_points
 from .settings import BIG, setting
@@ -29,6 +35,11 @@ from .settings import BIG, setting
 
 #: Forgetting unseen obstacles keeps those within this many safety radii of the robot.
 FORGET_KEEP_RADII = 2.0
+
+#: Extra A* cost of a stale cell in the search for the stale cells that close the route
+#: [cells], plus one per scan that hit it: that search crosses as few of them as it can, and
+#: the least often seen.
+STALE_CELL_COST = 20.0
 
 
 class NavigatorStatus(enum.Enum):
@@ -157,6 +168,27 @@ class NavigatorConfig:
         'of one or two hits have hit (a wanderer glimpsed far off through a gap) are listed '
         'and forgotten as `object_memory` forgets small objects, unless a longer segment '
         'anchors them; false: kept (read only with `object_memory` > 0)')
+    no_echo_below_range_min: bool = setting(
+        False, '', 'no-echo codes: a finite reading below range_min is read as no return '
+        '(+inf), not as invalid (REP 117), for drivers that write a beam with no echo as a '
+        'tiny range (the old Hokuyo driver: 0.000-0.019 m; [real data](real_data.md))')
+    no_return_reach: float = setting(
+        0.8, '1', 'a beam with no return shows space empty out to this share of range_max '
+        '(weak echoes of dark or far surfaces drop out before range_max); 1: to range_max '
+        "(the paper, REP 117; Nav2's inf_is_valid true); 0: it clears nothing (inf_is_valid "
+        'false)', 0.0, 1.0)
+    surface_time: float = setting(
+        2.0, 's', 'intermittent surfaces: a place (a cell of `noise_margin`) hit for this '
+        'long in all is a known surface; hits within one place of it show no motion and '
+        'continue no motion track (longer than a leg stands at walking pace, about 0.6 s, '
+        'or a walker or robot pauses briefly; 1 s: more precision on real recordings, less '
+        'recall in the simulator, [real data](real_data.md)); 0: off (the paper)', 0.0, 3600.0)
+    surface_memory: float = setting(
+        10.0, 's', "intermittent surfaces: a place's hit time drains by `surface_time` in this "
+        'long', 0.001, 86400.0)
+    noise_margin: float = setting(
+        0.1, 'm', 'intermittent surfaces: side of a place, about the range noise of the '
+        'laser (Hokuyo UTM-30LX and SICK LMS1xx: +-30 mm)', 0.01, 5.0)
     robot_length: float = setting(
         0.99, 'm', "the robot's footprint along x, centred on the base (Husky A200 with "
         'bumpers); used by the turn sweep', 0.01, 10.0)
@@ -173,12 +205,47 @@ class NavigatorConfig:
     turn_sweep_spot_distance: float = setting(
         0.6, 'm', 'farthest place the turn sweep moves the robot to for a blocked turn; 0: it '
         'waits', 0.0, 5.0)
+    stale_obstacle_age: float = setting(
+        6.0, 's', 'stale obstacles: with no path, the obstacle cells no laser hit has confirmed '
+        'for this long that alone close the route (a path exists without them) are dropped '
+        '(explored if once surely seen free, else non-explored) on the cheapest such path, and '
+        'the robot drives to see them; a wall there is hit and marked again; 0: off (the '
+        'paper; [method](method.md#not-getting-stuck))', 0.0, 3600.0)
+    path_trust_time: float = setting(
+        3.0, 's', 'honest no-path timer: a path found while there was none ends the no-path '
+        'spell (and restarts the `forget_obstacles_after` timer) only once it has lasted this '
+        'long; a plan the next scans take away at once does not; 0: any path ends it (the '
+        'paper)', 0.0, 3600.0)
+    route_block_distance: float = setting(
+        4.0, 'm', 'route commitment: mobile cells farther than this from the robot are planned '
+        'through (the object moves on before the robot gets there) and a new plan replaces '
+        'the route only when cheaper by `route_switch_margin` or when the route is blocked; '
+        '0: off (the paper)', 0.0, 1000.0)
+    route_switch_margin: float = setting(
+        3.0, 'm', 'route commitment: how much cheaper a new route must be to replace the '
+        'current one (read only with `route_block_distance` > 0)', 0.0, 1000.0)
+    mobile_wait_time: float = setting(
+        5.0, 's', 'waiting: a mobile blob within `route_block_distance` is planned through at '
+        'the cost of driving this long plus the time already waited for it, and the robot '
+        'stops 1 m before it; a detour is taken when it is shorter than waiting; mobile cells '
+        'within 1 m of the robot block; 0: such cells block (read only with '
+        '`route_block_distance` > 0)', 0.0, 3600.0)
+    unknown_cell_cost: float = setting(
+        1.0, 'cells', 'exploration: extra A\\* cost of entering a non-explored cell (NavFn '
+        'plans through unknown space at 253 against 50 for free, about 4 cells); 0: unknown '
+        'counts as free (the paper)', 0.0, 100.0)
+    forgotten_obstacle_cost: float = setting(
+        20.0, 'cells', 'exploration memory: extra A\\* cost of entering a non-explored cell '
+        'once an obstacle (a forgotten wall of an explored dead end), instead of '
+        '`unknown_cell_cost`: passable as a last resort; 0: off (the paper)', 0.0, 1000.0)
     follower: FollowerConfig = field(default_factory=FollowerConfig)
 
     def __post_init__(self):
         for name in ('safety_radius', 'footprint_radius', 'no_path_retry_period',
                      'obstacle_proximity_cost', 'forget_obstacles_after', 'turn_sweep_memory',
-                     'turn_sweep_margin', 'turn_sweep_spot_distance'):
+                     'turn_sweep_margin', 'turn_sweep_spot_distance', 'stale_obstacle_age',
+                     'path_trust_time', 'route_block_distance', 'route_switch_margin',
+                     'mobile_wait_time', 'unknown_cell_cost', 'forgotten_obstacle_cost'):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0.0):
                 raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
@@ -249,6 +316,11 @@ class Navigator:
     forgets : int
         How many times unseen obstacles were forgotten since the goal was set (see
         ``NavigatorConfig.forget_obstacles_after``).
+    stale_drops : int
+        How many times stale obstacle cells that alone closed the route were dropped since
+        the goal was set (``NavigatorConfig.stale_obstacle_age``).
+    commitment : RouteCommitment or None
+        The route commitment and the wait (``route_block_distance``); None when off.
 
     """
 
@@ -274,6 +346,26 @@ class Navigator:
         self.turn_sweep = None if config.turn_sweep_memory == 0.0 else TurnSweep(
             config.turn_sweep_memory, config.robot_length, config.robot_width,
             config.turn_sweep_margin, spot_distance=config.turn_sweep_spot_distance)
+        self._init_not_getting_stuck(config)
+
+    def _init_not_getting_stuck(self, config):
+        """Set up the parts of issue 31 that ``config`` turns on (each None when off)."""
+        shape = self.grid.geometry.shape
+        windowed = hasattr(self.grid, 'last_window')       # the LabelGrid's update window
+        self.stale_drops = 0
+        self._confirmations = (ObstacleConfirmations(shape)
+                               if config.stale_obstacle_age > 0.0 and windowed else None)
+        self._exploration = (ExplorationMemory(shape, config.unknown_cell_cost,
+                                               config.forgotten_obstacle_cost)
+                             if windowed and (config.unknown_cell_cost > 0.0
+                                              or config.forgotten_obstacle_cost > 0.0)
+                             else None)
+        self.commitment = None if config.route_block_distance == 0.0 else RouteCommitment(
+            config.route_block_distance, config.route_switch_margin, config.mobile_wait_time,
+            config.follower.max_linear_speed, config.resolution,
+            blob_depth=2.0 * config.safety_radius + config.resolution)
+        self._trusted_after = None             # the no-path spell ends at this stamp [s]
+        self._next_wait_replan = -math.inf
 
     def set_goal(self, x, y):
         """
@@ -299,6 +391,10 @@ class Navigator:
         self._next_retry = -math.inf
         self._no_path_since = None
         self._spell_forgets = 0
+        self.stale_drops = 0
+        self._trusted_after = None
+        if self.commitment is not None:
+            self.commitment.reset()
 
     def clear_goal(self):
         """Drop the goal; the robot stops."""
@@ -373,9 +469,17 @@ class Navigator:
                                   angle_max=angle_max, stamp=stamp, **deferring)
         self._sweep_last_scan()
         self._replan_requested |= replan
+        self._remember_scan(stamp)
         self._last_scan = (laser_pose, np.array(ranges, dtype=np.float64), angle_min,
                            angle_increment, range_min, range_max, angle_max, stamp)
         self._unswept_pose = pose if self.turn_sweep is not None else None
+
+    def _remember_scan(self, stamp):
+        """Record the latest update's hits and obstacles (stale cells, exploration memory)."""
+        if self._confirmations is not None and stamp is not None:
+            self._confirmations.observe(self.grid.last_window, stamp)
+        if self._exploration is not None:
+            self._exploration.observe(self.grid.labels, self.grid.last_window)
 
     def settle(self):
         """Finish what the last ``observe`` with ``defer_evidence`` left for later."""
@@ -426,8 +530,11 @@ class Navigator:
         """
         if self._last_stamp is not None and stamp < self._last_stamp:
             self._next_retry = -math.inf
+            self._next_wait_replan = -math.inf
             if self._no_path_since is not None:
                 self._no_path_since = stamp
+            if self._trusted_after is not None:
+                self._trusted_after = stamp
         self._last_stamp = stamp
 
     def _decide(self, stamp, pose, replan_flag):
@@ -437,7 +544,9 @@ class Navigator:
             return NavigatorOutput(STOP, self.status, self.reason)
         replanned = False
         cause = ReplanCause.NONE
-        if replan_flag or self._path_is_stale(pose):
+        waiting_replan = (self.commitment is not None and self.commitment.waited > 0.0
+                          and stamp >= self._next_wait_replan)
+        if replan_flag or waiting_replan or self._path_is_stale(pose):
             if self.path is None and stamp < self._next_retry:
                 return NavigatorOutput(STOP, self.status, self.reason)
             if self.path is None and self.status is NavigatorStatus.NO_PATH:
@@ -447,14 +556,22 @@ class Navigator:
             if self.path is None and self._forget_is_due(stamp):
                 self._forget_unseen_obstacles(pose)
                 self._no_path_since = stamp
-            replanned = self._plan(pose)
+            terms = self._planning_terms(pose)
+            replanned = self._plan(pose, terms)
+            if self.path is None and self._drop_stale_obstacles(pose, stamp, terms):
+                replanned = self._plan(pose, self._planning_terms(pose))
             if self.path is None:
                 self._next_retry = stamp + self.config.no_path_retry_period
                 if self._no_path_since is None:
                     self._no_path_since = stamp
+                self._trusted_after = None
                 return NavigatorOutput(STOP, self.status, self.reason, replanned, cause)
-            self._no_path_since = None
-            self._spell_forgets = 0
+            self._trust_new_path(stamp)
+        self._end_spell_if_trusted(stamp)
+        if self._must_wait(pose, stamp):
+            self.reason = 'waiting for a mobile obstacle ahead'
+            return NavigatorOutput(STOP, self.status, self.reason, replanned, cause)
+        self.reason = ''
         command = follow_path(pose, self._path_xy, self.config.follower)
         if command.goal_reached:
             self.status = NavigatorStatus.GOAL_REACHED
@@ -464,18 +581,48 @@ class Navigator:
             command = self.turn_sweep.check(command, pose, self._obstacle_at)
         return NavigatorOutput(command, self.status, self.reason, replanned, cause)
 
-    def _path_is_stale(self, pose):
-        """Tell whether there is no path, a cell ahead on it is blocked, or the robot left it."""
-        if self.path is None:
-            return True
+    def _closest_on_path(self, pose):
+        """Return the index of the path point closest to the robot, and its distance [m]."""
         distance = np.hypot(self._path_xy[:, 0] - pose[0], self._path_xy[:, 1] - pose[1])
         closest = int(np.argmin(distance))
-        if distance[closest] > self.config.max_path_deviation:
+        return closest, float(distance[closest])
+
+    def _path_is_stale(self, pose):
+        """
+        Tell whether there is no path, a cell ahead on it is blocked, or the robot left it.
+
+        With route commitment, the mobile cells A* plans through do not block
+        (``RouteCommitment.opens``).
+        """
+        if self.path is None:
+            return True
+        closest, distance = self._closest_on_path(pose)
+        if distance > self.config.max_path_deviation:
             return True
         ahead = self.path[closest + 1:]
-        return bool(blocked_mask(self.grid.labels[ahead[:, 0], ahead[:, 1]]).any())
+        labels = self.grid.labels[ahead[:, 0], ahead[:, 1]]
+        blocked = blocked_mask(labels)
+        if self.commitment is not None:
+            blocked &= ~self.commitment.opens(labels, self._path_xy[closest + 1:], pose[:2])
+        return bool(blocked.any())
 
-    def _plan(self, pose):
+    def _planning_terms(self, pose):
+        """
+        Return what A* adds to the planning masks: ``(extra_cost, opened)``, each maybe None.
+
+        ``extra_cost`` [cells] holds the exploration costs and the wait in front of near mobile
+        cells; ``opened`` the mobile cells planned through (route commitment).
+        """
+        labels = self.grid.labels
+        extra = opened = None
+        if self._exploration is not None:
+            extra = self._exploration.cost(labels)
+        if self.commitment is not None:
+            opened, wait = self.commitment.mobile_terms(labels, self.grid.geometry, pose[:2])
+            extra = wait if extra is None else extra + wait
+        return extra, opened
+
+    def _plan(self, pose, terms=(None, None)):
         """Plan from the robot's cell to the goal's; set path, status and reason."""
         geometry = self.grid.geometry
         start = tuple(int(v) for v in geometry.world_to_cell(pose[0], pose[1]))
@@ -484,11 +631,15 @@ class Navigator:
         if not geometry.contains_cell(*start):
             return self._no_path('the robot is outside the map')
         self._masks.refresh()
-        if self._masks.blocked[goal]:
+        extra, opened = terms
+        if self._masks.blocked[goal] and (opened is None or not opened[goal]):
             return self._no_path('the goal cell is an obstacle')
         # No diagonal past a blocked cell: r equals the Husky's circumscribed radius, so the
         # half-cell a cut corner saves would bring the robot's corners to the wall.
-        cells = self._masks.plan(start, goal, self._footprint(pose), cut_corners=False)
+        cells = self._masks.plan(start, goal, self._footprint(pose), cut_corners=False,
+                                 extra_cost=extra, opened=opened)
+        if self._keeps_current_route(pose, cells, extra, opened):
+            return True
         if cells is None:
             return self._no_path('no path to the goal on the current map')
         self.path = np.array(cells, dtype=np.int64)
@@ -498,6 +649,102 @@ class Navigator:
         self.status = NavigatorStatus.ACTIVE
         self.reason = ''
         return True
+
+    def _keeps_current_route(self, pose, cells, extra, opened):
+        """
+        Tell whether the current route stays instead of the new plan ``cells`` (or None).
+
+        Only with route commitment, a path being followed (the robot within
+        ``max_path_deviation`` of it), and the rest of it not blocked: it stays unless the new
+        plan is cheaper by ``route_switch_margin``.
+        """
+        if self.commitment is None or self.path is None:
+            return False
+        closest, distance = self._closest_on_path(pose)
+        if distance > self.config.max_path_deviation:
+            return False
+        blocked = self._masks.blocked if opened is None else self._masks.blocked & ~opened
+        cost = self._masks.cost
+        if extra is not None:
+            cost = extra if cost is None else cost + extra
+        current = self.commitment.route_cost(self.path[closest:], blocked, cost)
+        new = (math.inf if cells is None
+               else self.commitment.route_cost(np.array(cells, dtype=np.int64), blocked, cost))
+        if not math.isfinite(current):
+            return False
+        return self.commitment.keep_current(current, new)
+
+    def _drop_stale_obstacles(self, pose, stamp, terms):
+        """
+        With no path, drop the stale obstacle cells that alone close the route.
+
+        Plans again with the obstacle cells no hit confirmed for ``stale_obstacle_age`` opened
+        (at `STALE_CELL_COST` and their hits each, so that the search crosses as few and as
+        rarely seen ones as it can) and drops
+        those on the path found (``ObstacleConfirmations.drop``); cells within
+        ``FORGET_KEEP_RADII`` safety radii of the robot are kept.
+
+        Returns
+        -------
+        dropped : bool
+            True when cells were dropped (plan again).
+
+        """
+        if self._confirmations is None or self.goal is None:
+            return False
+        geometry = self.grid.geometry
+        start = tuple(int(v) for v in geometry.world_to_cell(pose[0], pose[1]))
+        goal = tuple(int(v) for v in geometry.world_to_cell(*self.goal))
+        if not geometry.contains_cell(*start):
+            return False
+        self.settle()
+        stale = self._confirmations.stale(self.grid.labels, stamp, self.config.stale_obstacle_age)
+        rows, cols, near = self._footprint(pose, FORGET_KEEP_RADII * self.config.safety_radius)
+        stale[rows, cols] &= ~near
+        if not stale.any():
+            return False
+        extra, opened = terms
+        opened = stale if opened is None else opened | stale
+        stale_cost = np.where(stale, STALE_CELL_COST + self._confirmations.hits, 0.0)
+        extra = stale_cost if extra is None else extra + stale_cost
+        cells = self._masks.plan(start, goal, self._footprint(pose), cut_corners=False,
+                                 extra_cost=extra, opened=opened)
+        if cells is None:
+            return False
+        cells = np.array(cells, dtype=np.int64)
+        on_path = cells[stale[cells[:, 0], cells[:, 1]]]
+        if not self._confirmations.drop(self.grid, on_path):
+            return False
+        self.stale_drops += 1
+        return True
+
+    def _trust_new_path(self, stamp):
+        """Start the trust period of a path found in a no-path spell (``path_trust_time``)."""
+        if self._no_path_since is None:
+            return
+        if self.config.path_trust_time == 0.0:
+            self._no_path_since = None
+            self._spell_forgets = 0
+        elif self._trusted_after is None:
+            self._trusted_after = stamp + self.config.path_trust_time
+
+    def _end_spell_if_trusted(self, stamp):
+        """End the no-path spell once a path has lasted ``path_trust_time``."""
+        if self._trusted_after is not None and stamp >= self._trusted_after:
+            self._no_path_since = None
+            self._spell_forgets = 0
+            self._trusted_after = None
+
+    def _must_wait(self, pose, stamp):
+        """Tell whether the robot waits in front of a mobile obstacle on its path."""
+        if self.commitment is None or self.commitment.wait_time == 0.0 or self.path is None:
+            return False
+        closest, _ = self._closest_on_path(pose)
+        wait = self.commitment.must_wait(self.path, self._path_xy, closest, self.grid.labels,
+                                         stamp)
+        if wait and stamp >= self._next_wait_replan:
+            self._next_wait_replan = stamp + self.config.no_path_retry_period
+        return wait
 
     def _forget_is_due(self, stamp):
         """Tell whether there has been no path for ``forget_obstacles_after`` seconds."""
@@ -540,10 +787,14 @@ class Navigator:
         obstacle[inside] = blocked_mask(self.grid.labels[rr[inside], cc[inside]])
         return obstacle
 
-    def _footprint(self, pose):
-        """Return the window around the robot and its cells within ``footprint_radius``."""
+    def _footprint(self, pose, radius=None):
+        """
+        Return the window around the robot and its cells within ``radius`` [m].
+
+        ``footprint_radius`` by default.
+        """
         geometry = self.grid.geometry
-        radius = self.config.footprint_radius
+        radius = self.config.footprint_radius if radius is None else radius
         rows, cols = geometry.cell_window(pose[0] - radius, pose[0] + radius,
                                           pose[1] - radius, pose[1] + radius)
         x_centres, y_centres = geometry.window_centres(rows, cols)

@@ -207,7 +207,7 @@ class PlanningMasks:
         window[...] = np.where(touching, self._proximity_cost, 0.0)
         self._costly += int(np.count_nonzero(touching))
 
-    def plan(self, start, goal, footprint, cut_corners):
+    def plan(self, start, goal, footprint, cut_corners, extra_cost=None, opened=None):
         """
         Plan with A* on the masks with ``footprint`` cells (and ``start``) free, then restore.
 
@@ -219,6 +219,11 @@ class PlanningMasks:
             A window and the cells of it the robot stands on.
         cut_corners : bool
             As for ``astar``.
+        extra_cost : (rows, cols) ndarray of float64, optional
+            Extra cost of entering each cell for this search only [cells], finite and >= 0,
+            added to the proximity cost (the navigator's exploration and wait costs).
+        opened : (rows, cols) ndarray of bool, optional
+            Cells planned through for this search only although blocked (far mobile cells).
 
         Returns
         -------
@@ -226,6 +231,16 @@ class PlanningMasks:
             As from ``astar``; None also when the goal cell is blocked.
 
         """
+        if opened is None:
+            return self._plan(start, goal, footprint, cut_corners, extra_cost)
+        saved = self.blocked.copy()
+        self.blocked &= ~opened
+        try:
+            return self._plan(start, goal, footprint, cut_corners, extra_cost)
+        finally:
+            self.blocked[...] = saved
+
+    def _plan(self, start, goal, footprint, cut_corners, extra_cost):
         if self.blocked[goal]:
             return None
         rows, cols, near = footprint
@@ -237,10 +252,12 @@ class PlanningMasks:
             saved_cost = self.cost[cost_rows, cost_cols].copy()
             saved_costly = self._costly
             self._recost(cost_rows, cost_cols)
+        cost, max_cost = self.cost, self._proximity_cost if self._costly else 0.0
+        if extra_cost is not None:
+            cost = extra_cost if cost is None else cost + extra_cost
+            max_cost = float(cost.max(initial=0.0))
         try:
-            return astar_checked(
-                self.blocked, start, goal, self.cost,
-                self._proximity_cost if self._costly else 0.0, cut_corners)
+            return astar_checked(self.blocked, start, goal, cost, max_cost, cut_corners)
         finally:
             self.blocked[rows, cols] = saved_blocked
             if self.cost is not None:
