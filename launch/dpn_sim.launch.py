@@ -1,7 +1,8 @@
 """
 Start the pybullet world and the dpn navigator, with RViz on request.
 
-``ros2 launch dpn_navigator dpn_sim.launch.py [gui:=true] [wanderers:=3] [rviz:=true]``
+``ros2 launch dpn_navigator dpn_sim.launch.py [gui:=true] [wanderers:=3] [rviz:=true]
+[default_goal:=false]``
 
 Parameters come from ``config/pybullet_world.yaml`` and ``config/dpn.yaml``; both nodes run on
 the world's simulated ``/clock``, in their default namespace ``compabot`` (topics
@@ -32,7 +33,10 @@ def generate_launch_description():
         ])
     navigator = Node(
         package='dpn_navigator', executable='dpn', name='dpn', output='screen',
-        parameters=[PathJoinSubstitution([config, 'dpn.yaml']), {'use_sim_time': True}])
+        parameters=[PathJoinSubstitution([config, 'dpn.yaml']),
+                    {'use_sim_time': True,
+                     'use_default_goal': ParameterValue(LaunchConfiguration('default_goal'),
+                                                        value_type=bool)}])
     rviz = Node(
         package='rviz2', executable='rviz2', name='rviz2',
         arguments=['-d', PathJoinSubstitution([config, 'dpn.rviz'])],
@@ -46,6 +50,9 @@ def generate_launch_description():
         DeclareLaunchArgument('scenario', default_value='back_and_forth',
                               description='Built-in scenario name or a map_server yaml path.'),
         DeclareLaunchArgument('rviz', default_value='false', description='Start RViz.'),
+        DeclareLaunchArgument('default_goal', default_value='true',
+                              description="Drive to dpn.yaml's goal_x, goal_y at start; false: "
+                              'wait for a goal on goal_pose.'),
         world,
         navigator,
         rviz,

@@ -39,7 +39,7 @@ from .command_publisher import CommandPublisher
 from .conversions import (laser_scan_fields, OccupancyGridBuffer, odometry_to_pose,
                           pose_to_odometry, stamp_to_seconds)
 from .diagnostics import diagnostic_status, DiagnosticsPublisher
-from .dpn_params import declare_parameters
+from .dpn_params import declare_parameters, PARAMETERS
 from .names import DEFAULT_NAMESPACE
 from .navigator_markers import extend_trail, NavigatorMarkers
 from .qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS
@@ -117,11 +117,14 @@ class DpnNode(Node):
         guard_clock(self, lambda error: self.reject('clock', error))
         if self.params.goal is not None:
             self.set_goal(*self.params.goal)
+        else:
+            warn_unused_goal(self)
         self.publish_status()
         self.get_logger().info(
             f'dpn ready: {self.navigator.grid.geometry.cols}x'
             f'{self.navigator.grid.geometry.rows} cells of '
-            f'{self.params.navigator.resolution} m, goal {self.navigator.goal}; kernels ready '
+            f'{self.params.navigator.resolution} m, goal '
+            f'{self.navigator.goal or "none (waiting for goal_pose)"}; kernels ready '
             f'in {compile_seconds:.2f} s')
 
     def now_seconds(self):
@@ -328,6 +331,17 @@ class DpnNode(Node):
         self.cmd_pub.publish(0.0, 0.0)
         self.cmd_pub.wait_for_delivery(STOP_ACK_TIMEOUT)
         return super().destroy_node()
+
+
+def warn_unused_goal(node):
+    """Warn when ``goal_x``/``goal_y`` were changed but ``use_default_goal`` is off."""
+    defaults = {p.name: p.default for p in PARAMETERS if p.name in ('goal_x', 'goal_y')}
+    changed = [name for name, default in defaults.items()
+               if node.get_parameter(name).value != default]
+    if changed and not node.params.use_default_goal:
+        node.get_logger().warning(
+            f'{" and ".join(changed)} set but use_default_goal is false: no goal until one '
+            'arrives on goal_pose (set use_default_goal:=true to start with it)')
 
 
 def main(args=None):

@@ -41,7 +41,8 @@ class DpnParameters:
     navigator : NavigatorConfig
         The core's configuration.
     goal : (float, float) or None
-        The goal in the map frame [m]; None: wait for one on ``goal_pose``.
+        The goal in the map frame [m] given by ``goal_x``/``goal_y`` with ``use_default_goal``;
+        None: wait for one on ``goal_pose`` (or the ``navigate_to_pose`` action).
 
     """
 
@@ -70,6 +71,9 @@ class DpnParameters:
     map_mobile_value: int = setting(
         OCCUPANCY_MOBILE_OBSTACLE, '', 'OccupancyGrid value of mobile-obstacle cells in `map` '
         '(steady obstacles are 100)', 1, 100)
+    use_default_goal: bool = setting(
+        False, '', 'start with the goal `goal_x`, `goal_y`; false: no goal (and no motion) until '
+        'one arrives on `goal_pose`')
     map_updates: bool = setting(
         True, '', 'between full maps (`map_publish_period` > 0), publish the box of cells '
         'changed since the last map or update on `map_updates` (map_msgs/OccupancyGridUpdate); '
@@ -147,10 +151,12 @@ PARAMETERS = (
                 'track_exclusive', 'trail_distance', 'object_memory',
                 'object_memory_short_segments', 'robot_length', 'robot_width',
                 'turn_sweep_memory', 'turn_sweep_margin', 'turn_sweep_spot_distance'),
-    _part('goal_x', 2.0, 'm', 'goal x in the map frame (back_and_forth, task 0); NaN: wait for '
-          'a goal on `goal_pose`', None, None, 'node', 'goal', 0),
-    _part('goal_y', 18.0, 'm', 'goal y in the map frame; NaN: wait for a goal on `goal_pose`',
-          None, None, 'node', 'goal', 1),
+    _field('node', 'use_default_goal'),
+    _part('goal_x', 2.0, 'm', 'goal x in the map frame (back_and_forth, task 0), used only with '
+          '`use_default_goal`; NaN: wait for a goal on `goal_pose`', None, None, 'node', 'goal',
+          0),
+    _part('goal_y', 18.0, 'm', 'goal y in the map frame, used only with `use_default_goal`; '
+          'NaN: wait for a goal on `goal_pose`', None, None, 'node', 'goal', 1),
     *(_field('follower', name) for name in ('max_linear_speed', 'max_angular_speed',
                                             'goal_tolerance', 'lookahead_distance')),
     _part('laser_x', 0.337, 'm', "laser position on the base, forward (the Husky's LMS1xx)",
@@ -210,7 +216,8 @@ def declare_parameters(node):
     for (target, name), components in parts.items():
         fields_of[target][name] = tuple(components[k] for k in sorted(components))
     goal = fields_of['node'].pop('goal')
-    if not all(math.isfinite(value) for value in goal):
+    if not (fields_of['node']['use_default_goal']
+            and all(math.isfinite(value) for value in goal)):
         goal = None
     navigator = NavigatorConfig(**fields_of['navigator'],
                                 follower=FollowerConfig(**fields_of['follower']))

@@ -69,7 +69,7 @@ def navigator_arguments(scenario, task):
         'goal_x': goal[0], 'goal_y': goal[1],
         'laser_x': LASER_MOUNT[0], 'laser_y': LASER_MOUNT[1], 'laser_yaw': LASER_MOUNT[2],
     }
-    args = ['--ros-args', '-p', 'use_sim_time:=true']
+    args = ['--ros-args', '-p', 'use_sim_time:=true', '-p', 'use_default_goal:=true']
     for name, value in parameters.items():
         args += ['-p', f'{name}:={float(value)!r}']
     return args

@@ -96,7 +96,7 @@ def test_the_node_declares_every_parameter_with_its_setting(ros_context):
             width=25.0, height=20.0).label_rule()
         assert params.navigator.laser_offset == (0.337, 0.0, 0.0)
         assert params.navigator.follower == FollowerConfig()
-        assert params.goal == (2.0, 18.0)
+        assert params.goal is None and not params.use_default_goal     # no goal unless asked
         assert safety.max_beams == 4096
         assert LabelRule() != params.navigator.label_rule()        # dpn, not the paper
     finally:
