@@ -21,6 +21,7 @@ the node clock or on the steady wall clock, the robot is stopped (docs/safety.md
 """
 
 from collections import deque
+from dataclasses import dataclass
 import math
 import statistics
 import time
@@ -44,9 +45,11 @@ from .names import DEFAULT_NAMESPACE
 from .navigator_markers import extend_trail, NavigatorMarkers
 from .qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS
 from .safety_params import declare_safety_parameters
+from .scan_placement import PoseNotYet, ScanNotPlaced, ScanPlacer
 from .sensor_watchdog import SensorWatchdog, steady_arrival_time
 from .sim_clock import guard_clock
 from .spin import run_node
+from .tf_pose_source import make_tf_lookup, stamp_to_nanoseconds
 from ..core import Navigator, NavigatorStatus
 from ..core.mapping.map_values import warm_up_map_values
 from ..core.navigator import warm_up_navigator
@@ -58,6 +61,19 @@ STOP_ACK_TIMEOUT = 0.2          # wait this long for the last zero command's del
 WARN_THROTTLE = 2.0             # [s]
 STATUS_PERIOD = 1.0             # status refreshed at least this often [s]
 LATENCY_WINDOW = 100            # scans in the reported scan-to-map processing time
+MAX_PENDING_SCANS = 5           # scans waiting for their pose; more drop the oldest
+SCAN_WAIT_COUNTED = 0.005       # a scan placed this long after its arrival counts as waited [s]
+
+
+@dataclass(frozen=True)
+class PendingScan:
+    """A checked scan waiting for its pose: message, fields, and when it came [s]."""
+
+    msg: object
+    fields: dict
+    received: float         # perf_counter at the callback's start
+    queued: float           # steady clock
+    arrival: float          # steady clock, from the message info
 
 
 class DpnNode(Node):
@@ -84,8 +100,17 @@ class DpnNode(Node):
         self.steady_clock = Clock(clock_type=ClockType.STEADY_TIME)
         self.cmd_vel_monitor = CommandTopicMonitor()
         self.pose = None
-        self.pose_history = PoseHistory()
-        self.scans_placed_at_latest_pose = 0
+        self.odom_pose = None
+        # Odometry poses kept for placing scans: interpolated, never extrapolated.
+        self.pose_history = PoseHistory(extrapolation=0.0)
+        self.pending_scans = deque()
+        self.scans_waited = 0
+        self.scans_skipped = 0
+        self.odom_frame_warned = False
+        self.tf = (make_tf_lookup(self) if self.params.pose_source != 'odom' else None)
+        self.placer = ScanPlacer(self.params.pose_source, self.params.map_frame,
+                                 self.params.base_frame, self.tf, self.pose_history,
+                                 self.params.max_laser_tilt, on_source=self.on_pose_source)
         self.velocity = (0.0, 0.0)
         self.last_map_time = None
         self.markers = NavigatorMarkers(self.params.map_frame, self.params.marker_min_period)
@@ -172,6 +197,19 @@ class DpnNode(Node):
             return
         self.set_goal(msg.pose.position.x, msg.pose.position.y)
 
+    def on_pose_source(self, source):
+        """Log where scans are placed from, the first time each source is used."""
+        if source == 'tf':
+            text = (f'TF {self.params.map_frame} -> <scan frame> at the scan stamp '
+                    f'({self.tf.kind}); robot pose {self.params.map_frame} -> '
+                    f'{self.params.base_frame}')
+        else:
+            text = ('odometry taken as the map pose, laser at laser_x/_y/_yaw'
+                    + (' (no TF links the map frame to the laser yet)'
+                       if self.params.pose_source == 'auto' else ''))
+        self.get_logger().info(f'pose source: {text}')
+        self.publish_status()
+
     def on_odom(self, msg, info=None):
         """Keep the latest finite base pose and extend the executed path."""
         try:
@@ -180,17 +218,26 @@ class DpnNode(Node):
         except ValueError as error:
             self.reject('odometry', error)
             return
-        self.pose = pose
+        odom_frame = self.params.odom_frame
+        if (odom_frame and msg.header.frame_id not in ('', odom_frame)
+                and not self.odom_frame_warned):
+            self.odom_frame_warned = True
+            self.get_logger().warning(
+                f'odometry in frame {msg.header.frame_id!r}, not odom_frame {odom_frame!r}')
+        self.odom_pose = pose
+        if self.placer.source != 'tf':
+            self.pose = pose
         self.velocity = velocity if all(math.isfinite(v) for v in velocity) else (0.0, 0.0)
         self.pose_history.add(stamp_to_seconds(msg.header.stamp), pose, self.velocity)
         self.watchdog.heard('odometry', self.now_seconds(), self.arrival_seconds(info))
-        if self.navigator.goal is not None:
+        if self.navigator.goal is not None and self.placer.source != 'tf':
             extend_trail(self.trail, pose[:2])
+        if self.pending_scans:
+            self.place_pending_scans()
 
     def on_scan(self, msg, info=None):
-        """Fold the scan into the map, decide the command, publish."""
+        """Check the scan and queue it; place, map and answer the queued scans that can be."""
         received = time.perf_counter()
-        now = self.now_seconds()
         if len(msg.ranges) > self.limits.max_beams:
             self.reject('scan', f'{len(msg.ranges)} beams, more than max_beams '
                                 f'{self.limits.max_beams}')
@@ -203,23 +250,64 @@ class DpnNode(Node):
             return
         fields = laser_scan_fields(msg)
         try:
-            if self.pose is None:
-                # The scan cannot be placed yet, but a malformed one still counts.
-                check_scan(**fields)
-                self.get_logger().info('waiting for odometry',
-                                       throttle_duration_sec=WARN_THROTTLE)
-                return
-            # Placed where the robot was when the scan was taken, not where it is now.
-            scan_pose = self.pose_history.pose_at(stamp_to_seconds(msg.header.stamp))
-            if scan_pose is None:
-                scan_pose = self.pose
-                self.scans_placed_at_latest_pose += 1
-            # The free evidence waits until the map and the command are out (`settle`).
-            self.navigator.observe(scan_pose, **fields, stamp=now, defer_evidence=True)
+            check_scan(**fields)
         except ValueError as error:
             self.reject('scan', error)
             return
-        self.watchdog.heard('scan', now, self.arrival_seconds(info))
+        if len(self.pending_scans) >= MAX_PENDING_SCANS:
+            self.skip_scan(self.pending_scans.popleft(), 'more scans waiting than '
+                           f'{MAX_PENDING_SCANS}')
+        self.pending_scans.append(PendingScan(msg, fields, received, self.steady_seconds(),
+                                              self.arrival_seconds(info)))
+        self.place_pending_scans()
+
+    def skip_scan(self, pending, reason):
+        """Drop a queued scan, counted and warned about (throttled)."""
+        self.scans_skipped += 1
+        self.get_logger().warning(f'scan skipped ({self.scans_skipped} so far): {reason}',
+                                  throttle_duration_sec=WARN_THROTTLE)
+        self.publish_status()
+
+    def place_pending_scans(self):
+        """Handle the queued scans in order while their poses are known; drop the stale."""
+        while self.pending_scans:
+            pending = self.pending_scans[0]
+            header = pending.msg.header
+            try:
+                placement = self.placer.place(header.frame_id, stamp_to_nanoseconds(
+                    header.stamp), pending.fields)
+            except PoseNotYet as error:
+                if self.steady_seconds() - pending.queued < self.params.transform_timeout:
+                    return
+                self.pending_scans.popleft()
+                self.skip_scan(pending, f'waited {self.params.transform_timeout} s: {error}')
+                continue
+            except ScanNotPlaced as error:
+                self.pending_scans.popleft()
+                self.skip_scan(pending, error)
+                continue
+            self.pending_scans.popleft()
+            if self.steady_seconds() - pending.queued > SCAN_WAIT_COUNTED:
+                self.scans_waited += 1
+            self.handle_scan(pending, placement)
+
+    def handle_scan(self, pending, placement):
+        """Fold a placed scan into the map, decide the command, publish."""
+        msg, received = pending.msg, pending.received
+        now = self.now_seconds()
+        if placement.source == 'tf':
+            pose = self.placer.robot_pose(None) or placement.base_pose
+            self.pose = pose
+            if self.navigator.goal is not None:
+                extend_trail(self.trail, pose[:2])
+        try:
+            # The free evidence waits until the map and the command are out (`settle`).
+            self.navigator.observe(placement.base_pose, **placement.fields, stamp=now,
+                                   defer_evidence=True, laser_pose=placement.laser_pose)
+        except ValueError as error:
+            self.reject('scan', error)
+            return
+        self.watchdog.heard('scan', now, pending.arrival)
         stamp = msg.header.stamp
         # The map first: it is ready now, and planning can take longer.
         if (self.last_map_time is None
@@ -291,9 +379,13 @@ class DpnNode(Node):
             'rejected_goals': self.rejected['goal'],
             'rejected_clock': self.rejected['clock'],
             'scan_frame_mismatches': self.scan_frame_mismatches,
-            # Scans more than 0.2 s after the latest odometry (or older than the kept 1 s),
-            # placed at the latest pose.
-            'scans_placed_at_latest_pose': self.scans_placed_at_latest_pose,
+            # Where scans are placed from: 'tf' or 'odom' ('' before the first).
+            'pose_source': self.placer.source or '',
+            # Scans that waited for their transform or odometry, and those dropped after
+            # transform_timeout (or older than the kept odometry, or from a tilted laser).
+            'scans_waited_for_pose': self.scans_waited,
+            'scans_skipped_no_pose': self.scans_skipped,
+            'rejected_transforms': 0 if self.tf is None else self.tf.rejected,
             'sensors_stale': self.stale,
             'cmd_vel_other_publishers': self.cmd_vel_monitor.others,
             'cmd_vel_conflicts': self.cmd_vel_monitor.conflicts,
@@ -306,7 +398,9 @@ class DpnNode(Node):
             'sensors stale' if self.stale else status.value, values))
 
     def on_watchdog(self):
-        """Stop the robot while scans or odometry are stale on either clock."""
+        """Stop the robot while scans or odometry are stale on either clock; retry queued scans."""
+        if self.pending_scans:
+            self.place_pending_scans()
         stale = self.watchdog.stale_streams(self.now_seconds(), self.steady_seconds())
         if stale:
             self.cmd_pub.publish(0.0, 0.0)

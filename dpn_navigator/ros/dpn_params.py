@@ -64,7 +64,22 @@ class DpnParameters:
         'laser', '', 'frame the scans must be in (`laser_x`/`_y`/`_yaw` place it on the base); '
         "scans in another frame are rejected and counted; '': any")
     base_frame: str = setting(
-        'base_link', '', 'frame of the robot base: header of TwistStamped commands')
+        'base_link', '', 'frame of the robot base: its map pose from TF (`map_frame -> '
+        'base_frame`); header of TwistStamped commands')
+    odom_frame: str = setting(
+        'odom', '', 'frame of the odometry (REP 105); odometry in another frame is warned about '
+        "once; '': any")
+    pose_source: str = setting(
+        'auto', '', 'where scans are placed from: `tf` (`map_frame -> <scan frame>` at the '
+        "scan's stamp, the full 3-D mount), `odom` (the odometry pose taken as the map pose, "
+        'the laser at `laser_x`/`_y`/`_yaw`), `auto` (`tf` once TF links `map_frame` to the '
+        'scan frame, `odom` until then)')
+    transform_timeout: float = setting(
+        0.2, 's', "longest wait (steady clock) for a scan's transform or bracketing odometry; "
+        'then the scan is dropped and counted', 0.0, 10.0)
+    max_laser_tilt: float = setting(
+        0.05, 'rad', 'largest tilt of the laser (from TF) from level or upside down; a more '
+        'tilted scan is dropped and counted', 0.0, 0.5)
     cmd_vel_stamped: bool = setting(
         False, '', "send geometry_msgs/TwistStamped on cmd_vel instead of Twist (Jazzy's "
         'diff_drive_controller takes TwistStamped)')
@@ -169,7 +184,9 @@ PARAMETERS = (
     _field('safety', 'max_beams'),
     *(_field('node', name) for name in ('map_publish_period', 'map_updates',
                                         'marker_min_period', 'map_frame', 'laser_frame',
-                                        'base_frame', 'cmd_vel_stamped', 'map_mobile_value')),
+                                        'base_frame', 'odom_frame', 'pose_source',
+                                        'transform_timeout', 'max_laser_tilt',
+                                        'cmd_vel_stamped', 'map_mobile_value')),
 )
 
 
