@@ -42,6 +42,7 @@ from .conversions import (laser_scan_fields, OccupancyGridBuffer, odometry_to_po
 from .diagnostics import diagnostic_status, DiagnosticsPublisher
 from .dpn_params import declare_parameters, PARAMETERS
 from .names import DEFAULT_NAMESPACE
+from .navigate_action import load_action_type, NavigateToPoseServer
 from .navigator_markers import extend_trail, NavigatorMarkers
 from .qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS
 from .safety_params import declare_safety_parameters
@@ -140,8 +141,14 @@ class DpnNode(Node):
         self.create_timer(WATCHDOG_PERIOD, self.on_watchdog, clock=self.steady_clock)
         self.create_timer(STATUS_PERIOD, self.on_status_timer, clock=self.steady_clock)
         guard_clock(self, lambda error: self.reject('clock', error))
+        action_type = load_action_type()
+        self.navigate = (NavigateToPoseServer(self, action_type) if action_type is not None
+                         else None)
+        if self.navigate is None:
+            self.get_logger().warning('nav2_msgs is not installed: no navigate_to_pose action '
+                                      '(goals on goal_pose only)')
         if self.params.goal is not None:
-            self.set_goal(*self.params.goal)
+            self.set_goal(*self.params.goal, via='use_default_goal')
         else:
             warn_unused_goal(self)
         self.publish_status()
@@ -173,15 +180,26 @@ class DpnNode(Node):
             throttle_duration_sec=WARN_THROTTLE)
         self.publish_status()
 
-    def set_goal(self, x, y):
-        """Give the navigator a goal [m]; reject it (counted) when it is off the map."""
+    def set_goal(self, x, y, via='goal_pose'):
+        """
+        Give the navigator a goal [m] in the map frame.
+
+        Returns None, or the reason it was refused (off the map; counted).
+        """
         try:
             self.navigator.set_goal(x, y)
         except ValueError as error:
             self.reject('goal', error)
-            return
+            return str(error)
         self.trail = [] if self.pose is None else [self.pose[:2]]
-        self.get_logger().info(f'goal accepted: ({x:.2f}, {y:.2f})')
+        self.get_logger().info(f'goal accepted from {via}: ({x:.2f}, {y:.2f})')
+        self.publish_status()
+        return None
+
+    def stop(self):
+        """Drop the goal and send a zero command now (a canceled goal)."""
+        self.navigator.clear_goal()
+        self.cmd_pub.publish(0.0, 0.0)
         self.publish_status()
 
     def on_goal(self, msg):
@@ -195,7 +213,9 @@ class DpnNode(Node):
         if msg.header.frame_id not in ('', map_frame):
             self.reject('goal', f'frame {msg.header.frame_id!r} is not {map_frame!r}')
             return
-        self.set_goal(msg.pose.position.x, msg.pose.position.y)
+        if self.set_goal(msg.pose.position.x, msg.pose.position.y) is None \
+                and self.navigate is not None:
+            self.navigate.preempt('preempted by a goal on goal_pose')
 
     def on_pose_source(self, source):
         """Log where scans are placed from, the first time each source is used."""
@@ -424,6 +444,8 @@ class DpnNode(Node):
         """Send a zero command (waiting briefly for its delivery), then destroy the node."""
         self.cmd_pub.publish(0.0, 0.0)
         self.cmd_pub.wait_for_delivery(STOP_ACK_TIMEOUT)
+        if self.navigate is not None:
+            self.navigate.destroy()
         return super().destroy_node()
 
 
