@@ -31,7 +31,7 @@ from geometry_msgs.msg import PoseStamped
 from map_msgs.msg import OccupancyGridUpdate
 from nav_msgs.msg import OccupancyGrid, Odometry, Path
 from rclpy.clock import Clock, ClockType
-from rclpy.node import Node
+from rclpy.lifecycle import LifecycleNode
 from sensor_msgs.msg import LaserScan
 from visualization_msgs.msg import MarkerArray
 
@@ -41,6 +41,7 @@ from .conversions import (laser_scan_fields, OccupancyGridBuffer, odometry_to_po
                           pose_to_odometry, stamp_to_seconds)
 from .diagnostics import diagnostic_status, DiagnosticsPublisher
 from .dpn_params import declare_parameters, PARAMETERS
+from .lifecycle import ManagedNavigator
 from .names import DEFAULT_NAMESPACE
 from .navigate_action import load_action_type, NavigateToPoseServer
 from .navigator_markers import extend_trail, NavigatorMarkers
@@ -77,12 +78,15 @@ class PendingScan:
     arrival: float          # steady clock, from the message info
 
 
-class DpnNode(Node):
+class DpnNode(ManagedNavigator, LifecycleNode):
     """Map, plan and follow from scans and odometry; publish map, commands and markers."""
 
     def __init__(self, **node_kwargs):
         node_kwargs.setdefault('namespace', DEFAULT_NAMESPACE)
         super().__init__('dpn', **node_kwargs)
+        # Inactive until activated (at the end here with autostart, else by change_state).
+        self.active = False
+        self.navigate = None
         self.params = declare_parameters(self)
         self.limits = declare_safety_parameters(self)
         # Compile (or load) the kernels now, so that the first scan does not wait for them.
@@ -151,6 +155,9 @@ class DpnNode(Node):
             self.set_goal(*self.params.goal, via='use_default_goal')
         else:
             warn_unused_goal(self)
+        if self.params.autostart:
+            self.trigger_configure()
+            self.trigger_activate()
         self.publish_status()
         self.get_logger().info(
             f'dpn ready: {self.navigator.grid.geometry.cols}x'
@@ -202,6 +209,17 @@ class DpnNode(Node):
         self.cmd_pub.publish(0.0, 0.0)
         self.publish_status()
 
+    def clear_map(self):
+        """Start again with an empty map and no goal (lifecycle cleanup)."""
+        self.navigator = Navigator(self.params.navigator)
+        self.map_buffer = OccupancyGridBuffer(self.navigator.grid.geometry.shape,
+                                              self.params.map_mobile_value)
+        self.map_changes = self.navigator.grid.change_tracker()
+        self.pending_scans.clear()
+        self.trail = []
+        self.last_map_time = None
+        self.publish_status()
+
     def on_goal(self, msg):
         """
         Take a goal from ``goal_pose`` (RViz's 2D Goal Pose).
@@ -209,6 +227,9 @@ class DpnNode(Node):
         The goal must be in ``map_frame``; an empty frame id is taken as ``map_frame``. Its
         orientation is ignored: the navigator reaches a position.
         """
+        if not self.active:
+            self.reject('goal', 'the navigator is not active (lifecycle)')
+            return
         map_frame = self.params.map_frame
         if msg.header.frame_id not in ('', map_frame):
             self.reject('goal', f'frame {msg.header.frame_id!r} is not {map_frame!r}')
@@ -257,6 +278,8 @@ class DpnNode(Node):
 
     def on_scan(self, msg, info=None):
         """Check the scan and queue it; place, map and answer the queued scans that can be."""
+        if not self.active:
+            return
         received = time.perf_counter()
         if len(msg.ranges) > self.limits.max_beams:
             self.reject('scan', f'{len(msg.ranges)} beams, more than max_beams '
@@ -407,6 +430,7 @@ class DpnNode(Node):
             'scans_skipped_no_pose': self.scans_skipped,
             'rejected_transforms': 0 if self.tf is None else self.tf.rejected,
             'sensors_stale': self.stale,
+            'active': self.active,
             'cmd_vel_other_publishers': self.cmd_vel_monitor.others,
             'cmd_vel_conflicts': self.cmd_vel_monitor.conflicts,
             # Wall time from the scan callback's start to the map's publication [ms].
@@ -419,6 +443,8 @@ class DpnNode(Node):
 
     def on_watchdog(self):
         """Stop the robot while scans or odometry are stale on either clock; retry queued scans."""
+        if not self.active:
+            return
         if self.pending_scans:
             self.place_pending_scans()
         stale = self.watchdog.stale_streams(self.now_seconds(), self.steady_seconds())

@@ -86,6 +86,9 @@ class DpnParameters:
     map_mobile_value: int = setting(
         OCCUPANCY_MOBILE_OBSTACLE, '', 'OccupancyGrid value of mobile-obstacle cells in `map` '
         '(steady obstacles are 100)', 1, 100)
+    autostart: bool = setting(
+        True, '', 'configure and activate the (lifecycle) node at start; false: wait for '
+        '`change_state` calls, e.g. from nav2_lifecycle_manager (set its `bond_timeout: 0.0`)')
     use_default_goal: bool = setting(
         False, '', 'start with the goal `goal_x`, `goal_y`; false: no goal (and no motion) until '
         'one arrives on `goal_pose`')
@@ -166,6 +169,7 @@ PARAMETERS = (
                 'track_exclusive', 'trail_distance', 'object_memory',
                 'object_memory_short_segments', 'robot_length', 'robot_width',
                 'turn_sweep_memory', 'turn_sweep_margin', 'turn_sweep_spot_distance'),
+    _field('node', 'autostart'),
     _field('node', 'use_default_goal'),
     _part('goal_x', 2.0, 'm', 'goal x in the map frame (back_and_forth, task 0), used only with '
           '`use_default_goal`; NaN: wait for a goal on `goal_pose`', None, None, 'node', 'goal',
