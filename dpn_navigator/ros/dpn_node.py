@@ -63,7 +63,7 @@ STOP_ACK_TIMEOUT = 0.2          # wait this long for the last zero command's del
 WARN_THROTTLE = 2.0             # [s]
 STATUS_PERIOD = 1.0             # status refreshed at least this often [s]
 LATENCY_WINDOW = 100            # scans in the reported scan-to-map processing time
-MAX_PENDING_SCANS = 5           # scans waiting for their pose; more drop the oldest
+MAX_PENDING_SCANS = 10          # scans waiting for their pose; more drop the oldest
 SCAN_WAIT_COUNTED = 0.005       # a scan placed this long after its arrival counts as waited [s]
 
 

@@ -10,8 +10,8 @@ translation of ``source`` in ``target`` at a stamp, or raises `TransformUnavaila
 - On the PyPI path (no ``tf2_ros`` wheel), `FallbackTfLookup` feeds the core's
   ``frames.TfBuffer`` (tf2's rules: static transforms at all times, interpolation between the
   two samples around a stamp, no extrapolation, a 10 s cache) from ``/tf`` and ``/tf_static``
-  subscriptions with tf2_ros's listener QoS: ``/tf`` reliable, volatile, depth 100;
-  ``/tf_static`` reliable, transient local, depth 100. Malformed transforms are dropped,
+  subscriptions: ``/tf`` reliable, volatile, depth 10 (`TF_LISTENER_QOS`); ``/tf_static``
+  reliable, transient local, depth 100 (tf2_ros's). Malformed transforms are dropped,
   counted and warned about.
 
 Lookups never block: a scan whose transform has not arrived waits in the node's queue
@@ -26,8 +26,12 @@ from tf2_msgs.msg import TFMessage
 from .names import TF_STATIC_TOPIC, TF_TOPIC
 from ..core.frames import FrameLookupError, TfBuffer, Transform3D, TransformError
 
-#: tf2_ros's ``DynamicListenerQoS``.
-TF_LISTENER_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=100,
+#: tf2_ros's ``DynamicListenerQoS`` (reliable, volatile) but depth 10, not 100: rclpy's executor
+#: takes one message per subscription per wait, so under load a depth-100 reader holds a
+#: backlog of 100 transforms (0.4 s of wall time from a 50 Hz simulator at 5x real time) and
+#: every scan outlives ``transform_timeout`` waiting for its transform; with depth 10 the
+#: newest transforms arrive within 10 messages.
+TF_LISTENER_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10,
                              reliability=ReliabilityPolicy.RELIABLE,
                              durability=DurabilityPolicy.VOLATILE)
 #: tf2_ros's ``StaticListenerQoS``: a late subscriber gets every latched static transform.
