@@ -3,12 +3,12 @@ The ``pybullet_world`` node: the pybullet world over ROS 2, standing in for Gaze
 
 Topic names are relative to the node's namespace, ``compabot`` unless one is given
 (``-r __ns:=/robot2``). Publishes ``scan`` (``sensor_msgs/LaserScan``, frame ``laser``,
-sensor-data QoS), ``odom`` (``nav_msgs/Odometry``: the Husky's pose and velocity, frame
-``odom``, child ``base_link``; drift-free by default, so ``odom`` coincides with ``map``; the
+reliable as REP 2003 asks of sensor drivers, so best-effort and reliable subscribers match),
+``odom`` (``nav_msgs/Odometry``: the Husky's pose and velocity, frame ``odom``, child
+``base_link``, reliable too; drift-free by default, so ``odom`` coincides with ``map``; the
 ``odom_drift_*`` and ``odom_noise`` parameters make it drift as wheel odometry does),
-``sim/status``
-(``diagnostic_msgs/DiagnosticStatus``, latched: simulated time, contact counts, rejected
-commands; also on ``/diagnostics``) and ``sim/wanderers`` (``visualization_msgs/MarkerArray``,
+``sim/status`` (``diagnostic_msgs/DiagnosticStatus``, latched: simulated time, contact counts,
+rejected commands; also on ``/diagnostics``) and ``sim/wanderers`` (``visualization_msgs/MarkerArray``,
 one cylinder per P3-AT, ground truth in ``map``). Global: ``/clock`` (``rosgraph_msgs/Clock``,
 simulated time, every tick), ``/tf`` (``map -> odom`` from ground truth, standing in for a
 localiser, exact or with the ``localiser_*`` error and rate, and ``odom -> base_link``, at every
@@ -34,7 +34,7 @@ from dpn_navigator.ros.conversions import make_laser_scan, pose_to_odometry, sec
 from dpn_navigator.ros.diagnostics import diagnostic_status, DiagnosticsPublisher
 from dpn_navigator.ros.names import DEFAULT_NAMESPACE
 from dpn_navigator.ros.parameter_declaration import declare_setting
-from dpn_navigator.ros.qos import COMMAND_QOS, SENSOR_QOS
+from dpn_navigator.ros.qos import COMMAND_QOS, SENSOR_PUBLISHER_QOS
 from dpn_navigator.ros.sim_clock import guard_clock
 from dpn_navigator.ros.spin import run_node
 from nav_msgs.msg import Odometry
@@ -98,8 +98,8 @@ class PybulletWorldNode(Node):
         self.goal = scenario.tasks[task].goal
         self.command = (0.0, 0.0)
         self.last_command_time = -math.inf
-        self.scan_pub = self.create_publisher(LaserScan, 'scan', SENSOR_QOS)
-        self.odom_pub = self.create_publisher(Odometry, 'odom', SENSOR_QOS)
+        self.scan_pub = self.create_publisher(LaserScan, 'scan', SENSOR_PUBLISHER_QOS)
+        self.odom_pub = self.create_publisher(Odometry, 'odom', SENSOR_PUBLISHER_QOS)
         self.clock_pub = self.create_publisher(Clock, '/clock', COMMAND_QOS)
         self.diagnostics = DiagnosticsPublisher(self, 'sim/status')
         self.wanderer_pub = self.create_publisher(MarkerArray, 'sim/wanderers', COMMAND_QOS)
