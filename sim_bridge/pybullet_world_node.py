@@ -8,8 +8,8 @@ reliable as REP 2003 asks of sensor drivers, so best-effort and reliable subscri
 ``base_link``, reliable too; drift-free by default, so ``odom`` coincides with ``map``; the
 ``odom_drift_*`` and ``odom_noise`` parameters make it drift as wheel odometry does),
 ``sim/status`` (``diagnostic_msgs/DiagnosticStatus``, latched: simulated time, contact counts,
-rejected commands; also on ``/diagnostics``) and ``sim/wanderers`` (``visualization_msgs/MarkerArray``,
-one cylinder per P3-AT, ground truth in ``map``). Global: ``/clock`` (``rosgraph_msgs/Clock``,
+rejected commands; also on ``/diagnostics``) and ``sim/wanderers``
+(``visualization_msgs/MarkerArray``, one cylinder per P3-AT, ground truth in ``map``). Global: ``/clock`` (``rosgraph_msgs/Clock``,
 simulated time, every tick), ``/tf`` (``map -> odom`` from ground truth, standing in for a
 localiser, exact or with the ``localiser_*`` error and rate, and ``odom -> base_link``, at every
 odometry stamp) and ``/tf_static`` (``base_link -> laser``, the ``laser_*`` mount, upside down
