@@ -1,19 +1,19 @@
 """
 The ``pybullet_world`` node: the pybullet world over ROS 2, standing in for Gazebo.
 
-Topic names are relative to the node's namespace, ``compabot`` unless one is given
-(``-r __ns:=/robot2``). Publishes ``scan`` (``sensor_msgs/LaserScan``, frame ``laser``,
-reliable as REP 2003 asks of sensor drivers, so best-effort and reliable subscribers match),
-``odom`` (``nav_msgs/Odometry``: the Husky's pose and velocity, frame ``odom``, child
-``base_link``, reliable too; drift-free by default, so ``odom`` coincides with ``map``; the
-``odom_drift_*`` and ``odom_noise`` parameters make it drift as wheel odometry does),
-``sim/status`` (``diagnostic_msgs/DiagnosticStatus``, latched: simulated time, contact counts,
-rejected commands; also on ``/diagnostics``) and ``sim/wanderers``
-(``visualization_msgs/MarkerArray``, one cylinder per P3-AT, ground truth in ``map``). Global: ``/clock`` (``rosgraph_msgs/Clock``,
-simulated time, every tick), ``/tf`` (``map -> odom`` from ground truth, standing in for a
-localiser, exact or with the ``localiser_*`` error and rate, and ``odom -> base_link``, at every
-odometry stamp) and ``/tf_static`` (``base_link -> laser``, the ``laser_*`` mount, upside down
-too); see ``sim_bridge.robot_frames`` and ``sim_bridge.odometry_drift``. Subscribes to ``cmd_vel``
+Topic names are relative to the node's namespace, ``compabot`` unless one is given (``-r
+__ns:=/robot2``). Publishes ``scan`` (``sensor_msgs/LaserScan``, frame ``laser``, reliable as REP
+2003 asks of sensor drivers, so best-effort and reliable subscribers match), ``odom``
+(``nav_msgs/Odometry``: the Husky's pose and velocity, frame ``odom``, child ``base_link``,
+reliable too; drift-free by default, so ``odom`` coincides with ``map``; the ``odom_drift_*`` and
+``odom_noise`` parameters make it drift as wheel odometry does), ``sim/status``
+(``diagnostic_msgs/DiagnosticStatus``, latched: simulated time, contact counts, rejected commands;
+also on ``/diagnostics``) and ``sim/wanderers`` (``visualization_msgs/MarkerArray``, one cylinder
+per P3-AT, ground truth in ``map``). Global: ``/clock`` (``rosgraph_msgs/Clock``, simulated time,
+every tick), ``/tf`` (``map -> odom`` from ground truth, standing in for a localiser, exact or with
+the ``localiser_*`` error and rate, and ``odom -> base_link``, at every odometry stamp) and
+``/tf_static`` (``base_link -> laser``, the ``laser_*`` mount, upside down too); see
+``sim_bridge.robot_frames`` and ``sim_bridge.odometry_drift``. Subscribes to ``cmd_vel``
 (``geometry_msgs/Twist``, or ``TwistStamped`` with ``cmd_vel_stamped``): non-finite commands are
 ignored with a warning and counted, the rest clamped to the Husky's limits; with no command for
 ``cmd_timeout`` seconds of simulated time the Husky stops, as its base controller does.
