@@ -1,15 +1,17 @@
 """
-The ``dpn`` node: ROS 2 wrapper of the navigator core.
+The ``dpn`` node: ROS 2 wrapper of the navigator core, a managed (lifecycle) node.
 
 Topic names are relative to the node's namespace, ``compabot`` unless one is given
 (``-r __ns:=/robot2``). Subscribes to ``scan`` (``sensor_msgs/LaserScan``, in frame
-``laser_frame``), ``odom`` (``nav_msgs/Odometry``, the base pose, taken as the pose in the map
-frame: the simulator's odometry is drift-free and ``map -> odom`` the identity) and
-``goal_pose`` (``geometry_msgs/PoseStamped``, in ``map_frame``). Publishes ``map``
-(``nav_msgs/OccupancyGrid``, latched), ``map_updates`` (``map_msgs/OccupancyGridUpdate``:
-the changed cells, between full maps when ``map_publish_period`` spaces them out), ``cmd_vel``
-(``geometry_msgs/Twist``, or ``TwistStamped`` with ``cmd_vel_stamped``), ``plan``
-(``nav_msgs/Path``, latched), ``odom_real`` (``nav_msgs/Odometry``: the pose in use), ``marker``
+``laser_frame``), ``odom`` (``nav_msgs/Odometry``), ``/tf`` and ``/tf_static`` (the scan's pose:
+``pose_source``, ``scan_placement``) and ``goal_pose`` (``geometry_msgs/PoseStamped``, in
+``map_frame``); serves the ``navigate_to_pose`` action (``nav2_msgs/action/NavigateToPose``,
+``navigate_action``) and the lifecycle services (``lifecycle``). No goal, no motion: a start-up
+goal only with ``use_default_goal``. Publishes ``map`` (``nav_msgs/OccupancyGrid``, latched),
+``map_updates`` (``map_msgs/OccupancyGridUpdate``: the changed cells, between full maps when
+``map_publish_period`` spaces them out), ``cmd_vel`` (``geometry_msgs/Twist``, or
+``TwistStamped`` with ``cmd_vel_stamped``), ``plan`` (``nav_msgs/Path``, latched), ``odom_real``
+(``nav_msgs/Odometry``: the pose in use, in ``map_frame``), ``marker``
 (``visualization_msgs/MarkerArray``: planned path red, executed path yellow, goal green),
 ``status`` (``diagnostic_msgs/DiagnosticStatus``, latched: status, reason, counters) and the
 same status on ``/diagnostics`` (``DiagnosticArray``).
