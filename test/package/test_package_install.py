@@ -38,7 +38,7 @@ EXEC_DEPENDS = {
 }
 TEST_DEPENDS = {
     'ament_flake8', 'ament_pep257', 'python3-hypothesis', 'python3-pytest',
-    'python3-mcap-pip', 'python3-mcap-ros2-support-pip',
+    'mcap-ros2-support',
 }
 #: rosdep keys of the Python modules the code imports that are not ROS packages.
 PYTHON_MODULE_KEYS = {
