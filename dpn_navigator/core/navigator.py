@@ -86,7 +86,8 @@ class NavigatorConfig:
         0.35, 'm', 'cells this close to the robot are planned through even when labelled '
         'obstacles: the robot stands on them, so what was seen there has moved', 0.0, 2.0)
     laser_offset: tuple = (0.0, 0.0, 0.0)
-    max_path_deviation: float = 1.0
+    max_path_deviation: float = setting(
+        1.0, 'm', 'replan when the robot is farther than this from its path', 0.01, 100.0)
     obstacle_proximity_cost: float = setting(
         1.0, 'cells', 'extra A\\* cost of a free cell next to an obstacle (8-neighbourhood): '
         "paths keep a cell off walls where there is room, so that the Husky's corners clear "

@@ -177,7 +177,10 @@ PARAMETERS = (
     _part('goal_y', 18.0, 'm', 'goal y in the map frame, used only with `use_default_goal`; '
           'NaN: wait for a goal on `goal_pose`', None, None, 'node', 'goal', 1),
     *(_field('follower', name) for name in ('max_linear_speed', 'max_angular_speed',
-                                            'goal_tolerance', 'lookahead_distance')),
+                                            'goal_tolerance', 'lookahead_distance',
+                                            'heading_gain', 'turn_in_place_angle',
+                                            'slowdown_distance', 'corner_angle')),
+    _field('navigator', 'max_path_deviation'),
     _part('laser_x', 0.337, 'm', "laser position on the base, forward (the Husky's LMS1xx)",
           -10.0, 10.0, 'navigator', 'laser_offset', 0),
     _part('laser_y', 0.0, 'm', 'laser position on the base, left', -10.0, 10.0, 'navigator',

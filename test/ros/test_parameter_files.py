@@ -119,3 +119,20 @@ def test_the_world_node_declares_its_settings(ros_context):
         assert node.describe_parameter('scan_rate').description.endswith('[Hz]')
     finally:
         node.destroy_node()
+
+
+def test_follower_gains_and_path_deviation_are_parameters(ros_context):
+    from rclpy.node import Node
+    from rclpy.parameter import Parameter
+    node = Node('dpn', context=ros_context, parameter_overrides=[
+        Parameter('heading_gain', value=3.0), Parameter('turn_in_place_angle', value=0.4),
+        Parameter('slowdown_distance', value=1.0), Parameter('corner_angle', value=1.2),
+        Parameter('max_path_deviation', value=2.0)])
+    try:
+        params = declare_parameters(node)
+        follower = params.navigator.follower
+        assert (follower.heading_gain, follower.turn_in_place_angle, follower.slowdown_distance,
+                follower.corner_angle) == (3.0, 0.4, 1.0, 1.2)
+        assert params.navigator.max_path_deviation == 2.0
+    finally:
+        node.destroy_node()
