@@ -55,6 +55,7 @@ from .sim_clock import guard_clock
 from .spin import run_node
 from .tf_pose_source import make_tf_lookup, stamp_to_nanoseconds
 from ..core import Navigator, NavigatorStatus
+from ..core.control.acceleration_limit import AccelerationLimiter
 from ..core.mapping.map_values import warm_up_map_values
 from ..core.navigator import warm_up_navigator
 from ..core.pose_history import PoseHistory
@@ -106,6 +107,8 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         self.watchdog = SensorWatchdog(self.params.sensor_timeout, ('scan', 'odometry'))
         self.steady_clock = Clock(clock_type=ClockType.STEADY_TIME)
         self.cmd_vel_monitor = CommandTopicMonitor()
+        self.accel_limiter = AccelerationLimiter(self.params.max_linear_accel,
+                                                 self.params.max_angular_accel)
         self.pose = None
         self.odom_pose = None
         # Odometry poses kept for placing scans: interpolated, never extrapolated.
@@ -209,6 +212,7 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         """Drop the goal and send a zero command now (a canceled goal)."""
         self.navigator.clear_goal()
         self.cmd_pub.publish(0.0, 0.0)
+        self.accel_limiter.reset(self.now_seconds())
         self.publish_status()
 
     def clear_map(self):
@@ -365,7 +369,8 @@ class DpnNode(ManagedNavigator, LifecycleNode):
             self.scan_to_map_ms.append(1e3 * (time.perf_counter() - received))
         out = self.navigator.decide(now, self.pose)
         if not self.watchdog.is_stale(self.now_seconds(), self.steady_seconds()):
-            self.cmd_pub.publish(out.command.linear, out.command.angular)
+            self.cmd_pub.publish(*self.accel_limiter.limit(out.command.linear,
+                                                           out.command.angular, now))
         self.odom_real_pub.publish(pose_to_odometry(
             self.pose, self.velocity, stamp, frame_id=self.params.map_frame,
             child_frame_id=self.params.base_frame))
@@ -452,6 +457,7 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         stale = self.watchdog.stale_streams(self.now_seconds(), self.steady_seconds())
         if stale:
             self.cmd_pub.publish(0.0, 0.0)
+            self.accel_limiter.reset(self.now_seconds())
             if self.navigator.goal is not None:
                 self.get_logger().warning(f'{" and ".join(stale)} stale: stopping',
                                           throttle_duration_sec=WARN_THROTTLE)

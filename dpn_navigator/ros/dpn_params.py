@@ -80,6 +80,11 @@ class DpnParameters:
     max_laser_tilt: float = setting(
         0.05, 'rad', 'largest tilt of the laser (from TF) from level or upside down; a more '
         'tilted scan is dropped and counted', 0.0, 0.5)
+    max_linear_accel: float = setting(
+        2.5, 'm/s^2', 'largest growth of the forward speed command (slowing down is not '
+        "limited; Nav2's velocity_smoother default); 0: no limit", 0.0, 100.0)
+    max_angular_accel: float = setting(
+        3.2, 'rad/s^2', 'largest growth of the turn rate command; 0: no limit', 0.0, 100.0)
     cmd_vel_stamped: bool = setting(
         False, '', "send geometry_msgs/TwistStamped on cmd_vel instead of Twist (Jazzy's "
         'diff_drive_controller takes TwistStamped)')
@@ -181,6 +186,8 @@ PARAMETERS = (
                                             'heading_gain', 'turn_in_place_angle',
                                             'slowdown_distance', 'corner_angle')),
     _field('navigator', 'max_path_deviation'),
+    _field('node', 'max_linear_accel'),
+    _field('node', 'max_angular_accel'),
     _part('laser_x', 0.337, 'm', "laser position on the base, forward (the Husky's LMS1xx)",
           -10.0, 10.0, 'navigator', 'laser_offset', 0),
     _part('laser_y', 0.0, 'm', 'laser position on the base, left', -10.0, 10.0, 'navigator',

@@ -83,6 +83,10 @@ def test_bare_node_with_the_shipped_config_sends_no_motion_until_a_goal(ros_cont
         assert spin_until(executor, lambda: dpn.navigator.goal == (9.0, 6.0))
         feed_for(executor, feeder, 1.0)
         assert feeder.moving()
+        # From standing, the first command is held to max_linear_accel (2.5 m/s^2) and
+        # max_angular_accel (3.2 rad/s^2) over the first 0.1 s.
+        linear, angular = feeder.moving()[0]
+        assert 0.0 <= linear <= 0.25 + 1e-9 and abs(angular) <= 0.32 + 1e-9
 
 
 def test_default_goal_only_when_asked_for(ros_context):
