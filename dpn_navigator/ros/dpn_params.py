@@ -166,7 +166,9 @@ PARAMETERS = (
           'navigator', 'origin', 0),
     _part('origin_y', 0.0, 'm', "map-frame y of the environment's lower-left corner", -BIG, BIG,
           'navigator', 'origin', 1),
-    *_navigator('resolution', 'safety_radius', 'footprint_radius', 'obstacle_proximity_cost',
+    _field('navigator', 'resolution'),
+    _field('navigator', 'safety_radius', 'robot_radius'),
+    *_navigator('footprint_radius', 'obstacle_proximity_cost',
                 'forget_obstacles_after', 'free_evidence_radius', 'moving_object_size',
                 'evidence_margin', 'segment_gap', 'object_min_hits',
                 'fine_evidence_resolution', 'fine_evidence_radius', 'fine_evidence_range',
@@ -181,8 +183,10 @@ PARAMETERS = (
           0),
     _part('goal_y', 18.0, 'm', 'goal y in the map frame, used only with `use_default_goal`; '
           'NaN: wait for a goal on `goal_pose`', None, None, 'node', 'goal', 1),
-    *(_field('follower', name) for name in ('max_linear_speed', 'max_angular_speed',
-                                            'goal_tolerance', 'lookahead_distance',
+    _field('follower', 'max_linear_speed', 'max_vel_x'),
+    _field('follower', 'max_angular_speed', 'max_vel_theta'),
+    _field('follower', 'goal_tolerance', 'xy_goal_tolerance'),
+    *(_field('follower', name) for name in ('lookahead_distance',
                                             'heading_gain', 'turn_in_place_angle',
                                             'slowdown_distance', 'corner_angle')),
     _field('navigator', 'max_path_deviation'),
@@ -202,6 +206,13 @@ PARAMETERS = (
                                         'transform_timeout', 'max_laser_tilt',
                                         'cmd_vel_stamped', 'map_mobile_value')),
 )
+
+
+#: The names these parameters had before they took Nav2's (robot_radius in the costmaps,
+#: max_vel_x and max_vel_theta in the controllers and the velocity smoother, xy_goal_tolerance
+#: in the goal checker): still read for one release, with a deprecation warning.
+DEPRECATED_ALIASES = {'safety_radius': 'robot_radius', 'max_linear_speed': 'max_vel_x',
+                      'max_angular_speed': 'max_vel_theta', 'goal_tolerance': 'xy_goal_tolerance'}
 
 
 def declare_parameter(node, parameter):
@@ -229,6 +240,7 @@ def declare_parameters(node):
     for parameter in PARAMETERS:
         if parameter.target != 'safety':
             values[parameter.name] = declare_parameter(node, parameter)
+    values.update(read_deprecated_aliases(node, values))
     check_grid_size(values['map_width'], values['map_height'], values['resolution'])
     if values['fine_evidence_resolution'] > 0.0:
         check_grid_size(values['map_width'], values['map_height'],
@@ -285,3 +297,37 @@ def check_grid_size(width, height, resolution, max_cells=MAX_GRID_CELLS,
             f'map_width {width:g} m x map_height {height:g} m at {resolution_name} '
             f'{resolution:g} m is {geometry.cols} x {geometry.rows} = {cells:,} cells, more '
             f'than {max_cells:,}: use a coarser {resolution_name} or a smaller map{hint}')
+
+
+def read_deprecated_aliases(node, values):
+    """
+    Declare the deprecated names of `DEPRECATED_ALIASES`; return the values they override.
+
+    A deprecated name set to something other than its default is used (with a warning) unless
+    the Nav2 name is also set, which then wins (with a warning naming both).
+
+    Returns
+    -------
+    dict
+        ``{nav2 name: value}`` of the deprecated names that were set.
+
+    """
+    by_name = {p.name: p for p in PARAMETERS}
+    taken = {}
+    for old, new in DEPRECATED_ALIASES.items():
+        parameter = by_name[new]
+        alias = RosParameter(old, parameter.default, Setting(
+            parameter.setting.unit, f'deprecated: use {new}', parameter.setting.low,
+            parameter.setting.high), parameter.target, parameter.field, parameter.index)
+        value = declare_parameter(node, alias)
+        if value == parameter.default:
+            continue
+        if values[new] != parameter.default:
+            node.get_logger().warning(
+                f'parameters {old} (deprecated) and {new} both set: using {new} = {values[new]}')
+            continue
+        node.get_logger().warning(
+            f"parameter {old} is deprecated and will be removed: use {new} (Nav2's name); "
+            f'taking {old} = {value}')
+        taken[new] = value
+    return taken

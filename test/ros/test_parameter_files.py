@@ -37,7 +37,7 @@ FILES = ('config/dpn.yaml', 'config/pybullet_world.yaml', 'docs/ros_reference.md
 
 
 @pytest.mark.parametrize('path, old, new', [
-    ('config/dpn.yaml', 'safety_radius: 0.6', 'safety_radius: 0.7'),
+    ('config/dpn.yaml', 'robot_radius: 0.6', 'robot_radius: 0.7'),
     ('config/pybullet_world.yaml', 'wanderers: 3', 'wanderers: 4'),
     ('docs/ros_reference.md', '| dpn | `segment_gap` | 0.3 |', '| dpn | `segment_gap` | 0.4 |'),
     ('docs/ros_reference.md', '| pybullet_world | `seed` | 0 |',
@@ -136,3 +136,24 @@ def test_follower_gains_and_path_deviation_are_parameters(ros_context):
         assert params.navigator.max_path_deviation == 2.0
     finally:
         node.destroy_node()
+
+
+def test_nav2_names_with_the_old_names_as_deprecated_aliases(ros_context):
+    from dpn_navigator.ros.dpn_params import DEPRECATED_ALIASES
+    from rclpy.node import Node
+    from rclpy.parameter import Parameter
+    assert {'robot_radius', 'max_vel_x', 'max_vel_theta', 'xy_goal_tolerance'} <= {
+        p.name for p in PARAMETERS}
+    assert not set(DEPRECATED_ALIASES) & {p.name for p in PARAMETERS}
+    old = Node('dpn', namespace='old', context=ros_context, parameter_overrides=[
+        Parameter('safety_radius', value=0.4), Parameter('max_linear_speed', value=0.5)])
+    both = Node('dpn', namespace='both', context=ros_context, parameter_overrides=[
+        Parameter('goal_tolerance', value=0.5), Parameter('xy_goal_tolerance', value=0.2)])
+    try:
+        params = declare_parameters(old)
+        assert params.navigator.safety_radius == 0.4
+        assert params.navigator.follower.max_linear_speed == 0.5
+        assert declare_parameters(both).navigator.follower.goal_tolerance == 0.2
+    finally:
+        old.destroy_node()
+        both.destroy_node()
