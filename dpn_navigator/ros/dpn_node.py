@@ -23,7 +23,7 @@ the node clock or on the steady wall clock, the robot is stopped (docs/safety.md
 """
 
 from collections import deque
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 import math
 import statistics
 import time
@@ -90,6 +90,7 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         # Inactive until activated (at the end here with autostart, else by change_state).
         self.active = False
         self.navigate = None
+        self.map_placed = False
         self.params = declare_parameters(self)
         self.limits = declare_safety_parameters(self)
         # Compile (or load) the kernels now, so that the first scan does not wait for them.
@@ -208,6 +209,18 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         self.publish_status()
         return None
 
+    def place_map(self, pose):
+        """Centre the (still empty) map on ``pose``, the robot's first map-frame pose."""
+        config = self.params.navigator
+        origin = (pose[0] - 0.5 * config.width, pose[1] - 0.5 * config.height)
+        goal = self.navigator.goal
+        self.clear_map(replace(config, origin=origin))
+        self.map_placed = True
+        self.get_logger().info(f'map placed around the start pose: origin ({origin[0]:.2f}, '
+                               f'{origin[1]:.2f}), {config.width} m x {config.height} m')
+        if goal is not None:
+            self.set_goal(*goal, via='the goal before the map was placed')
+
     def stop(self):
         """Drop the goal and send a zero command now (a canceled goal)."""
         self.navigator.clear_goal()
@@ -215,9 +228,9 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         self.accel_limiter.reset(self.now_seconds())
         self.publish_status()
 
-    def clear_map(self):
-        """Start again with an empty map and no goal (lifecycle cleanup)."""
-        self.navigator = Navigator(self.params.navigator)
+    def clear_map(self, config=None):
+        """Start again with an empty map and no goal (lifecycle cleanup), or another map."""
+        self.navigator = Navigator(config or self.navigator.config)
         self.map_buffer = OccupancyGridBuffer(self.navigator.grid.geometry.shape,
                                               self.params.map_mobile_value)
         self.map_changes = self.navigator.grid.change_tracker()
@@ -344,6 +357,8 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         """Fold a placed scan into the map, decide the command, publish."""
         msg, received = pending.msg, pending.received
         now = self.now_seconds()
+        if self.params.centre_on_start and not self.map_placed:
+            self.place_map(placement.base_pose)
         if placement.source == 'tf':
             pose = self.placer.robot_pose(None) or placement.base_pose
             self.pose = pose

@@ -20,7 +20,7 @@ from .parameter_declaration import declare_setting
 from .safety_params import SafetyParameters
 from ..core import FollowerConfig, GridGeometry, NavigatorConfig
 from ..core.cell_label import OCCUPANCY_MOBILE_OBSTACLE
-from ..core.settings import BIG, Setting, setting, settings_of
+from ..core.settings import Setting, setting, settings_of
 
 #: Most grid cells a node may ask for (2048 x 2048): the grid and A*'s arrays stay in memory and
 #: one plan in seconds. More is a parameter error, not a MemoryError in numpy.
@@ -40,6 +40,9 @@ class DpnParameters:
     ----------
     navigator : NavigatorConfig
         The core's configuration.
+    centre_on_start : bool
+        ``origin_x``/``origin_y`` are NaN: the map is to be centred on the robot's pose at its
+        first scan (``navigator.origin`` is a placeholder until then).
     goal : (float, float) or None
         The goal in the map frame [m] given by ``goal_x``/``goal_y`` with ``use_default_goal``;
         None: wait for one on ``goal_pose`` (or the ``navigate_to_pose`` action).
@@ -48,6 +51,7 @@ class DpnParameters:
 
     navigator: NavigatorConfig
     goal: tuple
+    centre_on_start: bool
     sensor_timeout: float = setting(
         0.4, 's', 'stop the robot when scan or odometry is older, on the node clock or the '
         'steady clock ([safety](safety.md))', 0.01, 60.0)
@@ -162,10 +166,11 @@ def _navigator(*names):
 PARAMETERS = (
     _field('navigator', 'width', 'map_width', 25.0),
     _field('navigator', 'height', 'map_height', 20.0),
-    _part('origin_x', 0.0, 'm', "map-frame x of the environment's lower-left corner", -BIG, BIG,
+    _part('origin_x', 0.0, 'm', "map-frame x of the environment's lower-left corner; NaN (with "
+          '`origin_y`): the map centred on where the robot is at its first scan', None, None,
           'navigator', 'origin', 0),
-    _part('origin_y', 0.0, 'm', "map-frame y of the environment's lower-left corner", -BIG, BIG,
-          'navigator', 'origin', 1),
+    _part('origin_y', 0.0, 'm', "map-frame y of the environment's lower-left corner; NaN: see "
+          '`origin_x`', None, None, 'navigator', 'origin', 1),
     _field('navigator', 'resolution'),
     _field('navigator', 'safety_radius', 'robot_radius'),
     *_navigator('footprint_radius', 'obstacle_proximity_cost',
@@ -258,6 +263,16 @@ def declare_parameters(node):
                 values[parameter.name]
     for (target, name), components in parts.items():
         fields_of[target][name] = tuple(components[k] for k in sorted(components))
+    origin = fields_of['navigator']['origin']
+    centre_on_start = any(math.isnan(v) for v in origin)
+    if centre_on_start:
+        if not all(math.isnan(v) for v in origin):
+            raise ValueError('origin_x and origin_y: give both, or both NaN (the map centred on '
+                             f'the start pose); got {origin}')
+        # A placeholder until the first scan's pose places the map (DpnNode).
+        fields_of['navigator']['origin'] = (-0.5 * values['map_width'],
+                                            -0.5 * values['map_height'])
+    fields_of['node']['centre_on_start'] = centre_on_start
     goal = fields_of['node'].pop('goal')
     if not (fields_of['node']['use_default_goal']
             and all(math.isfinite(value) for value in goal)):
