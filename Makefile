@@ -54,7 +54,7 @@ VENV_BIN := $(VENV)/bin
 # Stamp of the last successful install of requirements.txt into .venv.
 REQUIREMENTS_STAMP := $(VENV)/.requirements.stamp
 # The message stand-ins (fallback/, docs/setup.md): each one's stamp of its install into .venv.
-STAND_INS := tf2_msgs map_msgs
+STAND_INS := tf2_msgs map_msgs nav2_msgs
 STAND_IN_STAMPS := $(foreach name,$(STAND_INS),$(VENV)/.$(name).stamp)
 
 # colcon and everything it starts run with the venv's python.
@@ -107,7 +107,7 @@ $(REQUIREMENTS_STAMP): $(ROOT)/requirements.txt $(ROOT)/requirements-ray.txt \
 # find them there with no environment to source. fallback/ holds a COLCON_IGNORE, so a colcon
 # build of this repository (the apt Jazzy path) never sees them.
 .SECONDEXPANSION:
-$(STAND_IN_STAMPS): $(VENV)/.%.stamp: $$(wildcard $(ROOT)/fallback/$$*/*.* $(ROOT)/fallback/$$*/msg/*) \
+$(STAND_IN_STAMPS): $(VENV)/.%.stamp: $$(wildcard $(ROOT)/fallback/$$*/*.* $(ROOT)/fallback/$$*/msg/* $(ROOT)/fallback/$$*/action/*) \
     $(ROOT)/fallback/wheel_include_dirs.cmake \
     $(REQUIREMENTS_STAMP)
 	rm -rf $(VENV)/build/$*
@@ -116,7 +116,7 @@ $(STAND_IN_STAMPS): $(VENV)/.%.stamp: $$(wildcard $(ROOT)/fallback/$$*/*.* $(ROO
 	  -DPython3_EXECUTABLE=$(VENV_BIN)/python -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF
 	$(VENV_BIN)/cmake --build $(VENV)/build/$* -j 2
 	$(VENV_BIN)/cmake --install $(VENV)/build/$*
-	$(VENV_BIN)/python -c 'import $*.msg'
+	$(VENV_BIN)/python -c 'import $*.$(if $(filter nav2_msgs,$*),action,msg)'
 	touch $@
 
 build: setup

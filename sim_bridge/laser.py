@@ -45,6 +45,9 @@ class LaserConfig:
         Laser pose on the robot's base frame ``(x, y, yaw)`` [m, m, rad].
     height : float
         Height of the scan plane above the ground [m].
+    upside_down : bool
+        Mounted upside down (rolled by pi about its x axis): laser-frame angle ``a`` looks
+        along base-frame angle ``mount yaw - a``.
 
     """
 
@@ -56,6 +59,7 @@ class LaserConfig:
     noise_std: float = 0.0
     mount: tuple = LASER_MOUNT
     height: float = LASER_HEIGHT
+    upside_down: bool = False
 
     def __post_init__(self):
         if isinstance(self.n_beams, bool) or not isinstance(self.n_beams, int) or \
@@ -141,7 +145,8 @@ class Laser:
         self.rng = rng
         angles = config.angle_min + config.angle_increment * np.arange(config.n_beams)
         self._cos = np.cos(angles)
-        self._sin = np.sin(angles)
+        # An upside-down laser sweeps clockwise seen from above: its angles are mirrored.
+        self._sin = -np.sin(angles) if config.upside_down else np.sin(angles)
         self._from = np.zeros((config.n_beams, 3), dtype=np.float64)
         self._to = np.zeros((config.n_beams, 3), dtype=np.float64)
 

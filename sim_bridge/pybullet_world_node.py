@@ -1,16 +1,19 @@
 """
 The ``pybullet_world`` node: the pybullet world over ROS 2, standing in for Gazebo.
 
-Topic names are relative to the node's namespace, ``compabot`` unless one is given
-(``-r __ns:=/robot2``). Publishes ``scan`` (``sensor_msgs/LaserScan``, frame ``laser``,
-sensor-data QoS), ``odom`` (``nav_msgs/Odometry``: the Husky's pose and velocity, frame
-``odom``, child ``base_link``; drift-free, so ``odom`` coincides with ``map``), ``sim/status``
-(``diagnostic_msgs/DiagnosticStatus``, latched: simulated time, contact counts, rejected
-commands; also on ``/diagnostics``) and ``sim/wanderers`` (``visualization_msgs/MarkerArray``,
-one cylinder per P3-AT, ground truth in ``map``). Global: ``/clock`` (``rosgraph_msgs/Clock``,
-simulated time, every tick), ``/tf`` (``map -> odom`` from ground truth, standing in for a
-localiser, and ``odom -> base_link``, at every odometry stamp) and ``/tf_static``
-(``base_link -> laser``); see ``sim_bridge.robot_frames``. Subscribes to ``cmd_vel``
+Topic names are relative to the node's namespace, ``compabot`` unless one is given (``-r
+__ns:=/robot2``). Publishes ``scan`` (``sensor_msgs/LaserScan``, frame ``laser``, reliable as REP
+2003 asks of sensor drivers, so best-effort and reliable subscribers match), ``odom``
+(``nav_msgs/Odometry``: the Husky's pose and velocity, frame ``odom``, child ``base_link``,
+reliable too; drift-free by default, so ``odom`` coincides with ``map``; the ``odom_drift_*`` and
+``odom_noise`` parameters make it drift as wheel odometry does), ``sim/status``
+(``diagnostic_msgs/DiagnosticStatus``, latched: simulated time, contact counts, rejected commands;
+also on ``/diagnostics``) and ``sim/wanderers`` (``visualization_msgs/MarkerArray``, one cylinder
+per P3-AT, ground truth in ``map``). Global: ``/clock`` (``rosgraph_msgs/Clock``, simulated time,
+every tick), ``/tf`` (``map -> odom`` from ground truth, standing in for a localiser, exact or with
+the ``localiser_*`` error and rate, and ``odom -> base_link``, at every odometry stamp) and
+``/tf_static`` (``base_link -> laser``, the ``laser_*`` mount, upside down too); see
+``sim_bridge.robot_frames`` and ``sim_bridge.odometry_drift``. Subscribes to ``cmd_vel``
 (``geometry_msgs/Twist``, or ``TwistStamped`` with ``cmd_vel_stamped``): non-finite commands are
 ignored with a warning and counted, the rest clamped to the Husky's limits; with no command for
 ``cmd_timeout`` seconds of simulated time the Husky stops, as its base controller does.
@@ -25,12 +28,13 @@ import math
 
 from diagnostic_msgs.msg import DiagnosticStatus
 from dpn_navigator.core.planning.astar_search import warm_up_astar
+from dpn_navigator.core.pose2d import compose
 from dpn_navigator.ros.command_publisher import command_to_velocity, command_type
 from dpn_navigator.ros.conversions import make_laser_scan, pose_to_odometry, seconds_to_time
 from dpn_navigator.ros.diagnostics import diagnostic_status, DiagnosticsPublisher
 from dpn_navigator.ros.names import DEFAULT_NAMESPACE
 from dpn_navigator.ros.parameter_declaration import declare_setting
-from dpn_navigator.ros.qos import COMMAND_QOS, SENSOR_QOS
+from dpn_navigator.ros.qos import COMMAND_QOS, SENSOR_PUBLISHER_QOS
 from dpn_navigator.ros.sim_clock import guard_clock
 from dpn_navigator.ros.spin import run_node
 from nav_msgs.msg import Odometry
@@ -40,6 +44,7 @@ from sensor_msgs.msg import LaserScan
 from visualization_msgs.msg import MarkerArray
 
 from .laser import LaserConfig
+from .odometry_drift import DriftConfig, DriftingOdometry, Localiser, LocaliserConfig
 from .robot_frames import FrameNames, RobotFramePublisher
 from .scenario import load_scenario
 from .wanderer_markers import wanderer_markers
@@ -75,9 +80,17 @@ class PybulletWorldNode(Node):
                              f'task {task} does not exist')
         default_start = scenario.tasks[task].start
         start = tuple(default_start[k] if math.isnan(start[k]) else start[k] for k in range(3))
+        laser = LaserConfig(noise_std=noise, mount=(params.laser_x, params.laser_y,
+                                                    params.laser_yaw),
+                            height=params.laser_z, upside_down=params.laser_upside_down)
         config = WorldConfig(physics_rate=physics_rate, scan_rate=scan_rate,
-                             n_wanderers=wanderers, seed=seed, gui=gui,
-                             laser=LaserConfig(noise_std=noise))
+                             n_wanderers=wanderers, seed=seed, gui=gui, laser=laser)
+        self.odometry = DriftingOdometry(
+            DriftConfig(params.odom_drift_scale, params.odom_drift_yaw_scale,
+                        params.odom_drift_yaw_per_metre, params.odom_noise), start, seed)
+        self.localiser = Localiser(LocaliserConfig(params.localiser_error_xy,
+                                                   params.localiser_error_yaw,
+                                                   params.localiser_rate), seed)
         # The wanderers plan with the core's A* kernel: compile (or load) it before the first
         # tick rather than in the middle of one.
         warm_up_astar()
@@ -85,13 +98,13 @@ class PybulletWorldNode(Node):
         self.goal = scenario.tasks[task].goal
         self.command = (0.0, 0.0)
         self.last_command_time = -math.inf
-        self.scan_pub = self.create_publisher(LaserScan, 'scan', SENSOR_QOS)
-        self.odom_pub = self.create_publisher(Odometry, 'odom', SENSOR_QOS)
+        self.scan_pub = self.create_publisher(LaserScan, 'scan', SENSOR_PUBLISHER_QOS)
+        self.odom_pub = self.create_publisher(Odometry, 'odom', SENSOR_PUBLISHER_QOS)
         self.clock_pub = self.create_publisher(Clock, '/clock', COMMAND_QOS)
         self.diagnostics = DiagnosticsPublisher(self, 'sim/status')
         self.wanderer_pub = self.create_publisher(MarkerArray, 'sim/wanderers', COMMAND_QOS)
         self.robot_frames = RobotFramePublisher(self, self.frames, config.laser.mount,
-                                                config.laser.height)
+                                                config.laser.height, config.laser.upside_down)
         self.create_subscription(command_type(cmd_vel_stamped), 'cmd_vel', self.on_cmd_vel,
                                  COMMAND_QOS)
         self.create_timer(1.0 / (physics_rate * self.real_time_factor), self.on_tick)
@@ -127,10 +140,13 @@ class PybulletWorldNode(Node):
         self.clock_pub.publish(Clock(clock=stamp))
         pose = world.husky_pose
         frames = self.frames
-        self.odom_pub.publish(pose_to_odometry(pose, world.husky_velocity, stamp,
+        # The odometry pose: the true pose unless drift is set (the velocity stays the true one).
+        odom_pose = self.odometry.update(pose)
+        self.odom_pub.publish(pose_to_odometry(odom_pose, world.husky_velocity, stamp,
                                                frame_id=frames.odom, child_frame_id=frames.base))
-        # Drift-free odometry: the odometry pose is the true pose.
-        self.robot_frames.publish(pose, pose, stamp)
+        # map -> odom as the localiser has it, published as its pose estimate of the base.
+        odom_in_map = self.localiser.update(world.time, pose, odom_pose)
+        self.robot_frames.publish(compose(odom_in_map, odom_pose), odom_pose, stamp)
 
     def publish_scan(self):
         """Publish the scan of this tick, the wanderers and the status."""

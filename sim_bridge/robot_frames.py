@@ -6,9 +6,10 @@ The simulated robot's TF tree (REP 105): what its drivers and a localiser would 
 - ``base_link -> laser`` is the laser mount (``sim_bridge.husky.LASER_MOUNT`` at
   ``LASER_HEIGHT``), published once on ``/tf_static``.
 - ``odom -> base_link`` is the wheel odometry, published on ``/tf`` with every odometry
-  message. The simulated odometry is the true pose, so the ``odom`` frame is the ``map`` frame.
-- ``map -> odom`` stands in for a localiser (AMCL, slam_toolbox): computed from ground truth,
-  the true pose composed with the inverse of the odometry pose. It is the identity while the
+  message. Drift-free by default, when the ``odom`` frame is the ``map`` frame; with drift
+  (``sim_bridge.odometry_drift``) it wanders off the true pose.
+- ``map -> odom`` stands in for a localiser (AMCL, slam_toolbox): computed from its estimate
+  of the true pose composed with the inverse of the odometry pose. It is the identity while the
   odometry has no drift, and is published on ``/tf`` at the same stamps.
 
 """
@@ -16,11 +17,13 @@ The simulated robot's TF tree (REP 105): what its drivers and a localiser would 
 from dataclasses import dataclass
 import math
 
-from dpn_navigator.core.pose2d import compose, wrap_angle
+from dpn_navigator.core.pose2d import compose
 from dpn_navigator.ros.names import TF_STATIC_TOPIC, TF_TOPIC
 from dpn_navigator.ros.qos import TF_QOS, TF_STATIC_QOS
 from dpn_navigator.ros.tf_messages import tf_message, transform_stamped
 from tf2_msgs.msg import TFMessage
+
+from .odometry_drift import inverse_pose
 
 
 @dataclass(frozen=True)
@@ -40,27 +43,7 @@ class FrameNames:
             raise ValueError(f'frame ids must differ from each other: {names}')
 
 
-def inverse_pose(pose):
-    """
-    Return the inverse of a planar pose: where frame A is seen from frame B, given B in A.
-
-    Parameters
-    ----------
-    pose : (float, float, float)
-        ``(x, y, yaw)`` of frame B in frame A [m, m, rad].
-
-    Returns
-    -------
-    (float, float, float)
-        ``(x, y, yaw)`` of frame A in frame B, so that ``compose(pose, inverse) == (0, 0, 0)``.
-
-    """
-    x, y, yaw = pose
-    cos_yaw, sin_yaw = math.cos(yaw), math.sin(yaw)
-    return (-cos_yaw * x - sin_yaw * y, sin_yaw * x - cos_yaw * y, wrap_angle(-yaw))
-
-
-def laser_mount_transforms(frames, laser_mount, laser_height, stamp):
+def laser_mount_transforms(frames, laser_mount, laser_height, stamp, upside_down=False):
     """
     Return the ``/tf_static`` message of the robot: ``base_link -> laser``.
 
@@ -74,14 +57,22 @@ def laser_mount_transforms(frames, laser_mount, laser_height, stamp):
         Height of the scan plane above the base frame [m].
     stamp : builtin_interfaces.msg.Time
         Header stamp.
+    upside_down : bool
+        The laser is mounted upside down: rolled by pi about its x axis (its beams sweep
+        clockwise seen from above).
 
     Returns
     -------
     TFMessage
 
     """
-    return tf_message(transform_stamped(frames.base, frames.laser, laser_mount, stamp,
-                                        z=laser_height))
+    transform = transform_stamped(frames.base, frames.laser, laser_mount, stamp, z=laser_height)
+    if upside_down:
+        # Rz(yaw) Rx(pi): (x, y, z, w) = (cos(yaw/2), sin(yaw/2), 0, 0).
+        rotation = transform.transform.rotation
+        half = 0.5 * laser_mount[2]
+        rotation.x, rotation.y, rotation.z, rotation.w = math.cos(half), math.sin(half), 0.0, 0.0
+    return tf_message(transform)
 
 
 def robot_transforms(frames, true_pose, odom_pose, stamp):
@@ -124,15 +115,17 @@ class RobotFramePublisher:
         Laser pose on the base frame ``(x, y, yaw)`` [m, m, rad].
     laser_height : float
         Height of the scan plane above the base frame [m].
+    upside_down : bool
+        The laser is mounted upside down (``laser_mount_transforms``).
 
     """
 
-    def __init__(self, node, frames, laser_mount, laser_height):
+    def __init__(self, node, frames, laser_mount, laser_height, upside_down=False):
         self.frames = frames
         self.tf_pub = node.create_publisher(TFMessage, TF_TOPIC, TF_QOS)
         self.static_pub = node.create_publisher(TFMessage, TF_STATIC_TOPIC, TF_STATIC_QOS)
         self.static_pub.publish(laser_mount_transforms(
-            frames, laser_mount, laser_height, node.get_clock().now().to_msg()))
+            frames, laser_mount, laser_height, node.get_clock().now().to_msg(), upside_down))
 
     def publish(self, true_pose, odom_pose, stamp):
         """

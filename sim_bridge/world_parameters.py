@@ -12,6 +12,8 @@ import math
 
 from dpn_navigator.core.settings import setting, settings_of
 
+from .husky import LASER_HEIGHT, LASER_MOUNT
+
 
 @dataclass(frozen=True)
 class WorldNodeParameters:
@@ -42,6 +44,34 @@ class WorldNodeParameters:
         0.5, 's', 'stop when no `cmd_vel` came for this long (simulated time)', 0.01, 60.0)
     cmd_vel_stamped: bool = setting(
         False, '', 'take geometry_msgs/TwistStamped on `cmd_vel` instead of Twist')
+    laser_x: float = setting(
+        LASER_MOUNT[0], 'm', 'laser position on the base, forward (published on `/tf_static`)',
+        -10.0, 10.0)
+    laser_y: float = setting(LASER_MOUNT[1], 'm', 'laser position on the base, left', -10.0,
+                             10.0)
+    laser_z: float = setting(LASER_HEIGHT, 'm', 'height of the scan plane above the ground',
+                             0.01, 10.0)
+    laser_yaw: float = setting(LASER_MOUNT[2], 'rad', 'laser heading on the base', -math.pi,
+                               math.pi)
+    laser_upside_down: bool = setting(
+        False, '', 'laser mounted upside down (rolled by pi: its beams sweep clockwise)')
+    odom_drift_scale: float = setting(
+        0.0, '', 'relative error of the distance in the odometry (0.02: 2 % too long)', -0.4, 0.4)
+    odom_drift_yaw_scale: float = setting(
+        0.0, '', 'relative error of the turns in the odometry', -0.4, 0.4)
+    odom_drift_yaw_per_metre: float = setting(
+        0.0, 'rad/m', 'heading error the odometry adds per metre driven', -1.0, 1.0)
+    odom_noise: float = setting(
+        0.0, 'm/sqrt(m)', 'odometry noise of distance [m] and heading [rad] per square root of '
+        'metre driven', 0.0, 1.0)
+    localiser_error_xy: float = setting(
+        0.0, 'm', "position error of the simulated localiser's `map -> odom`", 0.0, 10.0)
+    localiser_error_yaw: float = setting(
+        0.0, 'rad', "heading error of the simulated localiser's `map -> odom`", -math.pi,
+        math.pi)
+    localiser_rate: float = setting(
+        0.0, 'Hz', 'refreshes of `map -> odom` per simulated second (published every tick, '
+        'the last refresh between); 0: every tick', 0.0, 1000.0)
     map_frame: str = setting('map', '', 'frame id of the map (the fixed world frame)')
     odom_frame: str = setting('odom', '', 'frame id of the odometry frame')
     base_frame: str = setting('base_link', '', 'frame id of the robot base')

@@ -28,6 +28,7 @@ def room_navigator(context, use_sim_time=True, *more_overrides):
     """
     from dpn_navigator.ros.dpn_node import DpnNode
     overrides = [Parameter('map_width', value=12.0), Parameter('map_height', value=12.0),
+                 Parameter('use_default_goal', value=True),
                  Parameter('goal_x', value=10.0), Parameter('goal_y', value=6.0),
                  Parameter('laser_x', value=0.0),
                  Parameter('use_sim_time', value=use_sim_time), *more_overrides]

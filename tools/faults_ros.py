@@ -71,7 +71,8 @@ def start_process(package, name, args, domain_id, log_path):
 
 def start_dpn(domain_id, log_path, sim_time):
     args = ['--ros-args', '-p', 'map_width:=12.0', '-p', 'map_height:=12.0',
-            '-p', 'goal_x:=10.0', '-p', 'goal_y:=6.0', '-p', 'laser_x:=0.0',
+            '-p', 'use_default_goal:=true', '-p', 'goal_x:=10.0', '-p', 'goal_y:=6.0',
+            '-p', 'laser_x:=0.0',
             '-p', f'use_sim_time:={str(sim_time)}']
     return start_process('dpn_navigator', 'dpn', args, domain_id, log_path)
 

@@ -97,7 +97,8 @@ class NavigatorConfig:
         0.35, 'm', 'cells this close to the robot are planned through even when labelled '
         'obstacles: the robot stands on them, so what was seen there has moved', 0.0, 2.0)
     laser_offset: tuple = (0.0, 0.0, 0.0)
-    max_path_deviation: float = 1.0
+    max_path_deviation: float = setting(
+        1.0, 'm', 'replan when the robot is farther than this from its path', 0.01, 100.0)
     obstacle_proximity_cost: float = setting(
         1.0, 'cells', 'extra A\\* cost of a free cell next to an obstacle (8-neighbourhood): '
         "paths keep a cell off walls where there is room, so that the Husky's corners clear "
@@ -435,7 +436,7 @@ class Navigator:
         return self.decide(stamp, pose)
 
     def observe(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
-                angle_max=None, stamp=None, defer_evidence=False):
+                angle_max=None, stamp=None, defer_evidence=False, laser_pose=None):
         """
         Fold one scan into the map; the next ``decide`` replans if the scan asks for it.
 
@@ -453,6 +454,9 @@ class Navigator:
             Leave the free evidence of the scan for `settle` (``LabelGrid.update``), so that
             the map is ready sooner; the map and the plans are the same. Ignored by a grid
             without ``settle``.
+        laser_pose : (float, float, float), optional
+            The laser's ``(x, y, yaw)`` in the map frame [m, m, rad] when it is known apart
+            from the base pose (from TF); None: ``pose`` composed with ``laser_offset``.
 
         Raises
         ------
@@ -461,7 +465,8 @@ class Navigator:
 
         """
         pose = check_pose(pose)
-        laser_pose = compose(pose, self.config.laser_offset)
+        laser_pose = (compose(pose, self.config.laser_offset) if laser_pose is None
+                      else check_pose(laser_pose, 'laser pose'))
         deferring = ({'defer_evidence': True} if defer_evidence and self.grid.defers_evidence
                      else {})
         replan = self.grid.update(laser_pose, ranges, angle_min, angle_increment, range_min,

@@ -48,6 +48,11 @@ class PoseHistory:
     def __len__(self):
         return len(self._poses)
 
+    @property
+    def newest_stamp(self):
+        """Return the stamp of the newest kept pose [s], or None when none is kept."""
+        return self._poses[-1][0] if self._poses else None
+
     def add(self, stamp, pose, velocity=(0.0, 0.0)):
         """
         Keep ``pose`` ``(x, y, yaw)`` [m, m, rad] and ``velocity`` ``(v, omega)`` [m/s, rad/s].

@@ -1,15 +1,17 @@
 """
-The ``dpn`` node: ROS 2 wrapper of the navigator core.
+The ``dpn`` node: ROS 2 wrapper of the navigator core, a managed (lifecycle) node.
 
 Topic names are relative to the node's namespace, ``compabot`` unless one is given
 (``-r __ns:=/robot2``). Subscribes to ``scan`` (``sensor_msgs/LaserScan``, in frame
-``laser_frame``), ``odom`` (``nav_msgs/Odometry``, the base pose, taken as the pose in the map
-frame: the simulator's odometry is drift-free and ``map -> odom`` the identity) and
-``goal_pose`` (``geometry_msgs/PoseStamped``, in ``map_frame``). Publishes ``map``
-(``nav_msgs/OccupancyGrid``, latched), ``map_updates`` (``map_msgs/OccupancyGridUpdate``:
-the changed cells, between full maps when ``map_publish_period`` spaces them out), ``cmd_vel``
-(``geometry_msgs/Twist``, or ``TwistStamped`` with ``cmd_vel_stamped``), ``plan``
-(``nav_msgs/Path``, latched), ``odom_real`` (``nav_msgs/Odometry``: the pose in use), ``marker``
+``laser_frame``), ``odom`` (``nav_msgs/Odometry``), ``/tf`` and ``/tf_static`` (the scan's pose:
+``pose_source``, ``scan_placement``) and ``goal_pose`` (``geometry_msgs/PoseStamped``, in
+``map_frame``); serves the ``navigate_to_pose`` action (``nav2_msgs/action/NavigateToPose``,
+``navigate_action``) and the lifecycle services (``lifecycle``). No goal, no motion: a start-up
+goal only with ``use_default_goal``. Publishes ``map`` (``nav_msgs/OccupancyGrid``, latched),
+``map_updates`` (``map_msgs/OccupancyGridUpdate``: the changed cells, between full maps when
+``map_publish_period`` spaces them out), ``cmd_vel`` (``geometry_msgs/Twist``, or
+``TwistStamped`` with ``cmd_vel_stamped``), ``plan`` (``nav_msgs/Path``, latched), ``odom_real``
+(``nav_msgs/Odometry``: the pose in use, in ``map_frame``), ``marker``
 (``visualization_msgs/MarkerArray``: planned path red, executed path yellow, goal green),
 ``status`` (``diagnostic_msgs/DiagnosticStatus``, latched: status, reason, counters) and the
 same status on ``/diagnostics`` (``DiagnosticArray``).
@@ -21,6 +23,7 @@ the node clock or on the steady wall clock, the robot is stopped (docs/safety.md
 """
 
 from collections import deque
+from dataclasses import dataclass, replace
 import math
 import statistics
 import time
@@ -30,7 +33,7 @@ from geometry_msgs.msg import PoseStamped
 from map_msgs.msg import OccupancyGridUpdate
 from nav_msgs.msg import OccupancyGrid, Odometry, Path
 from rclpy.clock import Clock, ClockType
-from rclpy.node import Node
+from rclpy.lifecycle import LifecycleNode
 from sensor_msgs.msg import LaserScan
 from visualization_msgs.msg import MarkerArray
 
@@ -39,15 +42,20 @@ from .command_publisher import CommandPublisher
 from .conversions import (laser_scan_fields, OccupancyGridBuffer, odometry_to_pose,
                           pose_to_odometry, stamp_to_seconds)
 from .diagnostics import diagnostic_status, DiagnosticsPublisher
-from .dpn_params import declare_parameters
+from .dpn_params import declare_parameters, PARAMETERS
+from .lifecycle import ManagedNavigator
 from .names import DEFAULT_NAMESPACE
+from .navigate_action import load_action_type, NavigateToPoseServer
 from .navigator_markers import extend_trail, NavigatorMarkers
 from .qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS
 from .safety_params import declare_safety_parameters
+from .scan_placement import PoseNotYet, ScanNotPlaced, ScanPlacer
 from .sensor_watchdog import SensorWatchdog, steady_arrival_time
 from .sim_clock import guard_clock
 from .spin import run_node
+from .tf_pose_source import make_tf_lookup, stamp_to_nanoseconds
 from ..core import Navigator, NavigatorStatus
+from ..core.control.acceleration_limit import AccelerationLimiter
 from ..core.mapping.map_values import warm_up_map_values
 from ..core.navigator import warm_up_navigator
 from ..core.pose_history import PoseHistory
@@ -58,14 +66,31 @@ STOP_ACK_TIMEOUT = 0.2          # wait this long for the last zero command's del
 WARN_THROTTLE = 2.0             # [s]
 STATUS_PERIOD = 1.0             # status refreshed at least this often [s]
 LATENCY_WINDOW = 100            # scans in the reported scan-to-map processing time
+MAX_PENDING_SCANS = 10          # scans waiting for their pose; more drop the oldest
+SCAN_WAIT_COUNTED = 0.005       # a scan placed this long after its arrival counts as waited [s]
 
 
-class DpnNode(Node):
+@dataclass(frozen=True)
+class PendingScan:
+    """A checked scan waiting for its pose: message, fields, and when it came [s]."""
+
+    msg: object
+    fields: dict
+    received: float         # perf_counter at the callback's start
+    queued: float           # steady clock
+    arrival: float          # steady clock, from the message info
+
+
+class DpnNode(ManagedNavigator, LifecycleNode):
     """Map, plan and follow from scans and odometry; publish map, commands and markers."""
 
     def __init__(self, **node_kwargs):
         node_kwargs.setdefault('namespace', DEFAULT_NAMESPACE)
         super().__init__('dpn', **node_kwargs)
+        # Inactive until activated (at the end here with autostart, else by change_state).
+        self.active = False
+        self.navigate = None
+        self.map_placed = False
         self.params = declare_parameters(self)
         self.limits = declare_safety_parameters(self)
         # Compile (or load) the kernels now, so that the first scan does not wait for them.
@@ -83,9 +108,20 @@ class DpnNode(Node):
         self.watchdog = SensorWatchdog(self.params.sensor_timeout, ('scan', 'odometry'))
         self.steady_clock = Clock(clock_type=ClockType.STEADY_TIME)
         self.cmd_vel_monitor = CommandTopicMonitor()
+        self.accel_limiter = AccelerationLimiter(self.params.max_linear_accel,
+                                                 self.params.max_angular_accel)
         self.pose = None
-        self.pose_history = PoseHistory()
-        self.scans_placed_at_latest_pose = 0
+        self.odom_pose = None
+        # Odometry poses kept for placing scans: interpolated, never extrapolated.
+        self.pose_history = PoseHistory(extrapolation=0.0)
+        self.pending_scans = deque()
+        self.scans_waited = 0
+        self.scans_skipped = 0
+        self.odom_frame_warned = False
+        self.tf = (make_tf_lookup(self) if self.params.pose_source != 'odom' else None)
+        self.placer = ScanPlacer(self.params.pose_source, self.params.map_frame,
+                                 self.params.base_frame, self.tf, self.pose_history,
+                                 self.params.max_laser_tilt, on_source=self.on_pose_source)
         self.velocity = (0.0, 0.0)
         self.last_map_time = None
         self.markers = NavigatorMarkers(self.params.map_frame, self.params.marker_min_period)
@@ -115,13 +151,25 @@ class DpnNode(Node):
         self.create_timer(WATCHDOG_PERIOD, self.on_watchdog, clock=self.steady_clock)
         self.create_timer(STATUS_PERIOD, self.on_status_timer, clock=self.steady_clock)
         guard_clock(self, lambda error: self.reject('clock', error))
+        action_type = load_action_type()
+        self.navigate = (NavigateToPoseServer(self, action_type) if action_type is not None
+                         else None)
+        if self.navigate is None:
+            self.get_logger().warning('nav2_msgs is not installed: no navigate_to_pose action '
+                                      '(goals on goal_pose only)')
         if self.params.goal is not None:
-            self.set_goal(*self.params.goal)
+            self.set_goal(*self.params.goal, via='use_default_goal')
+        else:
+            warn_unused_goal(self)
+        if self.params.autostart:
+            self.trigger_configure()
+            self.trigger_activate()
         self.publish_status()
         self.get_logger().info(
             f'dpn ready: {self.navigator.grid.geometry.cols}x'
             f'{self.navigator.grid.geometry.rows} cells of '
-            f'{self.params.navigator.resolution} m, goal {self.navigator.goal}; kernels ready '
+            f'{self.params.navigator.resolution} m, goal '
+            f'{self.navigator.goal or "none (waiting for goal_pose)"}; kernels ready '
             f'in {compile_seconds:.2f} s')
 
     def now_seconds(self):
@@ -145,15 +193,50 @@ class DpnNode(Node):
             throttle_duration_sec=WARN_THROTTLE)
         self.publish_status()
 
-    def set_goal(self, x, y):
-        """Give the navigator a goal [m]; reject it (counted) when it is off the map."""
+    def set_goal(self, x, y, via='goal_pose'):
+        """
+        Give the navigator a goal [m] in the map frame.
+
+        Returns None, or the reason it was refused (off the map; counted).
+        """
         try:
             self.navigator.set_goal(x, y)
         except ValueError as error:
             self.reject('goal', error)
-            return
+            return str(error)
         self.trail = [] if self.pose is None else [self.pose[:2]]
-        self.get_logger().info(f'goal accepted: ({x:.2f}, {y:.2f})')
+        self.get_logger().info(f'goal accepted from {via}: ({x:.2f}, {y:.2f})')
+        self.publish_status()
+        return None
+
+    def place_map(self, pose):
+        """Centre the (still empty) map on ``pose``, the robot's first map-frame pose."""
+        config = self.params.navigator
+        origin = (pose[0] - 0.5 * config.width, pose[1] - 0.5 * config.height)
+        goal = self.navigator.goal
+        self.clear_map(replace(config, origin=origin))
+        self.map_placed = True
+        self.get_logger().info(f'map placed around the start pose: origin ({origin[0]:.2f}, '
+                               f'{origin[1]:.2f}), {config.width} m x {config.height} m')
+        if goal is not None:
+            self.set_goal(*goal, via='the goal before the map was placed')
+
+    def stop(self):
+        """Drop the goal and send a zero command now (a canceled goal)."""
+        self.navigator.clear_goal()
+        self.cmd_pub.publish(0.0, 0.0)
+        self.accel_limiter.reset(self.now_seconds())
+        self.publish_status()
+
+    def clear_map(self, config=None):
+        """Start again with an empty map and no goal (lifecycle cleanup), or another map."""
+        self.navigator = Navigator(config or self.navigator.config)
+        self.map_buffer = OccupancyGridBuffer(self.navigator.grid.geometry.shape,
+                                              self.params.map_mobile_value)
+        self.map_changes = self.navigator.grid.change_tracker()
+        self.pending_scans.clear()
+        self.trail = []
+        self.last_map_time = None
         self.publish_status()
 
     def on_goal(self, msg):
@@ -163,11 +246,29 @@ class DpnNode(Node):
         The goal must be in ``map_frame``; an empty frame id is taken as ``map_frame``. Its
         orientation is ignored: the navigator reaches a position.
         """
+        if not self.active:
+            self.reject('goal', 'the navigator is not active (lifecycle)')
+            return
         map_frame = self.params.map_frame
         if msg.header.frame_id not in ('', map_frame):
             self.reject('goal', f'frame {msg.header.frame_id!r} is not {map_frame!r}')
             return
-        self.set_goal(msg.pose.position.x, msg.pose.position.y)
+        if self.set_goal(msg.pose.position.x, msg.pose.position.y) is None \
+                and self.navigate is not None:
+            self.navigate.preempt('preempted by a goal on goal_pose')
+
+    def on_pose_source(self, source):
+        """Log where scans are placed from, the first time each source is used."""
+        if source == 'tf':
+            text = (f'TF {self.params.map_frame} -> <scan frame> at the scan stamp '
+                    f'({self.tf.kind}); robot pose {self.params.map_frame} -> '
+                    f'{self.params.base_frame}')
+        else:
+            text = ('odometry taken as the map pose, laser at laser_x/_y/_yaw'
+                    + (' (no TF links the map frame to the laser yet)'
+                       if self.params.pose_source == 'auto' else ''))
+        self.get_logger().info(f'pose source: {text}')
+        self.publish_status()
 
     def on_odom(self, msg, info=None):
         """Keep the latest finite base pose and extend the executed path."""
@@ -177,17 +278,28 @@ class DpnNode(Node):
         except ValueError as error:
             self.reject('odometry', error)
             return
-        self.pose = pose
+        odom_frame = self.params.odom_frame
+        if (odom_frame and msg.header.frame_id not in ('', odom_frame)
+                and not self.odom_frame_warned):
+            self.odom_frame_warned = True
+            self.get_logger().warning(
+                f'odometry in frame {msg.header.frame_id!r}, not odom_frame {odom_frame!r}')
+        self.odom_pose = pose
+        if self.placer.source != 'tf':
+            self.pose = pose
         self.velocity = velocity if all(math.isfinite(v) for v in velocity) else (0.0, 0.0)
         self.pose_history.add(stamp_to_seconds(msg.header.stamp), pose, self.velocity)
         self.watchdog.heard('odometry', self.now_seconds(), self.arrival_seconds(info))
-        if self.navigator.goal is not None:
+        if self.navigator.goal is not None and self.placer.source != 'tf':
             extend_trail(self.trail, pose[:2])
+        if self.pending_scans:
+            self.place_pending_scans()
 
     def on_scan(self, msg, info=None):
-        """Fold the scan into the map, decide the command, publish."""
+        """Check the scan and queue it; place, map and answer the queued scans that can be."""
+        if not self.active:
+            return
         received = time.perf_counter()
-        now = self.now_seconds()
         if len(msg.ranges) > self.limits.max_beams:
             self.reject('scan', f'{len(msg.ranges)} beams, more than max_beams '
                                 f'{self.limits.max_beams}')
@@ -200,23 +312,66 @@ class DpnNode(Node):
             return
         fields = laser_scan_fields(msg)
         try:
-            if self.pose is None:
-                # The scan cannot be placed yet, but a malformed one still counts.
-                check_scan(**fields)
-                self.get_logger().info('waiting for odometry',
-                                       throttle_duration_sec=WARN_THROTTLE)
-                return
-            # Placed where the robot was when the scan was taken, not where it is now.
-            scan_pose = self.pose_history.pose_at(stamp_to_seconds(msg.header.stamp))
-            if scan_pose is None:
-                scan_pose = self.pose
-                self.scans_placed_at_latest_pose += 1
-            # The free evidence waits until the map and the command are out (`settle`).
-            self.navigator.observe(scan_pose, **fields, stamp=now, defer_evidence=True)
+            check_scan(**fields)
         except ValueError as error:
             self.reject('scan', error)
             return
-        self.watchdog.heard('scan', now, self.arrival_seconds(info))
+        if len(self.pending_scans) >= MAX_PENDING_SCANS:
+            self.skip_scan(self.pending_scans.popleft(), 'more scans waiting than '
+                           f'{MAX_PENDING_SCANS}')
+        self.pending_scans.append(PendingScan(msg, fields, received, self.steady_seconds(),
+                                              self.arrival_seconds(info)))
+        self.place_pending_scans()
+
+    def skip_scan(self, pending, reason):
+        """Drop a queued scan, counted and warned about (throttled)."""
+        self.scans_skipped += 1
+        self.get_logger().warning(f'scan skipped ({self.scans_skipped} so far): {reason}',
+                                  throttle_duration_sec=WARN_THROTTLE)
+        self.publish_status()
+
+    def place_pending_scans(self):
+        """Handle the queued scans in order while their poses are known; drop the stale."""
+        while self.pending_scans:
+            pending = self.pending_scans[0]
+            header = pending.msg.header
+            try:
+                placement = self.placer.place(header.frame_id, stamp_to_nanoseconds(
+                    header.stamp), pending.fields)
+            except PoseNotYet as error:
+                if self.steady_seconds() - pending.queued < self.params.transform_timeout:
+                    return
+                self.pending_scans.popleft()
+                self.skip_scan(pending, f'waited {self.params.transform_timeout} s: {error}')
+                continue
+            except ScanNotPlaced as error:
+                self.pending_scans.popleft()
+                self.skip_scan(pending, error)
+                continue
+            self.pending_scans.popleft()
+            if self.steady_seconds() - pending.queued > SCAN_WAIT_COUNTED:
+                self.scans_waited += 1
+            self.handle_scan(pending, placement)
+
+    def handle_scan(self, pending, placement):
+        """Fold a placed scan into the map, decide the command, publish."""
+        msg, received = pending.msg, pending.received
+        now = self.now_seconds()
+        if self.params.centre_on_start and not self.map_placed:
+            self.place_map(placement.base_pose)
+        if placement.source == 'tf':
+            pose = self.placer.robot_pose(None) or placement.base_pose
+            self.pose = pose
+            if self.navigator.goal is not None:
+                extend_trail(self.trail, pose[:2])
+        try:
+            # The free evidence waits until the map and the command are out (`settle`).
+            self.navigator.observe(placement.base_pose, **placement.fields, stamp=now,
+                                   defer_evidence=True, laser_pose=placement.laser_pose)
+        except ValueError as error:
+            self.reject('scan', error)
+            return
+        self.watchdog.heard('scan', now, pending.arrival)
         stamp = msg.header.stamp
         # The map first: it is ready now, and planning can take longer.
         if (self.last_map_time is None
@@ -229,7 +384,8 @@ class DpnNode(Node):
             self.scan_to_map_ms.append(1e3 * (time.perf_counter() - received))
         out = self.navigator.decide(now, self.pose)
         if not self.watchdog.is_stale(self.now_seconds(), self.steady_seconds()):
-            self.cmd_pub.publish(out.command.linear, out.command.angular)
+            self.cmd_pub.publish(*self.accel_limiter.limit(out.command.linear,
+                                                           out.command.angular, now))
         self.odom_real_pub.publish(pose_to_odometry(
             self.pose, self.velocity, stamp, frame_id=self.params.map_frame,
             child_frame_id=self.params.base_frame))
@@ -288,10 +444,15 @@ class DpnNode(Node):
             'rejected_goals': self.rejected['goal'],
             'rejected_clock': self.rejected['clock'],
             'scan_frame_mismatches': self.scan_frame_mismatches,
-            # Scans more than 0.2 s after the latest odometry (or older than the kept 1 s),
-            # placed at the latest pose.
-            'scans_placed_at_latest_pose': self.scans_placed_at_latest_pose,
+            # Where scans are placed from: 'tf' or 'odom' ('' before the first).
+            'pose_source': self.placer.source or '',
+            # Scans that waited for their transform or odometry, and those dropped after
+            # transform_timeout (or older than the kept odometry, or from a tilted laser).
+            'scans_waited_for_pose': self.scans_waited,
+            'scans_skipped_no_pose': self.scans_skipped,
+            'rejected_transforms': 0 if self.tf is None else self.tf.rejected,
             'sensors_stale': self.stale,
+            'active': self.active,
             'cmd_vel_other_publishers': self.cmd_vel_monitor.others,
             'cmd_vel_conflicts': self.cmd_vel_monitor.conflicts,
             # Wall time from the scan callback's start to the map's publication [ms].
@@ -303,10 +464,15 @@ class DpnNode(Node):
             'sensors stale' if self.stale else status.value, values))
 
     def on_watchdog(self):
-        """Stop the robot while scans or odometry are stale on either clock."""
+        """Stop the robot while scans or odometry are stale on either clock; retry queued scans."""
+        if not self.active:
+            return
+        if self.pending_scans:
+            self.place_pending_scans()
         stale = self.watchdog.stale_streams(self.now_seconds(), self.steady_seconds())
         if stale:
             self.cmd_pub.publish(0.0, 0.0)
+            self.accel_limiter.reset(self.now_seconds())
             if self.navigator.goal is not None:
                 self.get_logger().warning(f'{" and ".join(stale)} stale: stopping',
                                           throttle_duration_sec=WARN_THROTTLE)
@@ -327,7 +493,20 @@ class DpnNode(Node):
         """Send a zero command (waiting briefly for its delivery), then destroy the node."""
         self.cmd_pub.publish(0.0, 0.0)
         self.cmd_pub.wait_for_delivery(STOP_ACK_TIMEOUT)
+        if self.navigate is not None:
+            self.navigate.destroy()
         return super().destroy_node()
+
+
+def warn_unused_goal(node):
+    """Warn when ``goal_x``/``goal_y`` were changed but ``use_default_goal`` is off."""
+    defaults = {p.name: p.default for p in PARAMETERS if p.name in ('goal_x', 'goal_y')}
+    changed = [name for name, default in defaults.items()
+               if node.get_parameter(name).value != default]
+    if changed and not node.params.use_default_goal:
+        node.get_logger().warning(
+            f'{" and ".join(changed)} set but use_default_goal is false: no goal until one '
+            'arrives on goal_pose (set use_default_goal:=true to start with it)')
 
 
 def main(args=None):

@@ -20,7 +20,7 @@ from .parameter_declaration import declare_setting
 from .safety_params import SafetyParameters
 from ..core import FollowerConfig, GridGeometry, NavigatorConfig
 from ..core.cell_label import OCCUPANCY_MOBILE_OBSTACLE
-from ..core.settings import BIG, Setting, setting, settings_of
+from ..core.settings import Setting, setting, settings_of
 
 #: Most grid cells a node may ask for (2048 x 2048): the grid and A*'s arrays stay in memory and
 #: one plan in seconds. More is a parameter error, not a MemoryError in numpy.
@@ -40,13 +40,18 @@ class DpnParameters:
     ----------
     navigator : NavigatorConfig
         The core's configuration.
+    centre_on_start : bool
+        ``origin_x``/``origin_y`` are NaN: the map is to be centred on the robot's pose at its
+        first scan (``navigator.origin`` is a placeholder until then).
     goal : (float, float) or None
-        The goal in the map frame [m]; None: wait for one on ``goal_pose``.
+        The goal in the map frame [m] given by ``goal_x``/``goal_y`` with ``use_default_goal``;
+        None: wait for one on ``goal_pose`` (or the ``navigate_to_pose`` action).
 
     """
 
     navigator: NavigatorConfig
     goal: tuple
+    centre_on_start: bool
     sensor_timeout: float = setting(
         0.4, 's', 'stop the robot when scan or odometry is older, on the node clock or the '
         'steady clock ([safety](safety.md))', 0.01, 60.0)
@@ -63,13 +68,39 @@ class DpnParameters:
         'laser', '', 'frame the scans must be in (`laser_x`/`_y`/`_yaw` place it on the base); '
         "scans in another frame are rejected and counted; '': any")
     base_frame: str = setting(
-        'base_link', '', 'frame of the robot base: header of TwistStamped commands')
+        'base_link', '', 'frame of the robot base: its map pose from TF (`map_frame -> '
+        'base_frame`); header of TwistStamped commands')
+    odom_frame: str = setting(
+        'odom', '', 'frame of the odometry (REP 105); odometry in another frame is warned about '
+        "once; '': any")
+    pose_source: str = setting(
+        'auto', '', 'where scans are placed from: `tf` (`map_frame -> <scan frame>` at the '
+        "scan's stamp, the full 3-D mount), `odom` (the odometry pose taken as the map pose, "
+        'the laser at `laser_x`/`_y`/`_yaw`), `auto` (`tf` once TF links `map_frame` to the '
+        'scan frame, `odom` until then)')
+    transform_timeout: float = setting(
+        0.2, 's', "longest wait (steady clock) for a scan's transform or bracketing odometry; "
+        'then the scan is dropped and counted', 0.0, 10.0)
+    max_laser_tilt: float = setting(
+        0.05, 'rad', 'largest tilt of the laser (from TF) from level or upside down; a more '
+        'tilted scan is dropped and counted', 0.0, 0.5)
+    max_linear_accel: float = setting(
+        2.5, 'm/s^2', 'largest growth of the forward speed command (slowing down is not '
+        "limited; Nav2's velocity_smoother default); 0: no limit", 0.0, 100.0)
+    max_angular_accel: float = setting(
+        3.2, 'rad/s^2', 'largest growth of the turn rate command; 0: no limit', 0.0, 100.0)
     cmd_vel_stamped: bool = setting(
         False, '', "send geometry_msgs/TwistStamped on cmd_vel instead of Twist (Jazzy's "
         'diff_drive_controller takes TwistStamped)')
     map_mobile_value: int = setting(
         OCCUPANCY_MOBILE_OBSTACLE, '', 'OccupancyGrid value of mobile-obstacle cells in `map` '
         '(steady obstacles are 100)', 1, 100)
+    autostart: bool = setting(
+        True, '', 'configure and activate the (lifecycle) node at start; false: wait for '
+        '`change_state` calls, e.g. from nav2_lifecycle_manager (set its `bond_timeout: 0.0`)')
+    use_default_goal: bool = setting(
+        False, '', 'start with the goal `goal_x`, `goal_y`; false: no goal (and no motion) until '
+        'one arrives on `goal_pose`')
     map_updates: bool = setting(
         True, '', 'between full maps (`map_publish_period` > 0), publish the box of cells '
         'changed since the last map or update on `map_updates` (map_msgs/OccupancyGridUpdate); '
@@ -135,11 +166,14 @@ def _navigator(*names):
 PARAMETERS = (
     _field('navigator', 'width', 'map_width', 25.0),
     _field('navigator', 'height', 'map_height', 20.0),
-    _part('origin_x', 0.0, 'm', "map-frame x of the environment's lower-left corner", -BIG, BIG,
+    _part('origin_x', 0.0, 'm', "map-frame x of the environment's lower-left corner; NaN (with "
+          '`origin_y`): the map centred on where the robot is at its first scan', None, None,
           'navigator', 'origin', 0),
-    _part('origin_y', 0.0, 'm', "map-frame y of the environment's lower-left corner", -BIG, BIG,
-          'navigator', 'origin', 1),
-    *_navigator('resolution', 'safety_radius', 'footprint_radius', 'obstacle_proximity_cost',
+    _part('origin_y', 0.0, 'm', "map-frame y of the environment's lower-left corner; NaN: see "
+          '`origin_x`', None, None, 'navigator', 'origin', 1),
+    _field('navigator', 'resolution'),
+    _field('navigator', 'safety_radius', 'robot_radius'),
+    *_navigator('footprint_radius', 'obstacle_proximity_cost',
                 'forget_obstacles_after', 'free_evidence_radius', 'moving_object_size',
                 'evidence_margin', 'segment_gap', 'object_min_hits',
                 'fine_evidence_resolution', 'fine_evidence_radius', 'fine_evidence_range',
@@ -152,12 +186,22 @@ PARAMETERS = (
     *_navigator('stale_obstacle_age', 'path_trust_time', 'route_block_distance',
                 'route_switch_margin', 'mobile_wait_time', 'unknown_cell_cost',
                 'forgotten_obstacle_cost'),
-    _part('goal_x', 2.0, 'm', 'goal x in the map frame (back_and_forth, task 0); NaN: wait for '
-          'a goal on `goal_pose`', None, None, 'node', 'goal', 0),
-    _part('goal_y', 18.0, 'm', 'goal y in the map frame; NaN: wait for a goal on `goal_pose`',
-          None, None, 'node', 'goal', 1),
-    *(_field('follower', name) for name in ('max_linear_speed', 'max_angular_speed',
-                                            'goal_tolerance', 'lookahead_distance')),
+    _field('node', 'autostart'),
+    _field('node', 'use_default_goal'),
+    _part('goal_x', 2.0, 'm', 'goal x in the map frame (back_and_forth, task 0), used only with '
+          '`use_default_goal`; NaN: wait for a goal on `goal_pose`', None, None, 'node', 'goal',
+          0),
+    _part('goal_y', 18.0, 'm', 'goal y in the map frame, used only with `use_default_goal`; '
+          'NaN: wait for a goal on `goal_pose`', None, None, 'node', 'goal', 1),
+    _field('follower', 'max_linear_speed', 'max_vel_x'),
+    _field('follower', 'max_angular_speed', 'max_vel_theta'),
+    _field('follower', 'goal_tolerance', 'xy_goal_tolerance'),
+    *(_field('follower', name) for name in ('lookahead_distance',
+                                            'heading_gain', 'turn_in_place_angle',
+                                            'slowdown_distance', 'corner_angle')),
+    _field('navigator', 'max_path_deviation'),
+    _field('node', 'max_linear_accel'),
+    _field('node', 'max_angular_accel'),
     _part('laser_x', 0.337, 'm', "laser position on the base, forward (the Husky's LMS1xx)",
           -10.0, 10.0, 'navigator', 'laser_offset', 0),
     _part('laser_y', 0.0, 'm', 'laser position on the base, left', -10.0, 10.0, 'navigator',
@@ -168,8 +212,17 @@ PARAMETERS = (
     _field('safety', 'max_beams'),
     *(_field('node', name) for name in ('map_publish_period', 'map_updates',
                                         'marker_min_period', 'map_frame', 'laser_frame',
-                                        'base_frame', 'cmd_vel_stamped', 'map_mobile_value')),
+                                        'base_frame', 'odom_frame', 'pose_source',
+                                        'transform_timeout', 'max_laser_tilt',
+                                        'cmd_vel_stamped', 'map_mobile_value')),
 )
+
+
+#: The names these parameters had before they took Nav2's (robot_radius in the costmaps,
+#: max_vel_x and max_vel_theta in the controllers and the velocity smoother, xy_goal_tolerance
+#: in the goal checker): still read for one release, with a deprecation warning.
+DEPRECATED_ALIASES = {'safety_radius': 'robot_radius', 'max_linear_speed': 'max_vel_x',
+                      'max_angular_speed': 'max_vel_theta', 'goal_tolerance': 'xy_goal_tolerance'}
 
 
 def declare_parameter(node, parameter):
@@ -197,6 +250,7 @@ def declare_parameters(node):
     for parameter in PARAMETERS:
         if parameter.target != 'safety':
             values[parameter.name] = declare_parameter(node, parameter)
+    values.update(read_deprecated_aliases(node, values))
     check_grid_size(values['map_width'], values['map_height'], values['resolution'])
     if values['fine_evidence_resolution'] > 0.0:
         check_grid_size(values['map_width'], values['map_height'],
@@ -214,8 +268,19 @@ def declare_parameters(node):
                 values[parameter.name]
     for (target, name), components in parts.items():
         fields_of[target][name] = tuple(components[k] for k in sorted(components))
+    origin = fields_of['navigator']['origin']
+    centre_on_start = any(math.isnan(v) for v in origin)
+    if centre_on_start:
+        if not all(math.isnan(v) for v in origin):
+            raise ValueError('origin_x and origin_y: give both, or both NaN (the map centred on '
+                             f'the start pose); got {origin}')
+        # A placeholder until the first scan's pose places the map (DpnNode).
+        fields_of['navigator']['origin'] = (-0.5 * values['map_width'],
+                                            -0.5 * values['map_height'])
+    fields_of['node']['centre_on_start'] = centre_on_start
     goal = fields_of['node'].pop('goal')
-    if not all(math.isfinite(value) for value in goal):
+    if not (fields_of['node']['use_default_goal']
+            and all(math.isfinite(value) for value in goal)):
         goal = None
     navigator = NavigatorConfig(**fields_of['navigator'],
                                 follower=FollowerConfig(**fields_of['follower']))
@@ -252,3 +317,37 @@ def check_grid_size(width, height, resolution, max_cells=MAX_GRID_CELLS,
             f'map_width {width:g} m x map_height {height:g} m at {resolution_name} '
             f'{resolution:g} m is {geometry.cols} x {geometry.rows} = {cells:,} cells, more '
             f'than {max_cells:,}: use a coarser {resolution_name} or a smaller map{hint}')
+
+
+def read_deprecated_aliases(node, values):
+    """
+    Declare the deprecated names of `DEPRECATED_ALIASES`; return the values they override.
+
+    A deprecated name set to something other than its default is used (with a warning) unless
+    the Nav2 name is also set, which then wins (with a warning naming both).
+
+    Returns
+    -------
+    dict
+        ``{nav2 name: value}`` of the deprecated names that were set.
+
+    """
+    by_name = {p.name: p for p in PARAMETERS}
+    taken = {}
+    for old, new in DEPRECATED_ALIASES.items():
+        parameter = by_name[new]
+        alias = RosParameter(old, parameter.default, Setting(
+            parameter.setting.unit, f'deprecated: use {new}', parameter.setting.low,
+            parameter.setting.high), parameter.target, parameter.field, parameter.index)
+        value = declare_parameter(node, alias)
+        if value == parameter.default:
+            continue
+        if values[new] != parameter.default:
+            node.get_logger().warning(
+                f'parameters {old} (deprecated) and {new} both set: using {new} = {values[new]}')
+            continue
+        node.get_logger().warning(
+            f"parameter {old} is deprecated and will be removed: use {new} (Nav2's name); "
+            f'taking {old} = {value}')
+        taken[new] = value
+    return taken

@@ -3,8 +3,15 @@
 from rclpy.qos import (DurabilityPolicy, HistoryPolicy, qos_profile_sensor_data, QoSProfile,
                        ReliabilityPolicy)
 
-#: Sensor streams (scan, odometry): best effort, keep the newest few.
+#: Sensor streams (scan, odometry) as subscribed: best effort, keep the newest few.
 SENSOR_QOS = qos_profile_sensor_data
+
+#: Sensor streams as published (REP 2003): reliable, volatile, depth 10 (the system default),
+#: so that reliable subscribers (Nav2's odometry smoother, `ros2 topic echo`) get them too and
+#: best-effort ones still match.
+SENSOR_PUBLISHER_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10,
+                                  reliability=ReliabilityPolicy.RELIABLE,
+                                  durability=DurabilityPolicy.VOLATILE)
 
 #: Latched state (map, markers, status): reliable, transient local, depth 1, like map_server and
 #: slam_toolbox, so a late subscriber such as RViz gets the last message.

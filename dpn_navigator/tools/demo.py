@@ -24,12 +24,14 @@ import subprocess
 import sys
 import time
 
+from action_msgs.msg import GoalStatus
 from ament_index_python.packages import get_package_prefix
 from diagnostic_msgs.msg import DiagnosticStatus
-from geometry_msgs.msg import Twist
+from geometry_msgs.msg import PoseStamped, Twist
 from nav_msgs.msg import OccupancyGrid, Odometry
 import numpy as np
 import rclpy
+from rclpy.action import ActionClient
 from rclpy.context import Context
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
@@ -40,6 +42,7 @@ from ..recording.bag_writer import BagPathError, BagWriter
 from ..recording.recorded_topics import system_topics
 from ..recording.topic_recorder import TopicRecorder
 from ..ros.conversions import marker_points, occupancy_grid_values, odometry_to_pose
+from ..ros.navigate_action import load_action_type
 from ..ros.qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS
 
 
@@ -59,8 +62,13 @@ def installed_executable(package, name):
     return path
 
 
-def navigator_arguments(scenario, task):
-    """Return the ``dpn`` parameters for a scenario's task: what the paper's robot knows."""
+def navigator_arguments(scenario, task, default_goal=True):
+    """
+    Return the ``dpn`` parameters for a scenario's task: what the paper's robot knows.
+
+    With ``default_goal`` the node starts with the task's goal (``use_default_goal``); else it
+    waits for one (the demo sends it through the ``navigate_to_pose`` action).
+    """
     from sim_bridge.husky import LASER_MOUNT     # the navigator's config, not its code
     goal = scenario.tasks[task].goal
     parameters = {
@@ -69,7 +77,8 @@ def navigator_arguments(scenario, task):
         'goal_x': goal[0], 'goal_y': goal[1],
         'laser_x': LASER_MOUNT[0], 'laser_y': LASER_MOUNT[1], 'laser_yaw': LASER_MOUNT[2],
     }
-    args = ['--ros-args', '-p', 'use_sim_time:=true']
+    args = ['--ros-args', '-p', 'use_sim_time:=true',
+            '-p', f'use_default_goal:={str(bool(default_goal)).lower()}']
     for name, value in parameters.items():
         args += ['-p', f'{name}:={float(value)!r}']
     return args
@@ -84,9 +93,12 @@ def ros_environment(domain_id):
     return env
 
 
-def start_nodes(scenario_name, task, wanderers, seed, real_time_factor, domain_id, log_dir):
+def start_nodes(scenario_name, task, wanderers, seed, real_time_factor, domain_id, log_dir,
+                default_goal=True):
     """
     Start ``pybullet_world`` and ``dpn`` as processes; return them.
+
+    ``default_goal``: the navigator starts with the task's goal (`navigator_arguments`).
 
     Their output goes to ``log_dir/pybullet_world.log`` and ``log_dir/dpn.log``.
     """
@@ -102,7 +114,7 @@ def start_nodes(scenario_name, task, wanderers, seed, real_time_factor, domain_i
         'pybullet_world': [str(installed_executable('sim_bridge', 'pybullet_world'))]
         + world_args,
         'dpn': [str(installed_executable('dpn_navigator', 'dpn'))]
-        + navigator_arguments(scenario, task),
+        + navigator_arguments(scenario, task, default_goal),
     }
     processes = {}
     for name, command in commands.items():
@@ -148,6 +160,9 @@ class Episode:
     min_linear: float = 0.0
     commands: int = 0
     bag_counts: dict = None
+    goal_sent: bool = False
+    action_status: str = ''
+    action_feedback: int = 0
 
     @property
     def sim_time(self):
@@ -177,6 +192,61 @@ class EpisodeMonitor(Node):
         self.create_subscription(MarkerArray, '/compabot/sim/wanderers', self.on_wanderers,
                                  COMMAND_QOS)
         self.create_subscription(Twist, '/compabot/cmd_vel', self.on_cmd_vel, COMMAND_QOS)
+        action_type = load_action_type()
+        self.action_type = action_type
+        self.action = (None if action_type is None
+                       else ActionClient(self, action_type, '/compabot/navigate_to_pose'))
+        self.goal_pub = self.create_publisher(PoseStamped, '/compabot/goal_pose', COMMAND_QOS)
+
+    def send_goal(self, goal):
+        """
+        Send ``goal`` (x, y) [m] once the navigator listens: by the ``navigate_to_pose`` action.
+
+        Without nav2_msgs, on ``goal_pose``. Returns whether it was sent.
+        """
+        episode = self.episode
+        if episode.goal_sent:
+            return True
+        if self.action is not None:
+            if not self.action.server_is_ready():
+                return False
+            request = self.action_type.Goal()
+            request.pose.header.frame_id = 'map'
+            request.pose.pose.position.x, request.pose.pose.position.y = map(float, goal)
+            request.pose.pose.orientation.w = 1.0
+            sent = self.action.send_goal_async(request, feedback_callback=self.on_feedback)
+            sent.add_done_callback(self.on_goal_response)
+        else:
+            if self.goal_pub.get_subscription_count() == 0:
+                return False
+            msg = PoseStamped()
+            msg.header.frame_id = 'map'
+            msg.pose.position.x, msg.pose.position.y = map(float, goal)
+            msg.pose.orientation.w = 1.0
+            self.goal_pub.publish(msg)
+            episode.action_status = 'sent on goal_pose'
+        episode.goal_sent = True
+        return True
+
+    def on_goal_response(self, future):
+        """Note whether the goal was accepted; ask for its result."""
+        handle = future.result()
+        self.episode.action_status = 'accepted' if handle.accepted else 'rejected'
+        if handle.accepted:
+            handle.get_result_async().add_done_callback(self.on_result)
+
+    def on_result(self, future):
+        """Keep the action's final status (succeeded, aborted with its message, canceled)."""
+        result = future.result()
+        names = {GoalStatus.STATUS_SUCCEEDED: 'succeeded', GoalStatus.STATUS_ABORTED: 'aborted',
+                 GoalStatus.STATUS_CANCELED: 'canceled'}
+        status = names.get(result.status, str(result.status))
+        message = result.result.error_msg
+        self.episode.action_status = f'{status}: {message}' if message else status
+
+    def on_feedback(self, msg):
+        """Count the action's feedback messages."""
+        self.episode.action_feedback += 1
 
     def on_dpn_status(self, msg):
         """Keep the navigator's latest status values."""
@@ -224,7 +294,7 @@ class EpisodeMonitor(Node):
 
 def run_episode(scenario_name='back_and_forth', task=0, wanderers=3, seed=0,
                 real_time_factor=10.0, time_limit=300.0, wall_limit=600.0, domain_id=None,
-                log_dir='out/demo', stop=True, record=None):
+                log_dir='out/demo', stop=True, record=None, via_action=True):
     """
     Start both nodes and watch until the goal is reached or a limit passes.
 
@@ -250,6 +320,10 @@ def run_episode(scenario_name='back_and_forth', task=0, wanderers=3, seed=0,
         Record every topic of both nodes (``recorded_topics.system_topics``) from before
         they start until the end into this rosbag2 MCAP bag folder, which must not exist;
         ``episode.bag_counts`` then holds the messages recorded per topic.
+    via_action : bool
+        Send the task's goal through the ``navigate_to_pose`` action once the navigator serves
+        it (``episode.action_status`` ends as its result); False: the navigator starts with
+        the goal (``use_default_goal``).
 
     Returns
     -------
@@ -286,7 +360,8 @@ def run_episode(scenario_name='back_and_forth', task=0, wanderers=3, seed=0,
     episode = monitor.episode
     try:
         scenario, processes = start_nodes(scenario_name, task, wanderers, seed,
-                                          real_time_factor, domain_id, log_dir)
+                                          real_time_factor, domain_id, log_dir,
+                                          default_goal=not via_action)
     except BaseException:
         if bag is not None:
             bag.close()
@@ -295,13 +370,19 @@ def run_episode(scenario_name='back_and_forth', task=0, wanderers=3, seed=0,
     try:
         while time.monotonic() < deadline:
             executor.spin_once(timeout_sec=0.05)
+            if via_action:
+                monitor.send_goal(scenario.tasks[task].goal)
             if episode.reached or episode.sim_time > time_limit:
                 break
             dead = [name for name, p in processes.items() if p.poll() is not None]
             if dead:
                 raise RuntimeError(f'{", ".join(dead)} exited early; see {log_dir}')
-        # Let the last map and markers arrive.
+        # Let the last map and markers arrive, and the action's result.
+        settle = time.monotonic() + 2.0
         for _ in range(20):
+            executor.spin_once(timeout_sec=0.02)
+        while (via_action and episode.action_status == 'accepted'
+               and time.monotonic() < settle):
             executor.spin_once(timeout_sec=0.02)
     except BaseException:
         stop_nodes(processes)
@@ -346,6 +427,8 @@ def main(argv=None):
     print(f'goal reached:       {"yes" if episode.reached else "NO"}'
           f' (navigator status: {episode.dpn_status.get("status")}'
           f'{", " + episode.dpn_status["reason"] if episode.dpn_status.get("reason") else ""})')
+    print(f'navigate_to_pose:   {episode.action_status or "not sent"} '
+          f'({episode.action_feedback} feedback messages)')
     print(f'simulated time:     {episode.sim_time:.1f} s ({wall:.1f} s wall)')
     print(f'path length:        {episode.path_length:.1f} m')
     print(f'replans:            {episode.dpn_status.get("replans")}')

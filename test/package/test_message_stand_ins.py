@@ -57,3 +57,47 @@ def test_the_map_msgs_stand_in_keeps_the_standard_definition():
     definition = (fallback / 'map_msgs' / 'msg' / 'OccupancyGridUpdate.msg').read_text()
     assert definition.split() == ['std_msgs/Header', 'header', 'int32', 'x', 'int32', 'y',
                                   'uint32', 'width', 'uint32', 'height', 'int8[]', 'data']
+
+
+#: RIHS01 hash of ``nav2_msgs/action/NavigateToPose`` from Nav2's jazzy definition, as rosidl
+#: computes it here (the stand-in's ``share/nav2_msgs/action/NavigateToPose.json``); the fields
+#: alone fix it, so the real nav2_msgs 1.3 has the same (not compared with an apt system).
+NAVIGATE_TO_POSE_HASH = 'RIHS01_a56dba8a3234a1215e610180dc703ae25bbf406dded8b54887891c9732857eab'
+
+
+def test_the_nav2_msgs_stand_in_keeps_the_standard_navigate_to_pose():
+    import json
+    import pytest
+    try:
+        from nav2_msgs.action import NavigateToPose
+    except ImportError:
+        pytest.skip('nav2_msgs is not installed (make setup builds the stand-in)')
+    assert NavigateToPose.Goal.get_fields_and_field_types() == {
+        'pose': 'geometry_msgs/PoseStamped', 'behavior_tree': 'string'}
+    assert NavigateToPose.Result.get_fields_and_field_types() == {
+        'error_code': 'uint16', 'error_msg': 'string'}
+    assert NavigateToPose.Feedback.get_fields_and_field_types() == {
+        'current_pose': 'geometry_msgs/PoseStamped',
+        'navigation_time': 'builtin_interfaces/Duration',
+        'estimated_time_remaining': 'builtin_interfaces/Duration',
+        'number_of_recoveries': 'int16', 'distance_remaining': 'float'}
+    import sys
+    from ament_index_python.packages import get_package_share_directory
+    try:
+        share = Path(get_package_share_directory('nav2_msgs'))
+    except (OSError, LookupError):          # the PyPI path: .venv is the prefix, unsourced
+        share = Path(sys.prefix) / 'share' / 'nav2_msgs'
+    description = share / 'action' / 'NavigateToPose.json'
+    hashes = {h['type_name']: h['hash_string']
+              for h in json.loads(description.read_text())['type_hashes']}
+    assert hashes['nav2_msgs/action/NavigateToPose'] == NAVIGATE_TO_POSE_HASH
+    fallback = Path(__file__).resolve().parents[2] / 'fallback' / 'nav2_msgs'
+    definition = (fallback / 'action' / 'NavigateToPose.action').read_text()
+    fields = [line.split('#')[0].split() for line in definition.splitlines()]
+    assert [f for f in fields if f] == [
+        ['geometry_msgs/PoseStamped', 'pose'], ['string', 'behavior_tree'], ['---'],
+        ['uint16', 'NONE=0'], ['uint16', 'error_code'], ['string', 'error_msg'], ['---'],
+        ['geometry_msgs/PoseStamped', 'current_pose'],
+        ['builtin_interfaces/Duration', 'navigation_time'],
+        ['builtin_interfaces/Duration', 'estimated_time_remaining'],
+        ['int16', 'number_of_recoveries'], ['float32', 'distance_remaining']]

@@ -38,7 +38,7 @@ EXEC_DEPENDS = {
 }
 TEST_DEPENDS = {
     'ament_flake8', 'ament_pep257', 'python3-hypothesis', 'python3-pytest',
-    'python3-mcap-pip', 'python3-mcap-ros2-support-pip',
+    'mcap-ros2-support',
 }
 #: rosdep keys of the Python modules the code imports that are not ROS packages.
 PYTHON_MODULE_KEYS = {
@@ -46,6 +46,7 @@ PYTHON_MODULE_KEYS = {
     'pybullet_data': 'python3-pybullet-pip', 'matplotlib': 'python3-matplotlib',
     'tqdm': 'python3-tqdm', 'numba': 'python3-numba', 'rosbags': 'python3-rosbags-pip',
     'PIL': 'python3-pil',
+    'tf2_ros': 'tf2_ros_py',
 }
 #: Imported only on request, by an optional feature: Ray (``dpn-benchmark --backend ray``,
 #: requirements-ray.txt) has no rosdep key.

@@ -82,15 +82,16 @@ class NumpyPlanningMasks(PlanningMasks):
 
 
 def eager_observe(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
-                  angle_max=None, stamp=None, defer_evidence=False):
+                  angle_max=None, stamp=None, defer_evidence=False, laser_pose=None):
     """
     Fold one scan into ``self`` (a ``Navigator``) and its turn sweep at once.
 
     The free evidence too: ``defer_evidence`` is taken and ignored, as nothing was deferred
-    then.
+    then. ``laser_pose`` (from TF) replaces the base pose composed with the laser offset.
     """
     pose = check_pose(pose)
-    laser_pose = compose(pose, self.config.laser_offset)
+    laser_pose = (compose(pose, self.config.laser_offset) if laser_pose is None
+                  else check_pose(laser_pose))
     replan = self.grid.update(laser_pose, ranges, angle_min, angle_increment, range_min,
                               range_max, self.config.safety_radius, path=self.path,
                               angle_max=angle_max, stamp=stamp)

@@ -78,8 +78,12 @@ class DpnFuzz(RuleBasedStateMachine):
         before = dict(node.rejected)
         if kind == 'scan':
             heard = node.watchdog._last['scan']
+            waiting, skipped = len(node.pending_scans), node.scans_skipped
             node.on_scan(msg)
-            took = node.watchdog._last['scan'] is not heard or node.pose is None
+            # Taken: mapped, or waiting for its pose, or dropped for want of one (counted
+            # apart, in scans_skipped_no_pose: it was not malformed).
+            took = (node.watchdog._last['scan'] is not heard or node.pose is None
+                    or len(node.pending_scans) > waiting or node.scans_skipped > skipped)
         elif kind == 'odometry':
             heard = node.watchdog._last['odometry']
             node.on_odom(msg)

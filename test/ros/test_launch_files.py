@@ -83,3 +83,22 @@ def test_every_parameter_is_in_the_reference_table():
     assert table['dpn'] == set(dpn_parameter_defaults())
     world = yaml.safe_load((REPO / 'config' / 'pybullet_world.yaml').read_text())
     assert table['pybullet_world'] == set(world['/**/pybullet_world']['ros__parameters'])
+
+
+def test_launch_namespace_argument_moves_both_nodes_and_rviz_topics():
+    tree = ast.parse(LAUNCH.read_text())
+    arguments = [ast.literal_eval(n.args[0]) for n in ast.walk(tree)
+                 if isinstance(n, ast.Call) and getattr(n.func, 'id', None)
+                 == 'DeclareLaunchArgument']
+    assert 'namespace' in arguments
+    nodes = {ast.literal_eval(kw['executable']): kw for kw in node_calls(tree)}
+    for executable in ('pybullet_world', 'dpn'):
+        assert ast.unparse(nodes[executable]['namespace']) == 'namespace'
+    assert 'remappings' in nodes['rviz2']
+    # Every /compabot topic the RViz config names is remapped, the goal tool's included.
+    module = {}
+    exec(compile(ast.Module([n for n in tree.body if isinstance(n, ast.Assign)], []),
+                 str(LAUNCH), 'exec'), module)
+    rviz_text = (REPO / 'config' / 'dpn.rviz').read_text()
+    named = set(re.findall(r'/compabot/([\w/]+)', rviz_text))
+    assert named == set(module['RVIZ_TOPICS'])

@@ -89,6 +89,7 @@ def test_node_publishes_the_bytes_of_its_numpy_twin(ros_context, published, reso
                                                     mobile_value, map_period):
     overrides = [Parameter('map_width', value=30.0), Parameter('map_height', value=30.0),
                  Parameter('resolution', value=resolution),
+                 Parameter('use_default_goal', value=True),
                  Parameter('goal_x', value=27.0), Parameter('goal_y', value=3.0),
                  Parameter('map_publish_period', value=map_period),
                  Parameter('map_mobile_value', value=mobile_value)]

@@ -37,7 +37,7 @@ FILES = ('config/dpn.yaml', 'config/pybullet_world.yaml', 'docs/ros_reference.md
 
 
 @pytest.mark.parametrize('path, old, new', [
-    ('config/dpn.yaml', 'safety_radius: 0.6', 'safety_radius: 0.7'),
+    ('config/dpn.yaml', 'robot_radius: 0.6', 'robot_radius: 0.7'),
     ('config/pybullet_world.yaml', 'wanderers: 3', 'wanderers: 4'),
     ('docs/ros_reference.md', '| dpn | `segment_gap` | 0.3 |', '| dpn | `segment_gap` | 0.4 |'),
     ('docs/ros_reference.md', '| pybullet_world | `seed` | 0 |',
@@ -96,7 +96,7 @@ def test_the_node_declares_every_parameter_with_its_setting(ros_context):
             width=25.0, height=20.0).label_rule()
         assert params.navigator.laser_offset == (0.337, 0.0, 0.0)
         assert params.navigator.follower == FollowerConfig()
-        assert params.goal == (2.0, 18.0)
+        assert params.goal is None and not params.use_default_goal     # no goal unless asked
         assert safety.max_beams == 4096
         assert LabelRule() != params.navigator.label_rule()        # dpn, not the paper
     finally:
@@ -119,3 +119,41 @@ def test_the_world_node_declares_its_settings(ros_context):
         assert node.describe_parameter('scan_rate').description.endswith('[Hz]')
     finally:
         node.destroy_node()
+
+
+def test_follower_gains_and_path_deviation_are_parameters(ros_context):
+    from rclpy.node import Node
+    from rclpy.parameter import Parameter
+    node = Node('dpn', context=ros_context, parameter_overrides=[
+        Parameter('heading_gain', value=3.0), Parameter('turn_in_place_angle', value=0.4),
+        Parameter('slowdown_distance', value=1.0), Parameter('corner_angle', value=1.2),
+        Parameter('max_path_deviation', value=2.0)])
+    try:
+        params = declare_parameters(node)
+        follower = params.navigator.follower
+        assert (follower.heading_gain, follower.turn_in_place_angle, follower.slowdown_distance,
+                follower.corner_angle) == (3.0, 0.4, 1.0, 1.2)
+        assert params.navigator.max_path_deviation == 2.0
+    finally:
+        node.destroy_node()
+
+
+def test_nav2_names_with_the_old_names_as_deprecated_aliases(ros_context):
+    from dpn_navigator.ros.dpn_params import DEPRECATED_ALIASES
+    from rclpy.node import Node
+    from rclpy.parameter import Parameter
+    assert {'robot_radius', 'max_vel_x', 'max_vel_theta', 'xy_goal_tolerance'} <= {
+        p.name for p in PARAMETERS}
+    assert not set(DEPRECATED_ALIASES) & {p.name for p in PARAMETERS}
+    old = Node('dpn', namespace='old', context=ros_context, parameter_overrides=[
+        Parameter('safety_radius', value=0.4), Parameter('max_linear_speed', value=0.5)])
+    both = Node('dpn', namespace='both', context=ros_context, parameter_overrides=[
+        Parameter('goal_tolerance', value=0.5), Parameter('xy_goal_tolerance', value=0.2)])
+    try:
+        params = declare_parameters(old)
+        assert params.navigator.safety_radius == 0.4
+        assert params.navigator.follower.max_linear_speed == 0.5
+        assert declare_parameters(both).navigator.follower.goal_tolerance == 0.2
+    finally:
+        old.destroy_node()
+        both.destroy_node()

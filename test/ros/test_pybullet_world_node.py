@@ -162,3 +162,28 @@ def test_code_defaults_are_those_of_the_parameter_file(ros_context):
                 assert actual == value and type(actual) is type(value), name
     finally:
         node.destroy_node()
+
+
+def test_drifting_odometry_a_localiser_and_an_upside_down_laser_in_tf(ros_context):
+    node = PybulletWorldNode(context=ros_context, parameter_overrides=[
+        Parameter('wanderers', value=0), Parameter('real_time_factor', value=5.0),
+        Parameter('odom_drift_scale', value=0.1), Parameter('odom_drift_yaw_per_metre',
+                                                           value=0.2),
+        Parameter('laser_upside_down', value=True), Parameter('laser_x', value=0.2)])
+    probe = Probe(ros_context)
+    velocity = velocity_to_twist(0.8, 0.3)
+    with executor_for(ros_context, node, probe) as executor:
+        spin_for(executor, node, 3.0, publish=lambda: probe.cmd_pub.publish(velocity))
+        # No more commands: the Husky stops after cmd_timeout (0.5 s) and stands.
+        spin_for(executor, node, 1.5)
+    truth = node.world.husky_pose
+    stamp = probe.odoms[-1].header.stamp
+    # The odometry drifted away from the truth ...
+    assert math.dist(node.odometry.pose[:2], truth[:2]) > 0.1
+    # ... and map -> odom (the exact localiser) puts base_link back on the truth.
+    translation, _ = probe.frames.lookup('map', 'base_link', stamp)
+    assert translation[:2] == pytest.approx(truth[:2], abs=1e-3)
+    # The laser is mounted upside down (roll pi) 0.2 m ahead, announced on /tf_static.
+    _, laser_rotation = probe.frames.lookup('base_link', 'laser', stamp)
+    assert laser_rotation == pytest.approx([1.0, 0.0, 0.0, 0.0], abs=1e-9)
+    assert probe.frames.static['laser'][0][0] == pytest.approx(0.2)

@@ -27,8 +27,8 @@ class FollowerConfig:
     """
     Limits and gains of the path follower; defaults suit a Clearpath Husky A200.
 
-    The speed limits, the look-ahead and the goal tolerance carry their unit, range and meaning
-    on the field (``settings.settings_of(FollowerConfig)``). The gains:
+    Every field carries its unit, range and meaning (``settings.settings_of(FollowerConfig)``);
+    the gains in more words:
 
     Attributes
     ----------
@@ -52,10 +52,16 @@ class FollowerConfig:
                                         0.1, 10.0)
     goal_tolerance: float = setting(0.3, 'm', 'distance to the goal that counts as reached',
                                     0.01, 5.0)
-    heading_gain: float = 2.0
-    turn_in_place_angle: float = 0.6
-    slowdown_distance: float = 1.5
-    corner_angle: float = 1.0
+    heading_gain: float = setting(2.0, '1/s', "the follower's turn rate per radian of heading "
+                                  'error', 0.01, 100.0)
+    turn_in_place_angle: float = setting(
+        0.6, 'rad', 'heading error above which the robot stops to turn in place', 0.01, math.pi)
+    slowdown_distance: float = setting(
+        1.5, 'm', 'within this distance of the goal the speed falls linearly toward zero',
+        0.01, 100.0)
+    corner_angle: float = setting(
+        1.0, 'rad', "a turn of the path's heading larger than this is a corner the look-ahead "
+        'point does not pass (above 45 degrees, the steps of a grid path)', 0.8, math.pi)
 
     def __post_init__(self):
         for name in ('max_linear_speed', 'max_angular_speed', 'lookahead_distance',

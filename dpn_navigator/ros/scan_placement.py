@@ -1,0 +1,176 @@
+"""
+Where a scan was taken: the laser's map-frame pose at the scan's stamp, from TF or odometry.
+
+``pose_source`` chooses, and the node logs the choice:
+
+- ``tf``: the laser's pose is ``map_frame -> <scan frame>`` looked up at the scan's stamp (the
+  full 3-D mount: an upside-down laser's beams are mirrored, a laser tilted more than
+  ``max_laser_tilt`` refused), the robot's ``map_frame -> base_frame``; goals, plan and goal
+  check are in ``map_frame``. Odometry then only feeds the watchdog.
+- ``odom``: the odometry pose is taken as the map pose (``map -> odom`` the identity), placed at
+  the scan's stamp by interpolating the odometry around it, and the laser at ``laser_x``,
+  ``laser_y``, ``laser_yaw`` on it (the behaviour before TF).
+- ``auto``: ``tf`` as soon as the TF buffer links ``map_frame`` to the scan's frame, ``odom``
+  until then; once TF has placed a scan it stays ``tf`` (a later gap is a counted skip, never a
+  silent switch back to odometry).
+
+Either way a scan is placed only with data that brackets its stamp: never extrapolated. A scan
+whose pose has not arrived yet waits (`PoseNotYet`); the node drops it, counted, when it has
+waited ``transform_timeout``. A scan that cannot be placed at all (older than the kept
+odometry, a tilted laser) is a `ScanNotPlaced`.
+
+"""
+
+from dataclasses import dataclass
+
+from .tf_pose_source import planar_pose, TransformUnavailable
+from ..core.laser_mount import mirror_scan, planar_laser_pose
+
+POSE_SOURCES = ('auto', 'tf', 'odom')
+
+
+class PoseNotYet(Exception):
+    """The scan's pose may still arrive: try again later."""
+
+
+class ScanNotPlaced(Exception):
+    """The scan cannot be placed: drop it."""
+
+
+@dataclass(frozen=True)
+class ScanPlacement:
+    """
+    A scan ready for the navigator.
+
+    Attributes
+    ----------
+    base_pose : (float, float, float)
+        The robot base in the map frame at the scan's stamp [m, m, rad].
+    laser_pose : (float, float, float) or None
+        The laser in the map frame [m, m, rad]; None: the base pose with the ``laser_*``
+        parameters.
+    fields : dict
+        The scan's arguments for ``Navigator.observe`` (mirrored for an upside-down laser).
+    source : str
+        ``'tf'`` or ``'odom'``.
+
+    """
+
+    base_pose: tuple
+    laser_pose: object
+    fields: dict
+    source: str
+
+
+class ScanPlacer:
+    """
+    Place scans with TF or odometry (see the module).
+
+    Parameters
+    ----------
+    mode : str
+        ``'auto'``, ``'tf'`` or ``'odom'``.
+    map_frame, base_frame : str
+        Frame ids.
+    tf_lookup : FallbackTfLookup or Tf2RosLookup or None
+        The TF buffer; None only with ``mode='odom'``.
+    history : PoseHistory
+        The odometry poses, kept with no extrapolation.
+    max_tilt : float
+        Largest tilt of the laser from level or upside down [rad].
+    on_source : callable, optional
+        Called with the source (``'tf'`` or ``'odom'``) when the first scan is placed with it.
+
+    """
+
+    def __init__(self, mode, map_frame, base_frame, tf_lookup, history, max_tilt,
+                 on_source=None):
+        if mode not in POSE_SOURCES:
+            raise ValueError(f"pose_source must be one of {', '.join(POSE_SOURCES)}; got "
+                             f'{mode!r}')
+        if mode != 'odom' and tf_lookup is None:
+            raise ValueError(f'pose_source {mode!r} needs a TF buffer')
+        self.mode = mode
+        self.map_frame = map_frame
+        self.base_frame = base_frame
+        self.tf = tf_lookup
+        self.history = history
+        self.max_tilt = max_tilt
+        self.on_source = on_source
+        self.source = 'tf' if mode == 'tf' else None
+        self._announced = set()
+
+    def _use(self, source):
+        self.source = source
+        if source not in self._announced:
+            self._announced.add(source)
+            if self.on_source is not None:
+                self.on_source(source)
+
+    def place(self, frame_id, stamp_ns, fields):
+        """
+        Return the `ScanPlacement` of a scan taken in ``frame_id`` at ``stamp_ns`` [ns].
+
+        Raises
+        ------
+        PoseNotYet
+            Its transform or odometry has not arrived yet.
+        ScanNotPlaced
+            It cannot be placed (older than the kept odometry, a tilted laser).
+
+        """
+        if self.mode == 'odom':
+            return self._place_with_odometry(stamp_ns, fields)
+        if self.source != 'tf' and self.tf.connected(self.map_frame, frame_id):
+            self.source = 'tf'
+        if self.source == 'tf':
+            return self._place_with_tf(frame_id, stamp_ns, fields)
+        return self._place_with_odometry(stamp_ns, fields)
+
+    def _place_with_tf(self, frame_id, stamp_ns, fields):
+        try:
+            laser_rotation, laser_translation = self.tf.lookup(self.map_frame, frame_id,
+                                                               stamp_ns)
+            base = planar_pose(*self.tf.lookup(self.map_frame, self.base_frame, stamp_ns))
+        except TransformUnavailable as error:
+            raise PoseNotYet(f'no transform {self.map_frame} -> {frame_id} at the stamp of '
+                             f'the scan yet: {error}') from None
+        try:
+            laser, mirrored = planar_laser_pose(laser_rotation, laser_translation,
+                                                self.max_tilt)
+        except ValueError as error:
+            raise ScanNotPlaced(f'frame {frame_id!r}: {error}') from None
+        if mirrored:
+            ranges, angle_min, angle_increment, angle_max = mirror_scan(
+                fields['ranges'], fields['angle_min'], fields['angle_increment'])
+            fields = dict(fields, ranges=ranges, angle_min=angle_min,
+                          angle_increment=angle_increment, angle_max=angle_max)
+        self._use('tf')
+        return ScanPlacement(base, laser, fields, 'tf')
+
+    def _place_with_odometry(self, stamp_ns, fields):
+        # As stamp_to_seconds computes the odometry's stamps, so that equal stamps stay equal.
+        sec, nanosec = divmod(int(stamp_ns), 1_000_000_000)
+        stamp = sec + nanosec * 1e-9
+        pose = self.history.pose_at(stamp)
+        if pose is None:
+            newest = self.history.newest_stamp
+            if newest is None or stamp > newest:
+                raise PoseNotYet('no odometry at or after the stamp of the scan yet')
+            raise ScanNotPlaced(f'the scan (stamp {stamp:.3f} s) is older than the kept '
+                                f'odometry')
+        self._use('odom')
+        return ScanPlacement(pose, None, fields, 'odom')
+
+    def robot_pose(self, odometry_pose):
+        """
+        Return the robot base's latest pose in the map frame, or None when there is none yet.
+
+        With TF, the latest ``map_frame -> base_frame``; else ``odometry_pose``.
+        """
+        if self.source != 'tf':
+            return odometry_pose
+        try:
+            return planar_pose(*self.tf.lookup(self.map_frame, self.base_frame, 0))
+        except TransformUnavailable:
+            return None
