@@ -101,12 +101,19 @@ class NavfnMasks(PlanningMasks):
         super().__init__(grid, proximity_cost)
         self.unknown_cost = float(unknown_cost)
 
-    def plan(self, start, goal, footprint, cut_corners):
-        """Plan as `PlanningMasks.plan` does, unknown cells costing ``unknown_cost`` more."""
-        if self.blocked[goal]:
+    def plan(self, start, goal, footprint, cut_corners, extra_cost=None, opened=None):
+        """
+        Plan as `PlanningMasks.plan` does, unknown cells costing ``unknown_cost`` more.
+
+        ``extra_cost`` and ``opened`` are `PlanningMasks.plan`'s (None with the parts of issue
+        31 off, as the reference navigators run).
+        """
+        blocked = self.blocked.copy()
+        if opened is not None:
+            blocked &= ~opened
+        if blocked[goal]:
             return None
         rows, cols, near = footprint
-        blocked = self.blocked.copy()
         blocked[rows, cols] &= ~near
         blocked[start] = False
         cost = np.where(self._grid.labels == CellLabel.NON_EXPLORED, self.unknown_cost, 0.0)
@@ -114,6 +121,9 @@ class NavfnMasks(PlanningMasks):
         if self._proximity_cost > 0.0:
             proximity = self._proximity_cost * touches_blocked(blocked)
             cost = cost + proximity
+            largest = float(cost.max())
+        if extra_cost is not None:
+            cost = cost + extra_cost
             largest = float(cost.max())
         cost = np.ascontiguousarray(cost, dtype=np.float64)
         return astar_checked(blocked, start, goal, cost if largest > 0.0 else None, largest,
