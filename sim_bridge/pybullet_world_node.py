@@ -39,7 +39,7 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import LaserScan
 from visualization_msgs.msg import MarkerArray
 
-from .laser import LaserConfig
+from .laser_profiles import laser_config
 from .robot_frames import FrameNames, RobotFramePublisher
 from .scenario import load_scenario
 from .wanderer_markers import wanderer_markers
@@ -63,7 +63,11 @@ class PybulletWorldNode(Node):
         wanderers, seed, gui = params.wanderers, params.seed, params.gui
         self.real_time_factor = params.real_time_factor
         physics_rate, scan_rate = params.physics_rate, params.scan_rate
-        noise = params.laser_noise
+        laser = laser_config(
+            params.laser_profile, noise_std=params.laser_noise, dropout=params.laser_dropout,
+            max_incidence=params.laser_max_incidence,
+            mixed_pixel_probability=params.laser_mixed_pixel_probability,
+            error_encoding=params.laser_error_encoding)
         self.cmd_timeout = params.cmd_timeout
         cmd_vel_stamped = params.cmd_vel_stamped
         self.frames = FrameNames(params.map_frame, params.odom_frame, params.base_frame,
@@ -77,7 +81,7 @@ class PybulletWorldNode(Node):
         start = tuple(default_start[k] if math.isnan(start[k]) else start[k] for k in range(3))
         config = WorldConfig(physics_rate=physics_rate, scan_rate=scan_rate,
                              n_wanderers=wanderers, seed=seed, gui=gui,
-                             laser=LaserConfig(noise_std=noise))
+                             laser=laser)
         # The wanderers plan with the core's A* kernel: compile (or load) it before the first
         # tick rather than in the middle of one.
         warm_up_astar()
@@ -100,7 +104,8 @@ class PybulletWorldNode(Node):
             f'ignored /clock: {error}', throttle_duration_sec=WARN_THROTTLE))
         self.get_logger().info(
             f'{scenario.name}: task {task}, start {start}, goal {self.goal}, '
-            f'{wanderers} wanderers, real-time factor {self.real_time_factor}')
+            f'{wanderers} wanderers, laser {params.laser_profile}, real-time factor '
+            f'{self.real_time_factor}')
 
     def on_cmd_vel(self, msg):
         """Keep the latest finite command; ignore and count a non-finite one."""

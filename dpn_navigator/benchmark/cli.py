@@ -7,6 +7,7 @@ Examples::
     dpn-benchmark --maps 3 maze /path/to/map.yaml --tasks 0 1 --wanderers 0 5 10 --repeats 2
     dpn-benchmark --profile paper --ray-address auto --out out/paper
     dpn-benchmark --maps back_and_forth --tasks 0 --wanderers 5 --repeats 1 --record out/bags
+    dpn-benchmark --profile smoke --laser hokuyo_utm30lx --out out/smoke_utm30lx
 
 
 Episodes are appended to ``OUT/episodes.csv`` as they finish; running the same command again
@@ -30,6 +31,9 @@ from .episode_log import read_log
 from .protocol import MAP_MODELS, NAVIGATORS, plan_episodes, PROFILES, resolve_maps
 from .report import save_success_figure, summary_markdown
 from .runner import default_workers, run_protocol
+
+#: ``--laser`` choices (``sim_bridge.laser_profiles``), kept here so --help needs no pybullet.
+LASER_PROFILE_NAMES = ('ideal', 'sick_lms1xx', 'hokuyo_utm30lx', 'hokuyo_urg04lx', 'rplidar_a2')
 
 
 def build_parser():
@@ -58,6 +62,12 @@ def build_parser():
                              'obstacle + inflation costmap; oracle: the true walls and '
                              "wanderers (the last two with dpn's planner and follower; "
                              'docs/benchmark.md) (default: %(default)s)')
+    parser.add_argument('--laser', default='ideal', metavar='PROFILE',
+                        help="the world's laser: "
+                             f'{", ".join(LASER_PROFILE_NAMES)}; ideal is the paper\'s perfect '
+                             'laser, the others are modelled on data sheets, with noise, lost '
+                             'returns and mixed pixels (docs/simulator.md) (default: '
+                             '%(default)s)')
     parser.add_argument('--seed', type=int, default=0,
                         help='base seed of the episode seeds (default: %(default)s)')
     parser.add_argument('--out', default='benchmark_out', type=Path,
@@ -99,6 +109,9 @@ def main(argv=None):
     parser = build_parser()
     args = parser.parse_args(argv)
     from sim_bridge.scenario import load_index
+    if args.laser not in LASER_PROFILE_NAMES:
+        parser.error(f'unknown --laser {args.laser!r}: choose one of '
+                     f'{", ".join(LASER_PROFILE_NAMES)}')
     profile = PROFILES[args.profile]
     try:
         entries = load_index(args.index)
@@ -107,7 +120,7 @@ def main(argv=None):
                               args.wanderers if args.wanderers is not None else
                               profile.wanderers, args.repeats or profile.repeats, args.seed)
         args.out.mkdir(parents=True, exist_ok=True)
-        check_run_settings(args.out / 'run.json', {'navigator': args.navigator})
+        check_run_settings(args.out / 'run.json', run_settings(args.navigator, args.laser))
         log_path = args.out / 'episodes.csv'
         print(f'dpn-benchmark: {len(specs)} episodes ({len(map_keys)} maps) into {log_path}',
               flush=True)
@@ -116,7 +129,7 @@ def main(argv=None):
                              progress=not args.no_progress,
                              navigator_options=NAVIGATORS[args.navigator],
                              detection=not args.no_detection, record_dir=args.record,
-                             map_model=MAP_MODELS[args.navigator])
+                             map_model=MAP_MODELS[args.navigator], laser=args.laser)
     except ValueError as exc:
         parser.exit(2, f'dpn-benchmark: error: {exc}\n')
     except KeyboardInterrupt:
@@ -128,7 +141,7 @@ def main(argv=None):
           f'{stats.simulated_time:.0f} s simulated, {stats.speed_per_core:.1f}x real time per '
           f'worker, {stats.episodes_per_hour:.0f} episodes per hour')
     rows = read_log(log_path)
-    title = f'dpn benchmark, {args.navigator} navigator'
+    title = f'dpn benchmark, {args.navigator} navigator, {args.laser} laser'
     summary = summary_markdown(rows, title=title, navigator=args.navigator)
     (args.out / 'summary.md').write_text(summary)
     if rows:
@@ -142,7 +155,7 @@ def main(argv=None):
         print(f'wrote {args.out / "detection.png"}')
     if (args.strip or args.animate) and specs:
         showcase = rerun_showcase(specs, args.index, navigator_options=NAVIGATORS[args.navigator],
-                                  map_model=MAP_MODELS[args.navigator])
+                                  map_model=MAP_MODELS[args.navigator], laser=args.laser)
         if args.strip:
             write_strip(args.out / 'strip.png', showcase)
             print(f'wrote {args.out / "strip.png"}')
@@ -150,6 +163,19 @@ def main(argv=None):
             write_animation(args.out / 'episode.gif', showcase)
             print(f'wrote {args.out / "episode.gif"}')
     return 0
+
+
+def run_settings(navigator, laser):
+    """
+    Return what must be the same for every episode of one log: the navigator and the laser.
+
+    The laser is left out for ``ideal``, so that a folder written before ``--laser`` existed
+    (its ``run.json`` says only the navigator) resumes with the laser it was run with.
+    """
+    settings = {'navigator': navigator}
+    if laser != 'ideal':
+        settings['laser'] = laser
+    return settings
 
 
 def check_run_settings(path, settings):
@@ -161,7 +187,7 @@ def check_run_settings(path, settings):
     path : pathlib.Path
         ``run.json`` in the output folder.
     settings : dict
-        What must be the same for every episode of one log (the navigator variant).
+        What must be the same for every episode of one log (`run_settings`).
 
     Raises
     ------
@@ -217,7 +243,8 @@ class Showcase:
                 f'{spec.seed}: {outcome} at t = {result.time:.0f} s')
 
 
-def rerun_showcase(specs, index=None, navigator_options=None, period=1.0, map_model='labels'):
+def rerun_showcase(specs, index=None, navigator_options=None, period=1.0, map_model='labels',
+                   laser='ideal'):
     """
     Rerun one episode of a protocol with an `EpisodeRecorder`.
 
@@ -236,12 +263,15 @@ def rerun_showcase(specs, index=None, navigator_options=None, period=1.0, map_mo
         The map the navigator plans on (``protocol.MAP_MODELS``).
     period : float
         Simulated time between snapshots [s].
+    laser : str
+        The world's laser, a ``sim_bridge.laser_profiles`` name.
 
     Returns
     -------
     Showcase
 
     """
+    from sim_bridge.laser_profiles import laser_profile
     from sim_bridge.scenario import load_scenario
     from .episode import run_episode
     from .snapshots import EpisodeRecorder
@@ -252,7 +282,8 @@ def rerun_showcase(specs, index=None, navigator_options=None, period=1.0, map_mo
     recorder = EpisodeRecorder(period=period)
     started = time.perf_counter()
     result = run_episode(scenario, spec.task, spec.wanderers, spec.seed, recorder=recorder,
-                         navigator_options=navigator_options, map_model=map_model)
+                         navigator_options=navigator_options, map_model=map_model,
+                         laser=laser_profile(laser).laser)
     recorder.finish()
     return Showcase(spec, scenario, result, recorder, time.perf_counter() - started)
 

@@ -113,7 +113,7 @@ def warm_up_kernels(map_model):
 
 
 def run_spec(spec, index=None, navigator_options=None, detection=True, record_dir=None,
-             map_model='labels'):
+             map_model='labels', laser='ideal'):
     """
     Run one episode and return its log row; record it into a bag if asked.
 
@@ -132,6 +132,8 @@ def run_spec(spec, index=None, navigator_options=None, detection=True, record_di
         ``episode_bag.episode_bag_name`` (``EpisodeBagRecorder``).
     map_model : str
         The map the navigator plans on (``protocol.MAP_MODELS``).
+    laser : str
+        The world's laser, a ``sim_bridge.laser_profiles`` name.
 
     Returns
     -------
@@ -139,18 +141,20 @@ def run_spec(spec, index=None, navigator_options=None, detection=True, record_di
         Every column of ``episode_log.COLUMNS``; ``wall_time`` includes the recording.
 
     """
+    from sim_bridge.laser_profiles import laser_profile
     started = time.perf_counter()
+    laser_config = laser_profile(laser).laser
     scenario = _scenario(spec.map_key, index)
     if not 0 <= spec.task < len(scenario.tasks):
         raise ValueError(f'map {spec.map_key!r} has {len(scenario.tasks)} tasks; there is no '
                          f'task {spec.task}')
     warm_up_kernels(map_model)
-    recorder = None if record_dir is None else _episode_bag(spec, scenario, record_dir)
+    recorder = None if record_dir is None else _episode_bag(spec, scenario, record_dir, laser)
     try:
         result = run_episode(scenario, spec.task, spec.wanderers, spec.seed,
                              navigator_options=navigator_options, detection=detection,
                              setup=_task_setup(spec.map_key, index, spec.task),
-                             recorder=recorder, map_model=map_model)
+                             recorder=recorder, map_model=map_model, laser=laser_config)
     finally:
         if recorder is not None:
             recorder.close()
@@ -161,14 +165,14 @@ def run_spec(spec, index=None, navigator_options=None, detection=True, record_di
     return row
 
 
-def _episode_bag(spec, scenario, record_dir):
+def _episode_bag(spec, scenario, record_dir, laser):
     """Return an `EpisodeBagRecorder` for one episode, in ``record_dir``."""
     from .episode_bag import EpisodeBagRecorder, episode_bag_name
     return EpisodeBagRecorder(
         Path(record_dir) / episode_bag_name(spec),
         description={'scenario': scenario.name, 'map': spec.map_key, 'task': spec.task,
                      'wanderers': spec.wanderers, 'repetition': spec.repetition,
-                     'seed': spec.seed})
+                     'seed': spec.seed, 'laser': laser})
 
 
 def check_bag_folders(specs, record_dir):
@@ -201,7 +205,8 @@ def default_workers():
 
 
 def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, progress=True,
-                 navigator_options=None, detection=True, record_dir=None, map_model='labels'):
+                 navigator_options=None, detection=True, record_dir=None, map_model='labels',
+                 laser='ideal'):
     """
     Run the episodes a log does not hold yet and append their rows to it.
 
@@ -229,6 +234,8 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
         Record every episode run now (not those already in the log) as a bag in this folder.
     map_model : str
         The map every episode's navigator plans on (``protocol.MAP_MODELS``).
+    laser : str
+        Every episode's laser, a ``sim_bridge.laser_profiles`` name (``--laser``).
 
     Returns
     -------
@@ -237,7 +244,8 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
     Raises
     ------
     ValueError
-        If ``workers`` is not positive or the log belongs to another version; a
+        If ``workers`` is not positive, the laser profile is unknown or the log belongs to
+        another version; a
         ``BagPathError`` if an episode's bag exists already or cannot be written.
     ImportError
         If ``ray_address`` is given and Ray is not installed.
@@ -248,6 +256,8 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
         workers = default_workers()
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
         raise ValueError(f'workers must be a positive integer, got {workers!r}')
+    from sim_bridge.laser_profiles import laser_profile
+    laser_profile(laser)  # an unknown name fails here, not in every worker
     started = time.perf_counter()
     index = None if index is None else os.fspath(index)
     with EpisodeLog(log_path) as log:
@@ -264,10 +274,10 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
             if ray_address is not None:
                 results, workers = _ray_results(pending, ray_address, index,
                                                 navigator_options, detection, record_dir,
-                                                map_model)
+                                                map_model, laser)
             else:
                 results = _local_results(pending, workers, index, navigator_options, detection,
-                                         record_dir, map_model)
+                                         record_dir, map_model, laser)
             for row in results:
                 log.append(row)
                 ran += 1
@@ -282,23 +292,24 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
 
 
 def _local_results(pending, workers, index, navigator_options, detection, record_dir,
-                   map_model):
+                   map_model, laser='ideal'):
     """Yield the rows of pending episodes from local worker processes, as they finish."""
     if workers == 1 or len(pending) <= 1:
         for spec in pending:
-            yield run_spec(spec, index, navigator_options, detection, record_dir, map_model)
+            yield run_spec(spec, index, navigator_options, detection, record_dir, map_model,
+                           laser)
         return
     # spawn: each worker starts clean (its own pybullet client, no forked state).
     context = multiprocessing.get_context('spawn')
     with context.Pool(min(workers, len(pending))) as pool:
         yield from pool.imap_unordered(
             _run_spec_star,
-            [(spec, index, navigator_options, detection, record_dir, map_model)
+            [(spec, index, navigator_options, detection, record_dir, map_model, laser)
              for spec in pending])
 
 
 def _ray_results(pending, address, index, navigator_options, detection, record_dir,
-                 map_model):
+                 map_model, laser='ideal'):
     """Start the pending episodes on Ray; return a generator of rows and Ray's CPU count."""
     import ray
     if not ray.is_initialized():
@@ -309,7 +320,7 @@ def _ray_results(pending, address, index, navigator_options, detection, record_d
 
     def rows():
         waiting = [remote.remote(spec, index, navigator_options, detection, record_dir,
-                                 map_model)
+                                 map_model, laser)
                    for spec in pending]
         while waiting:
             finished, waiting = ray.wait(waiting, num_returns=1)
