@@ -48,8 +48,8 @@ def test_run_protocol_refuses_an_unknown_laser(tmp_path):
 
 def test_run_settings_name_the_laser_unless_ideal():
     assert cli.run_settings('dpn', 'ideal') == {'navigator': 'dpn'}
-    assert cli.run_settings('paper', 'rplidar_a2') == {'navigator': 'paper',
-                                                      'laser': 'rplidar_a2'}
+    expected = {'navigator': 'paper', 'laser': 'rplidar_a2'}
+    assert cli.run_settings('paper', 'rplidar_a2') == expected
 
 
 @pytest.mark.slow
