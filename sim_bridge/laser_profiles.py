@@ -58,13 +58,13 @@ LASER_PROFILES = {profile.name: profile for profile in (
     LaserProfile('sick_lms1xx', LaserConfig(
         **_layout(-270, 270, 720), range_min=0.5, range_max=20.0, noise_std=0.012,
         far_range=18.0, dropout=0.002, dropout_far=0.05, max_incidence=math.radians(80.0),
-        mixed_pixel_probability=0.5), 50.0, 'SICK LMS111 / LMS151'),
+        mixed_pixel_probability=0.2), 50.0, 'SICK LMS111 / LMS151'),
     # Hokuyo UTM-30LX: steps 0..1080 of 1440 per turn (0.25 deg, 270 deg), 0.1-30 m, 40 Hz;
     # +-30 mm to 10 m, +-50 mm to 30 m.
     LaserProfile('hokuyo_utm30lx', LaserConfig(
         **_layout(-540, 540, 1440), range_min=0.1, range_max=30.0, noise_std=0.015,
         noise_std_far=0.025, far_range=10.0, dropout=0.005, dropout_far=0.02,
-        max_incidence=math.radians(75.0), mixed_pixel_probability=0.5), 40.0,
+        max_incidence=math.radians(75.0), mixed_pixel_probability=0.2), 40.0,
         'Hokuyo UTM-30LX'),
     # Hokuyo URG-04LX: steps 44..725 of 1024 per turn, front step 384 (0.352 deg, 240 deg),
     # 20-5600 mm, 10 Hz; +-10 mm to 1 m, 1 % of the distance to 4 m. The old hokuyo_node driver
