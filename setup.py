@@ -34,6 +34,7 @@ PACKAGE_NAME = 'dpn_navigator'
 CONSOLE_SCRIPTS = [
     'dpn = dpn_navigator.ros.dpn_node:main',
     'dpn-benchmark = dpn_navigator.benchmark.cli:main',
+    'dpn-replay = dpn_navigator.tools.replay:main',
     'compile_kernels = dpn_navigator.tools.compile_kernels:main',
 ]
 
@@ -57,7 +58,8 @@ PACKAGE_MANIFESTS = {
         'exec_depends': [
             'dpn_navigator', 'rclpy', 'builtin_interfaces', 'diagnostic_msgs', 'geometry_msgs',
             'nav_msgs', 'rcl_interfaces', 'rosgraph_msgs', 'sensor_msgs', 'tf2_msgs',
-            'visualization_msgs', 'python3-numpy', 'python3-yaml', 'python3-pybullet-pip'],
+            'visualization_msgs', 'python3-numpy', 'python3-yaml', 'python3-pybullet-pip',
+            'python3-pil'],
     },
 }
 

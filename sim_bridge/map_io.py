@@ -1,11 +1,14 @@
 """
-Read and write ROS ``map_server`` maps: a ``map.yaml`` and its PGM image.
+Read and write ROS ``map_server`` maps: a ``map.yaml`` and its image (PGM, PNG, BMP, ...).
 
 The yaml follows map_server (ROS 1) and nav2_map_server (ROS 2):
 
 ``image``
-    The image file, relative to the yaml's directory unless absolute. PGM only, binary (P5)
-    or ASCII (P2), 8 or 16 bit.
+    The image file, relative to the yaml's directory unless absolute. PGM, binary (P5) or
+    ASCII (P2), 8 or 16 bit, read here; any other format Pillow reads (PNG, BMP, JPEG, TIFF,
+    GIF, ...; nav2_map_server reads them through GraphicsMagick) through `read_map_image`:
+    colour converted to grey as nav2_map_server does (``GrayscaleType``: Rec. 601 luma), and
+    a pixel with an alpha below full opacity is unknown (nav2_map_server's alpha mask).
 ``resolution``
     Side of one pixel [m/pixel]; positive.
 ``origin``
@@ -182,10 +185,67 @@ def load_map_yaml(path):
     mode = doc.get('mode', 'trinary')
     if mode not in MODES:
         raise ValueError(f'map yaml {str(path)!r}: mode must be one of {MODES}, got {mode!r}')
-    image, maxval = read_pgm(path.parent / image_name)
+    image, maxval, opaque = read_map_image(path.parent / image_name)
     occupied, free = classify_pixels(image, maxval, negate, occupied_thresh, free_thresh, mode)
+    if opaque is not None:
+        occupied &= opaque
+        free &= opaque
     return OccupancyMap(np.ascontiguousarray(occupied[::-1]), np.ascontiguousarray(free[::-1]),
                         resolution, (x0, y0), path)
+
+
+def read_map_image(path):
+    """
+    Read a map image: PGM here, any other format through Pillow.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The image file.
+
+    Returns
+    -------
+    image : (H, W) ndarray of int
+        Grey values, row 0 at the top.
+    maxval : int
+        Their maximum (255, or 65535 for a 16-bit grey image).
+    opaque : (H, W) ndarray of bool, or None
+        For an image with an alpha channel, the fully opaque pixels (the others are unknown);
+        None without one.
+
+    Raises
+    ------
+    ValueError
+        When the file cannot be read or is no image Pillow knows.
+
+    """
+    path = Path(path)
+    if path.suffix.lower() == '.pgm':
+        image, maxval = read_pgm(path)
+        return image, maxval, None
+    try:
+        with open(path, 'rb') as stream:
+            magic = stream.read(2)
+    except OSError as exc:
+        raise ValueError(f'cannot read map image {str(path)!r}: {exc}') from exc
+    if magic in (b'P5', b'P2'):
+        image, maxval = read_pgm(path)
+        return image, maxval, None
+    from PIL import Image, UnidentifiedImageError
+    try:
+        with Image.open(path) as picture:
+            picture.load()
+            if picture.mode in ('I;16', 'I;16B', 'I;16L', 'I'):
+                grey = np.asarray(picture, dtype=np.int64)
+                return grey, 65535, None
+            has_alpha = 'A' in picture.getbands() or 'transparency' in picture.info
+            converted = picture.convert('LA' if has_alpha else 'L')
+    except (OSError, UnidentifiedImageError) as exc:
+        raise ValueError(f'cannot read map image {str(path)!r}: {exc}') from exc
+    pixels = np.asarray(converted, dtype=np.int64)
+    if has_alpha:
+        return pixels[..., 0], 255, pixels[..., 1] == 255
+    return pixels, 255, None
 
 
 def _number(doc, key, path, default=None):

@@ -18,6 +18,7 @@ fast analytic ray-triangle test per body a beam crosses instead of an iterative 
 from contextlib import contextmanager
 import math
 import os
+from pathlib import Path
 import sys
 
 import pybullet
@@ -52,6 +53,9 @@ class Scene:
     ----------
     scenario : Scenario
         Its occupied cells become static boxes.
+    agent_urdf : str or pathlib.Path, or sequence of them
+        The wanderers' model (the P3-AT by default; ``agent_urdf`` for another agent), or
+        one per wanderer.
     n_wanderers : int
         Number of P3-AT bodies.
     wall_height : float
@@ -74,7 +78,9 @@ class Scene:
 
     """
 
-    def __init__(self, scenario, n_wanderers, wall_height, time_step, gui=False):
+    def __init__(self, scenario, n_wanderers, wall_height, time_step, gui=False,
+                 agent_urdf=P3AT_URDF):
+        self._agent_urdf = agent_urdf
         self.client = pybullet.connect(pybullet.GUI if gui else pybullet.DIRECT)
         if self.client < 0:
             raise RuntimeError('cannot connect to pybullet' + (' (GUI)' if gui else ''))
@@ -110,8 +116,9 @@ class Scene:
             self.husky = pybullet.loadURDF(
                 os.path.join(pybullet_data.getDataPath(), HUSKY_URDF),
                 flags=pybullet.URDF_MERGE_FIXED_LINKS, physicsClientId=client)
-            self.wanderer_bodies = [pybullet.loadURDF(str(P3AT_URDF), physicsClientId=client)
-                                    for _ in range(n_wanderers)]
+            urdfs = self._agent_urdfs(n_wanderers)
+            self.wanderer_bodies = [pybullet.loadURDF(str(urdf), physicsClientId=client)
+                                    for urdf in urdfs]
         for link in range(-1, pybullet.getNumJoints(self.husky, physicsClientId=client)):
             pybullet.setCollisionFilterGroupMask(self.husky, link, HUSKY_GROUP,
                                                  WALL_GROUP | WANDERER_GROUP,
@@ -119,9 +126,9 @@ class Scene:
         for body in self.wanderer_bodies:
             pybullet.setCollisionFilterGroupMask(body, -1, WANDERER_GROUP, HUSKY_GROUP,
                                                  physicsClientId=client)
-        shape = self._mesh_shape(*urdf_collision_mesh(P3AT_URDF)) if n_wanderers else None
-        self.wanderer_ray_bodies = [self._ray_body(shape, WANDERER_RAY_GROUP, gui)
-                                    for _ in range(n_wanderers)]
+        shapes = {urdf: self._mesh_shape(*urdf_collision_mesh(urdf)) for urdf in set(urdfs)}
+        self.wanderer_ray_bodies = [self._ray_body(shapes[urdf], WANDERER_RAY_GROUP, gui)
+                                    for urdf in urdfs]
         self._walls = frozenset(self.wall_bodies)
         self._wanderer_index = {body: i for i, body in enumerate(self.wanderer_bodies)}
         # pybullet places a body by its base's centre of mass; keep each one's offset.
@@ -220,6 +227,15 @@ class Scene:
             depth = max(depth, -distance)
         return wall, wanderers, depth
 
+    def _agent_urdfs(self, n_wanderers):
+        """Return each wanderer's URDF: ``agent_urdf``, or its items one per wanderer."""
+        if isinstance(self._agent_urdf, (str, Path)):
+            return [self._agent_urdf] * n_wanderers
+        urdfs = list(self._agent_urdf)
+        if len(urdfs) != n_wanderers:
+            raise ValueError(f'{len(urdfs)} agent URDFs for {n_wanderers} wanderers')
+        return urdfs
+
     def _mesh_shape(self, vertices, triangles):
         return pybullet.createCollisionShape(
             pybullet.GEOM_MESH, vertices=vertices.tolist(), indices=triangles.ravel().tolist(),
@@ -259,3 +275,48 @@ def _quiet_native_output():
             os.dup2(copy, fd)
             os.close(copy)
         os.close(null)
+
+
+#: A pedestrian's height [m].
+PEDESTRIAN_HEIGHT = 1.7
+_PEDESTRIAN_URDF = """<?xml version="1.0"?>
+<!-- A pedestrian for sim_bridge: an upright cylinder, written by scene.agent_urdf. -->
+<robot name="pedestrian">
+  <link name="base_link">
+    <inertial>
+      <origin xyz="0 0 {half}" rpy="0 0 0"/>
+      <mass value="70.0"/>
+      <inertia ixx="1.0" ixy="0" ixz="0" iyy="1.0" iyz="0" izz="1.0"/>
+    </inertial>
+    <collision>
+      <origin xyz="0 0 {half}" rpy="0 0 0"/>
+      <geometry>
+        <cylinder radius="{radius}" length="{height}"/>
+      </geometry>
+    </collision>
+  </link>
+</robot>
+"""
+
+
+def agent_urdf(config):
+    """
+    Return the URDF of the agents a `WandererConfig` describes.
+
+    The P3-AT's file for ``body='p3at'``; for ``'cylinder'`` a one-link cylinder of the
+    config's radius and `PEDESTRIAN_HEIGHT`, written once per radius into a folder under the
+    system's temporary directory (its text depends on the radius alone).
+    """
+    if config.body == 'p3at':
+        return P3AT_URDF
+    import tempfile
+    folder = Path(tempfile.gettempdir()) / 'sim_bridge_agents'
+    folder.mkdir(exist_ok=True)
+    path = folder / f'pedestrian_r{config.radius:.4f}.urdf'
+    text = _PEDESTRIAN_URDF.format(radius=f'{config.radius:.4f}', height=PEDESTRIAN_HEIGHT,
+                                   half=PEDESTRIAN_HEIGHT / 2.0)
+    if not path.is_file() or path.read_text() != text:
+        partial = path.with_suffix(f'.{os.getpid()}.tmp')
+        partial.write_text(text)
+        os.replace(partial, path)
+    return path

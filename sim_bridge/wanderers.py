@@ -11,6 +11,13 @@ beyond the Husky's radius) it stops, and likewise for another wanderer close ahe
 wanderer that stays stopped longer than its patience picks a new goal and plans around what
 blocks it, so none is stuck for long.
 
+**Agent models.** The same walker moves other agents: `WandererConfig` sets their body
+(``body``: the P3-AT's URDF, or an upright cylinder of ``radius``, a pedestrian), their speed
+range, their acceleration (``max_accel``: 0 changes speed at once, as a P3-AT here does) and
+their politeness (``polite``: whether they stop for the Husky ahead; pedestrians of the
+``PEDESTRIANS`` preset do not). `AGENT_MODELS` names the presets (``--agents`` of the
+benchmark).
+
 Everything here is plain Python + numpy, with no pybullet; the world copies the poses into
 the physics engine. All randomness comes from the generator passed in, so a seed fixes the
 wanderers' spawn points, speeds, goals and therefore trajectories.
@@ -58,6 +65,23 @@ class WandererConfig:
         Preferred straight-line distance to a new goal [m].
     spawn_distance : float
         Least distance between a spawn point and the Husky's start [m].
+    body : str
+        ``'p3at'`` (the Pioneer 3-AT's URDF, `P3AT_RADIUS`) or ``'cylinder'`` (an upright
+        cylinder of ``radius``, 1.7 m tall: a pedestrian).
+    radius : float
+        The cylinder's radius [m] (ignored for a P3-AT, whose circle is `P3AT_RADIUS`).
+    polite : bool
+        Stop while the Husky is ahead (``husky_look_ahead``); an impolite agent walks on and
+        leaves avoiding it to the Husky.
+    max_accel : float
+        Largest change of walking speed [m/s^2]; 0: at once (starts and stops instantly).
+    others : WandererConfig or None
+        A second kind of agent in the same crowd: the last ``round(others_share * count)``
+        agents behave by it (body, speeds, acceleration, politeness, turning, patience); the
+        clearance grid, spawn and goal rules stay this config's, so its ``clearance`` must be
+        the larger.
+    others_share : float
+        Share of the agents of the second kind, in [0, 1].
 
     """
 
@@ -70,6 +94,55 @@ class WandererConfig:
     patience_range: tuple = (1.5, 3.0)
     goal_distance_range: tuple = (3.0, 15.0)
     spawn_distance: float = 3.0
+    body: str = 'p3at'
+    radius: float = P3AT_RADIUS
+    polite: bool = True
+    max_accel: float = 0.0
+    others: object = None
+    others_share: float = 0.0
+
+    def __post_init__(self):
+        if not 0.0 <= self.others_share <= 1.0 or (self.others_share and self.others is None):
+            raise ValueError('others_share must lie in [0, 1], and needs others')
+        if self.others is not None and self.others.clearance > self.clearance:
+            raise ValueError('the second kind of agent needs no more clearance than the first')
+        if self.body not in ('p3at', 'cylinder'):
+            raise ValueError(f"body must be 'p3at' or 'cylinder', got {self.body!r}")
+        if not (math.isfinite(self.radius) and 0.05 <= self.radius <= 2.0):
+            raise ValueError(f'radius must lie in [0.05, 2] m, got {self.radius!r}')
+        if not (math.isfinite(self.max_accel) and self.max_accel >= 0.0):
+            raise ValueError(f'max_accel must be finite and >= 0, got {self.max_accel!r}')
+        low, high = self.speed_range
+        if not (0.0 <= low <= high):
+            raise ValueError(f'speed_range must be 0 <= low <= high, got {self.speed_range!r}')
+
+    @property
+    def body_radius(self):
+        """Return the radius of the circle around the agent's footprint [m]."""
+        return P3AT_RADIUS if self.body == 'p3at' else self.radius
+
+    def kinds(self, count):
+        """Return the config of each of ``count`` agents: this one, then the others."""
+        others = round(self.others_share * count) if self.others is not None else 0
+        return [self] * (count - others) + [self.others] * others
+
+    @property
+    def largest_radius(self):
+        """Return the largest body radius of the kinds of agent [m]."""
+        if self.others is None:
+            return self.body_radius
+        return max(self.body_radius, self.others.body_radius)
+
+
+#: People: 0.3 m radius (0.25-0.35 m shoulder half-widths), 0.8-1.4 m/s (adults' walking
+#: speeds), 1 m/s^2, not stopping for the Husky (they pass it, a 0.1 m margin from walls).
+PEDESTRIANS = WandererConfig(speed_range=(0.8, 1.4), max_turn_rate=3.0, clearance=0.4,
+                             husky_look_ahead=0.0, wanderer_look_ahead=0.3, body='cylinder',
+                             radius=0.3, polite=False, max_accel=1.0)
+#: P3-ATs and pedestrians, half and half (the P3-ATs' clearance grid for both).
+MIXED = WandererConfig(others=PEDESTRIANS, others_share=0.5)
+#: ``--agents`` presets: the wandering P3-ATs (default), pedestrians, and both.
+AGENT_MODELS = {'p3at': WandererConfig(), 'pedestrians': PEDESTRIANS, 'mixed': MIXED}
 
 
 class Wanderers:
@@ -107,12 +180,22 @@ class Wanderers:
     def __init__(self, grid, count, husky_xy, rng, config=WandererConfig()):
         if isinstance(count, bool) or not isinstance(count, int) or count < 0:
             raise ValueError(f'count must be a non-negative integer, got {count!r}')
+        self.radius = config.largest_radius
         self.grid = grid
         self.config = config
         self.rng = rng
         self.positions = np.zeros((count, 2), dtype=np.float64)
         self.yaws = np.zeros(count, dtype=np.float64)
-        self.speeds = rng.uniform(*config.speed_range, count)
+        # Each agent's kind of agent (all `config` without a second kind).
+        self._kinds = config.kinds(count)
+        self.radii = [kind.body_radius for kind in self._kinds]
+        if config.others is None:
+            self.speeds = rng.uniform(*config.speed_range, count)
+        else:
+            unit = rng.uniform(0.0, 1.0, count)
+            self.speeds = np.array([kind.speed_range[0] + u * (kind.speed_range[1]
+                                                               - kind.speed_range[0])
+                                    for kind, u in zip(self._kinds, unit)])
         self.goals_reached = 0
         self.replans = 0
         self._blocked = ~grid.clear
@@ -121,13 +204,14 @@ class Wanderers:
         self._xy = []
         self._yaw = []
         self._speeds = self.speeds.tolist()
+        # The speed each walks at now, below its walking speed while it speeds up [m/s].
+        self._speed_now = [0.0 if kind.max_accel > 0.0 else s
+                           for kind, s in zip(self._kinds, self._speeds)]
         # A circle blocks while its centre is ahead by at most `reach` and beside the line of
-        # travel by less than `side`: Husky first, then other wanderers [m].
-        r = self.radius
-        self._husky_reach = config.husky_look_ahead + HUSKY_RADIUS + r
-        self._husky_side = HUSKY_RADIUS + r + 0.1
-        self._wanderer_reach = config.wanderer_look_ahead + r + r
-        self._wanderer_side = r + r + 0.1
+        # travel by less than `side`: Husky first, then other wanderers [m], per agent.
+        self._husky_reach = [kind.husky_look_ahead + HUSKY_RADIUS + r
+                             for kind, r in zip(self._kinds, self.radii)]
+        self._husky_side = [HUSKY_RADIUS + r + 0.1 for r in self.radii]
         self._paths = [[] for _ in range(count)]
         # Last waypoint reached, a clear cell (where a new path starts if need be).
         self._anchors = [None] * count
@@ -204,21 +288,28 @@ class Wanderers:
             self._reach_waypoint(i)
             return False
         yaw = self._yaw[i]
-        max_turn = self.config.max_turn_rate * dt
+        kind = self._kinds[i]
+        max_turn = kind.max_turn_rate * dt
         err = wrap_angle(math.atan2(dy, dx) - yaw)
         turn = min(max(err, -max_turn), max_turn)
         self._yaw[i] = wrap_angle(yaw + turn)
-        if abs(err - turn) > self.config.heading_tolerance:
+        if abs(err - turn) > kind.heading_tolerance:
             return turn != 0.0
         ux, uy = dx / dist, dy / dist
         blocker = None if self._centring[i] else self._blocker(i, ux, uy, husky_xy)
+        accel = kind.max_accel
         if blocker is not None:
             self._stopped[i] += dt
+            if accel > 0.0:
+                self._speed_now[i] = 0.0
             if self._stopped[i] >= self._patience[i]:
                 self._new_goal(i, husky_xy, blocker)
             return turn != 0.0
         self._stopped[i] = 0.0
-        step = min(self._speeds[i] * dt, dist)
+        speed = self._speeds[i]
+        if accel > 0.0:
+            speed = self._speed_now[i] = min(speed, self._speed_now[i] + accel * dt)
+        step = min(speed * dt, dist)
         if step >= dist:
             self._xy[i] = [tx, ty]
             self._reach_waypoint(i)
@@ -232,14 +323,19 @@ class Wanderers:
         hx, hy = husky_xy
         rx, ry = hx - x, hy - y
         along = rx * ux + ry * uy
-        if 0.0 < along <= self._husky_reach and abs(rx * uy - ry * ux) < self._husky_side:
+        kind = self._kinds[i]
+        if (kind.polite and 0.0 < along <= self._husky_reach[i]
+                and abs(rx * uy - ry * ux) < self._husky_side[i]):
             return hx, hy, HUSKY_RADIUS
-        reach, side = self._wanderer_reach, self._wanderer_side
+        radii = self.radii
+        r = radii[i]
+        look = kind.wanderer_look_ahead
         for j, (ox, oy) in enumerate(self._xy):
             rx, ry = ox - x, oy - y
             along = rx * ux + ry * uy  # 0 for wanderer i itself
-            if 0.0 < along <= reach and abs(rx * uy - ry * ux) < side and j != i:
-                return ox, oy, self.radius
+            if (0.0 < along <= look + r + radii[j] and abs(rx * uy - ry * ux) < r + radii[j] + 0.1
+                    and j != i):
+                return ox, oy, radii[j]
         return None
 
     def _reach_waypoint(self, i):
@@ -262,7 +358,7 @@ class Wanderers:
         along the segment the wanderer is on.)
 
         """
-        cfg = self.config
+        cfg = self._kinds[i]
         self._stopped[i] = 0.0
         self._patience[i] = self.rng.uniform(*cfg.patience_range)
         anchor = self.grid.cell_of(*self._xy[i])

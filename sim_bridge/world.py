@@ -40,7 +40,7 @@ from .contacts import ContactLog
 from .free_space import clearance_grid
 from .husky import clamp_command, HUSKY_LENGTH, HUSKY_WIDTH, integrate_pose, ramp
 from .laser import Laser
-from .scene import RAY_MASK, Scene
+from .scene import agent_urdf, RAY_MASK, Scene
 from .wanderers import Wanderers
 from .world_config import WorldConfig
 
@@ -133,7 +133,8 @@ class World:
         self._wanderers = Wanderers(grid, config.n_wanderers, (x, y),
                                     np.random.default_rng(wander_seed), config.wanderer)
         self.scene = Scene(scenario, config.n_wanderers, config.wall_height, self._dt,
-                           config.gui)
+                           config.gui, agent_urdf=[agent_urdf(kind) for kind in
+                                                   config.wanderer.kinds(config.n_wanderers)])
         for i in range(config.n_wanderers):
             self._place_wanderer(i)
         self.scene.place(self.scene.husky, self._pose)

@@ -47,7 +47,10 @@ def read_bag(folder):
 
     Checks the rosbag2 metadata fields Jazzy reads (version, storage identifier ``mcap``, the
     file list, per-topic counts, QoS, type hashes) against the MCAP file, and the MCAP profile
-    and encodings (``ros2``, ``ros2msg`` schemas, ``cdr`` messages).
+    and encodings (``ros2``, ``ros2msg`` schemas, ``cdr`` messages); and what rosbag2 Jazzy's
+    MCAP storage writes besides: ``ros_distro: jazzy`` in ``metadata.yaml`` and in the MCAP
+    file's ``rosbag2`` metadata record, and each channel's ``offered_qos_profiles`` and
+    ``topic_type_hash`` (equal to the topic's ``type_description_hash``).
 
     Returns
     -------
@@ -57,6 +60,7 @@ def read_bag(folder):
     folder = Path(folder)
     info = yaml.safe_load((folder / 'metadata.yaml').read_text())['rosbag2_bagfile_information']
     assert info['version'] == 9
+    assert info['ros_distro'] == 'jazzy'
     assert info['storage_identifier'] == 'mcap'
     assert info['compression_mode'] == '' and info['compression_format'] == ''
     (relative,) = info['relative_file_paths']
@@ -66,11 +70,16 @@ def read_bag(folder):
         reader = make_reader(stream, decoder_factories=[DecoderFactory()])
         assert reader.get_header().profile == 'ros2'
         summary = reader.get_summary()
+        (record,) = list(reader.iter_metadata())
+        channel_metadata = {c.topic: dict(c.metadata) for c in summary.channels.values()}
         for schema, channel, message, decoded in reader.iter_decoded_messages(
                 log_time_order=False):
             assert schema.encoding == 'ros2msg' and channel.message_encoding == 'cdr'
             types[channel.topic] = schema.name
             messages[channel.topic].append((message.log_time, decoded))
+    assert record.name == 'rosbag2'
+    serialized = yaml.safe_load(record.metadata['serialized_metadata'])
+    assert serialized['ros_distro'] == 'jazzy' and serialized['version'] == 9
     bag = RecordedBag(info, types, dict(messages))
     counts = bag.counts()
     assert info['message_count'] == sum(counts.values()) == summary.statistics.message_count
@@ -85,6 +94,10 @@ def read_bag(folder):
         assert len(topic['offered_qos_profiles']) == 1
         if name in types:
             assert types[name] == topic['type']
+        channel = channel_metadata[name]
+        assert set(channel) == {'offered_qos_profiles', 'topic_type_hash'}
+        assert channel['topic_type_hash'] == topic['type_description_hash']
+        assert yaml.safe_load(channel['offered_qos_profiles']) == topic['offered_qos_profiles']
     times = [t for items in messages.values() for t, _ in items]
     if times:
         assert info['starting_time']['nanoseconds_since_epoch'] == min(times)

@@ -66,7 +66,8 @@ def save_animation(path, snapshots, resolution, origin, goal=None, wanderer_radi
                                  wanderers=snapshot.wanderers, wanderer_radius=wanderer_radius,
                                  goal=goal, title=f'{title}\n{label}' if title else label)
                 axes.title.set_fontsize(8)
-                axes.legend(loc='upper right', fontsize=6, framealpha=0.9)
+                if axes.get_legend_handles_labels()[0]:
+                    axes.legend(loc='upper right', fontsize=6, framealpha=0.9)
                 figure.tight_layout()
                 writer.grab_frame()
     finally:

@@ -22,6 +22,7 @@ rosbag2 MCAP bag into DIR (docs/recording.md).
 import argparse
 from dataclasses import dataclass
 import json
+import math
 from pathlib import Path
 import sys
 import time
@@ -54,20 +55,21 @@ def build_parser():
     parser.add_argument('--wanderers', nargs='+', type=int, metavar='N',
                         help='wanderer counts, 0 to 10')
     parser.add_argument('--repeats', type=int, help='repetitions of each configuration')
-    parser.add_argument('--navigator', choices=sorted(NAVIGATORS), default='dpn',
+    parser.add_argument('--navigator', type=navigator_choice, default='dpn',
+                        metavar='{' + ','.join(sorted(NAVIGATORS)) + '} or package.module:Class',
                         help='dpn: as shipped; dpn_no_sweep: dpn with the turn sweep off '
                              "(docs/safety.md); paper: without this project's additions "
                              '(A* proximity cost, forgetting unseen obstacles when stuck, the '
                              'label rules of docs/detection.md); costmap: a Nav2-style '
-                             'obstacle + inflation costmap; oracle: the true walls and '
-                             "wanderers (the last two with dpn's planner and follower; "
-                             'docs/benchmark.md) (default: %(default)s)')
-    parser.add_argument('--laser', default='ideal', metavar='PROFILE',
-                        help="the world's laser: "
-                             f'{", ".join(LASER_PROFILE_NAMES)}; ideal is the paper\'s perfect '
-                             'laser, the others are modelled on data sheets, with noise, lost '
-                             'returns and mixed pixels (docs/simulator.md) (default: '
-                             '%(default)s)')
+                             "obstacle + inflation costmap run by Nav2 Jazzy's default "
+                             "behaviour tree (1 Hz replanning, NavFn's cost of unknown space, "
+                             'the recoveries); costmap-bare: the costmap without them; '
+                             'oracle: the true walls and the wanderers near the robot where '
+                             'they will be over 2 s (oracle-bare: every wanderer where it '
+                             "stands); the references with dpn's planner and follower "
+                             '(docs/benchmark.md); package.module:Class: your own navigator, '
+                             'a class implementing the protocol of '
+                             'dpn_navigator.benchmark.navigator_plugin (default: %(default)s)')
     parser.add_argument('--seed', type=int, default=0,
                         help='base seed of the episode seeds (default: %(default)s)')
     parser.add_argument('--out', default='benchmark_out', type=Path,
@@ -96,7 +98,85 @@ def build_parser():
                         help='skip the detection measures (about 8-10 %% of episode time; see '
                              'docs/detection.md): their columns are left empty')
     parser.add_argument('--no-progress', action='store_true', help='no progress bar')
+    add_world_options(parser)
     return parser
+
+
+def navigator_choice(text):
+    """Return a ``--navigator`` value: a built-in name or ``package.module:Class``."""
+    if text in NAVIGATORS or (':' in text and all(text.partition(':')[::2])):
+        return text
+    raise argparse.ArgumentTypeError(
+        f'invalid choice {text!r}: one of {", ".join(sorted(NAVIGATORS))}, or '
+        'package.module:Class')
+
+
+def add_world_options(parser):
+    """Add the options of the agents, the pose noise (issue 30) and the laser to the parser."""
+    from sim_bridge.wanderers import AGENT_MODELS
+    parser.add_argument('--agents', choices=sorted(AGENT_MODELS), default='p3at',
+                        help='the moving agents: p3at, the wandering Pioneer 3-ATs that stop '
+                             'for the Husky; pedestrians, people of 0.3 m radius at 0.8-1.4 '
+                             'm/s who do not; mixed, half and half (docs/benchmark.md) '
+                             '(default: %(default)s)')
+    parser.add_argument('--pose-noise', nargs=2, type=float, metavar=('SIGMA_XY', 'SIGMA_YAW'),
+                        help='Gaussian noise on the pose the navigator is given [m, rad], per '
+                             'scan (the benchmark judges the true pose)')
+    parser.add_argument('--laser', default='ideal', metavar='PROFILE',
+                        help="the world's laser: "
+                             f'{", ".join(LASER_PROFILE_NAMES)}; ideal is the paper\'s perfect '
+                             'laser, the others are modelled on data sheets, with noise, lost '
+                             'returns and mixed pixels (docs/simulator.md) (default: '
+                             '%(default)s)')
+
+
+def run_settings(args):
+    """
+    Return what must be the same for every episode of one log, for ``run.json``.
+
+    The navigator; the agent model, the pose noise and the laser only when not the defaults,
+    so that the ``run.json`` of a default run reads as before.
+    """
+    settings = {'navigator': args.navigator}
+    if args.agents != 'p3at':
+        settings['agents'] = args.agents
+    if args.pose_noise:
+        settings['pose_noise'] = list(args.pose_noise)
+    if args.laser != 'ideal':
+        settings['laser'] = args.laser
+    return settings
+
+
+def episode_options(args):
+    """
+    Return the ``episode_options`` of ``run_protocol`` the arguments ask for (None: defaults).
+
+    Raises
+    ------
+    ValueError
+        For negative pose noise, an unknown laser, a plug-in navigator that does not load, or
+        one with ``--record``.
+
+    """
+    from .navigator_plugin import load_navigator_class
+    options = {}
+    if args.agents != 'p3at':
+        options['agents'] = args.agents
+    if args.pose_noise:
+        if min(args.pose_noise) < 0.0 or not all(map(math.isfinite, args.pose_noise)):
+            raise ValueError(f'--pose-noise must be finite and >= 0, got {args.pose_noise}')
+        options['pose_noise'] = tuple(args.pose_noise)
+    if args.laser not in LASER_PROFILE_NAMES:
+        raise ValueError(f'unknown --laser {args.laser!r}: choose one of '
+                         f'{", ".join(LASER_PROFILE_NAMES)}')
+    if args.laser != 'ideal':
+        options['laser'] = args.laser
+    if args.navigator not in NAVIGATORS:
+        if getattr(args, 'record', None):
+            raise ValueError('--record needs a built-in navigator (a bag holds its map)')
+        load_navigator_class(args.navigator)               # fail here, not in a worker
+        options['navigator_class'] = args.navigator
+    return options or None
 
 
 def map_str(values):
@@ -109,7 +189,7 @@ def main(argv=None):
     parser = build_parser()
     args = parser.parse_args(argv)
     from sim_bridge.scenario import load_index
-    if args.laser not in LASER_PROFILE_NAMES:
+    if args.laser not in LASER_PROFILE_NAMES:        # before the output folder is made
         parser.error(f'unknown --laser {args.laser!r}: choose one of '
                      f'{", ".join(LASER_PROFILE_NAMES)}')
     profile = PROFILES[args.profile]
@@ -120,16 +200,18 @@ def main(argv=None):
                               args.wanderers if args.wanderers is not None else
                               profile.wanderers, args.repeats or profile.repeats, args.seed)
         args.out.mkdir(parents=True, exist_ok=True)
-        check_run_settings(args.out / 'run.json', run_settings(args.navigator, args.laser))
+        options = episode_options(args)
+        check_run_settings(args.out / 'run.json', run_settings(args))
         log_path = args.out / 'episodes.csv'
         print(f'dpn-benchmark: {len(specs)} episodes ({len(map_keys)} maps) into {log_path}',
               flush=True)
         stats = run_protocol(specs, log_path, workers=args.workers,
                              ray_address=args.ray_address, index=args.index,
                              progress=not args.no_progress,
-                             navigator_options=NAVIGATORS[args.navigator],
+                             navigator_options=NAVIGATORS.get(args.navigator, {}),
                              detection=not args.no_detection, record_dir=args.record,
-                             map_model=MAP_MODELS[args.navigator], laser=args.laser)
+                             map_model=MAP_MODELS.get(args.navigator, 'labels'),
+                             episode_options=options)
     except ValueError as exc:
         parser.exit(2, f'dpn-benchmark: error: {exc}\n')
     except KeyboardInterrupt:
@@ -141,7 +223,9 @@ def main(argv=None):
           f'{stats.simulated_time:.0f} s simulated, {stats.speed_per_core:.1f}x real time per '
           f'worker, {stats.episodes_per_hour:.0f} episodes per hour')
     rows = read_log(log_path)
-    title = f'dpn benchmark, {args.navigator} navigator, {args.laser} laser'
+    title = f'dpn benchmark, {args.navigator} navigator'
+    if args.laser != 'ideal':
+        title += f', {args.laser} laser'
     summary = summary_markdown(rows, title=title, navigator=args.navigator)
     (args.out / 'summary.md').write_text(summary)
     if rows:
@@ -153,9 +237,10 @@ def main(argv=None):
                               title=f'Detection against wanderer count, {args.navigator} '
                                     'navigator')
         print(f'wrote {args.out / "detection.png"}')
-    if (args.strip or args.animate) and specs:
+    if (args.strip or args.animate) and specs and args.navigator in NAVIGATORS:
         showcase = rerun_showcase(specs, args.index, navigator_options=NAVIGATORS[args.navigator],
-                                  map_model=MAP_MODELS[args.navigator], laser=args.laser)
+                                  map_model=MAP_MODELS[args.navigator],
+                                  episode_options=episode_options(args))
         if args.strip:
             write_strip(args.out / 'strip.png', showcase)
             print(f'wrote {args.out / "strip.png"}')
@@ -163,19 +248,6 @@ def main(argv=None):
             write_animation(args.out / 'episode.gif', showcase)
             print(f'wrote {args.out / "episode.gif"}')
     return 0
-
-
-def run_settings(navigator, laser):
-    """
-    Return what must be the same for every episode of one log: the navigator and the laser.
-
-    The laser is left out for ``ideal``, so that a folder written before ``--laser`` existed
-    (its ``run.json`` says only the navigator) resumes with the laser it was run with.
-    """
-    settings = {'navigator': navigator}
-    if laser != 'ideal':
-        settings['laser'] = laser
-    return settings
 
 
 def check_run_settings(path, settings):
@@ -187,7 +259,7 @@ def check_run_settings(path, settings):
     path : pathlib.Path
         ``run.json`` in the output folder.
     settings : dict
-        What must be the same for every episode of one log (`run_settings`).
+        What must be the same for every episode of one log (the navigator variant).
 
     Raises
     ------
@@ -244,7 +316,7 @@ class Showcase:
 
 
 def rerun_showcase(specs, index=None, navigator_options=None, period=1.0, map_model='labels',
-                   laser='ideal'):
+                   episode_options=None):
     """
     Rerun one episode of a protocol with an `EpisodeRecorder`.
 
@@ -263,17 +335,17 @@ def rerun_showcase(specs, index=None, navigator_options=None, period=1.0, map_mo
         The map the navigator plans on (``protocol.MAP_MODELS``).
     period : float
         Simulated time between snapshots [s].
-    laser : str
-        The world's laser, a ``sim_bridge.laser_profiles`` name.
+    episode_options : dict, optional
+        As for ``run_protocol`` (the agents, the pose noise, the laser).
 
     Returns
     -------
     Showcase
 
     """
-    from sim_bridge.laser_profiles import laser_profile
     from sim_bridge.scenario import load_scenario
     from .episode import run_episode
+    from .runner import episode_keywords
     from .snapshots import EpisodeRecorder
     first = specs[0]
     spec = max((s for s in specs if (s.map_key, s.task, s.repetition) ==
@@ -283,7 +355,7 @@ def rerun_showcase(specs, index=None, navigator_options=None, period=1.0, map_mo
     started = time.perf_counter()
     result = run_episode(scenario, spec.task, spec.wanderers, spec.seed, recorder=recorder,
                          navigator_options=navigator_options, map_model=map_model,
-                         laser=laser_profile(laser).laser)
+                         **episode_keywords(episode_options))
     recorder.finish()
     return Showcase(spec, scenario, result, recorder, time.perf_counter() - started)
 

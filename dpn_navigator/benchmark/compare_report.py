@@ -23,7 +23,9 @@ from pathlib import Path
 import numpy as np
 
 from .episode_log import read_log, row_key
+from .metrics_report import paired_markdown, per_map_markdown, standard_metrics_markdown
 from .report import cell_stats, group_rows, map_order
+from .statistics import sign_test
 
 #: Below this share of the reference's success, a (map, wanderers) pair is a shortfall.
 DEFAULT_THRESHOLD = 0.95
@@ -144,21 +146,6 @@ def paired_outcomes(subject_rows, other_rows):
     return dict(sorted(outcomes.items()))
 
 
-def sign_test(won, lost):
-    """
-    Return the exact two-sided sign-test p-value of ``won`` against ``lost`` (McNemar's exact).
-
-    Of the episodes that two navigators end differently, each is as likely to go either way
-    when the navigators are equally good; the p-value is the probability of a split at least
-    this uneven under that hypothesis. 1.0 when no episode differs.
-    """
-    total = won + lost
-    if total == 0:
-        return 1.0
-    tail = sum(math.comb(total, k) for k in range(min(won, lost) + 1))
-    return min(1.0, 2.0 * tail / 2.0 ** total)
-
-
 def compare_markdown(rows_by_navigator, subject='dpn', reference='oracle',
                      threshold=DEFAULT_THRESHOLD, dropped=0):
     """
@@ -209,7 +196,9 @@ def compare_markdown(rows_by_navigator, subject='dpn', reference='oracle',
     if subject in rows_by_navigator and reference in rows_by_navigator:
         lines += _ratio_lines(rows_by_navigator[subject], rows_by_navigator[reference],
                               subject, reference, threshold)
-    return '\n'.join(lines) + '\n'
+    return ('\n'.join(lines) + '\n\n' + standard_metrics_markdown(rows_by_navigator) + '\n'
+            + paired_markdown(rows_by_navigator, subject) + '\n'
+            + per_map_markdown(rows_by_navigator))
 
 
 def _paired_lines(rows_by_navigator, subject, counts):

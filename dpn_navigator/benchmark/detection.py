@@ -7,8 +7,12 @@ wanderers, and counts (definitions in ``docs/detection.md``):
 
 - **precision** of ``MOBILE_OBSTACLE`` among visible cells (``cell_input != NONE``): visible
   mobile cells whose centre lies within ``R + r`` of a wanderer, over visible mobile cells;
+  and over **every** mobile cell of the grid (``mobile_precision_all``: ghosts out of view
+  and wall cells labelled mobile count against it), which cannot be raised by not looking;
 - **recall on wanderer hits**: cells within ``r`` of a hit on a wanderer and off every wall's
-  f1 belt that are labelled mobile after the update, over those cells;
+  f1 belt that are labelled mobile after the update, over those cells; the same on the cells
+  within a wall's belt, reported apart (``wanderer_hit_recall_near_wall``: a wanderer beside
+  a wall, where corridors are blocked);
 - **wall cells ever mobile**: belt cells that some scan saw and left labelled mobile with no
   wanderer within ``R + r``, over belt cells ever seen;
 - **ghosts**: mobile and steady obstacle cells that neither a wall's belt nor a wanderer within
@@ -68,6 +72,15 @@ class DetectionResult:
         Ghost cells after the last scan.
     replans_wall, replans_wanderer, replans_no_path_retry, replans_other : int
         Paths planned, by cause.
+    mobile_all, mobile_all_true : int
+        Every mobile cell of the grid summed over scans, in view or not, and those near a
+        wanderer.
+    mobile_precision_all : float or None
+        ``mobile_all_true / mobile_all``.
+    wanderer_hit_cells_near_wall, wanderer_hit_cells_near_wall_mobile : int
+        Wanderers' f1 cells on a wall's belt summed over scans, and those labelled mobile.
+    wanderer_hit_recall_near_wall : float or None
+        ``wanderer_hit_cells_near_wall_mobile / wanderer_hit_cells_near_wall``.
 
     """
 
@@ -91,6 +104,12 @@ class DetectionResult:
     replans_wanderer: int
     replans_no_path_retry: int
     replans_other: int
+    mobile_all: int = 0
+    mobile_all_true: int = 0
+    mobile_precision_all: object = None
+    wanderer_hit_cells_near_wall: int = 0
+    wanderer_hit_cells_near_wall_mobile: int = 0
+    wanderer_hit_recall_near_wall: object = None
 
     def as_row(self):
         """Return the measures as a flat dict, ratios rounded to 4 decimals."""
@@ -141,7 +160,8 @@ class DetectionMeter:
         self._counts = dict.fromkeys(
             ('scans', 'mobile_visible', 'mobile_visible_true', 'wanderer_hit_cells',
              'wanderer_hit_cells_mobile', 'mobile_ghosts', 'steady_ghosts',
-             'mobile_ghost_scans', 'steady_ghost_scans'), 0)
+             'mobile_ghost_scans', 'steady_ghost_scans', 'mobile_all', 'mobile_all_true',
+             'wanderer_hit_cells_near_wall', 'wanderer_hit_cells_near_wall_mobile'), 0)
         self._replans = dict.fromkeys(REPLAN_CLASSES, 0)
         self._ghosts_now = (0, 0)
         self._off_belt_flat = ~wall_belt.ravel()
@@ -182,10 +202,19 @@ class DetectionMeter:
         if len(wanderer_hits_xy[0]):
             hit_rr, hit_cc = self.f1_cells(*wanderer_hits_xy)
             off_walls = ~self.wall_belt[hit_rr, hit_cc]
+            hit_mobile = labels[hit_rr, hit_cc] == CellLabel.MOBILE_OBSTACLE
             counts['wanderer_hit_cells'] += int(np.count_nonzero(off_walls))
-            counts['wanderer_hit_cells_mobile'] += int(np.count_nonzero(
-                off_walls & (labels[hit_rr, hit_cc] == CellLabel.MOBILE_OBSTACLE)))
+            counts['wanderer_hit_cells_mobile'] += int(np.count_nonzero(off_walls & hit_mobile))
+            counts['wanderer_hit_cells_near_wall'] += int(np.count_nonzero(~off_walls))
+            counts['wanderer_hit_cells_near_wall_mobile'] += int(np.count_nonzero(
+                ~off_walls & hit_mobile))
         mobile, steady = self._ghosts_now = self.ghosts(labels, wanderer_xy)
+        every_mobile = np.flatnonzero(np.ascontiguousarray(labels).ravel()
+                                      == CellLabel.MOBILE_OBSTACLE)
+        counts['mobile_all'] += int(every_mobile.shape[0])
+        counts['mobile_all_true'] += int(np.count_nonzero(near_any(
+            self._centre_x[every_mobile], self._centre_y[every_mobile], wanderer_xy,
+            self.reach)))
         counts['mobile_ghosts'] += mobile
         counts['steady_ghosts'] += steady
         counts['mobile_ghost_scans'] += mobile > 0
@@ -320,4 +349,10 @@ class DetectionMeter:
             mobile_ghosts_end=self._ghosts_now[0], steady_ghosts_end=self._ghosts_now[1],
             replans_wall=self._replans['wall'], replans_wanderer=self._replans['wanderer'],
             replans_no_path_retry=self._replans['no_path_retry'],
-            replans_other=self._replans['other'])
+            replans_other=self._replans['other'], mobile_all=counts['mobile_all'],
+            mobile_all_true=counts['mobile_all_true'],
+            mobile_precision_all=ratio(counts['mobile_all_true'], counts['mobile_all']),
+            wanderer_hit_cells_near_wall=counts['wanderer_hit_cells_near_wall'],
+            wanderer_hit_cells_near_wall_mobile=counts['wanderer_hit_cells_near_wall_mobile'],
+            wanderer_hit_recall_near_wall=ratio(counts['wanderer_hit_cells_near_wall_mobile'],
+                                                counts['wanderer_hit_cells_near_wall']))

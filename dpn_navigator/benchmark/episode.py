@@ -4,17 +4,22 @@ One benchmark episode without ROS: the navigator and the pybullet world in locks
 The same ``Navigator`` the ``dpn`` node wraps drives the same ``World`` the ``pybullet_world``
 node wraps, scan by scan, as fast as the CPU allows and deterministically for a seed.
 
-Episode rules:
+Episode rules (``docs/benchmark.md``; the constants in ``episode_metrics``):
 
-- The time limit is ``30 s + 3 * L / v_max``. ``L`` is the task's shortest path on the true
-  map, for a robot that keeps 0.35 m (the Husky's half width) from walls, and ``v_max`` is the
-  navigator's top speed.
-- The episode ends when the navigator reports the goal reached (within its goal tolerance) or
-  at the time limit.
-- **Success**: the goal is reached with no contact. Otherwise the failure reason is:
+- The time limit is ``30 s + 3 * L / v_ref``. ``L`` is the task's shortest path on the true
+  map, for a robot that keeps 0.35 m (the Husky's half width) from walls, and ``v_ref`` is one
+  fixed reference speed for every navigator (``episode_metrics.REFERENCE_SPEED``, 1 m/s), not
+  the speed a navigator declares.
+- The episode ends when the benchmark sees the true pose within
+  ``episode_metrics.GOAL_TOLERANCE`` of the goal, when the navigator reports the goal reached,
+  or at the time limit.
+- **Success** is the benchmark's: the true pose within the tolerance before the time limit,
+  with no contact. ``end_reason`` says why an episode failed as the benchmark sees it
+  (``episode_metrics.end_reason``: collision, false arrival, no path, stuck, oscillating,
+  timeout while moving). The older ``failure`` column keeps its coarse reasons:
   - ``collision`` when the Husky touched a wall or a wanderer, even if it then arrived;
   - ``no_path`` when the navigator ended with no path;
-  - ``timeout`` when the time ran out.
+  - ``timeout`` otherwise.
 
 """
 
@@ -26,9 +31,14 @@ import time
 import numpy as np
 
 from .baselines.costmap_grid import CostmapConfig, CostmapGrid
+from .baselines.nav2_navigator import Nav2Navigator
 from .baselines.oracle_grid import OracleGrid
+from .baselines.wanderer_forecast import forecast_positions
 from .detection import DETECTION_FIELDS, DetectionMeter
+from .episode_metrics import GOAL_TOLERANCE, METRIC_FIELDS, time_limit as rule_time_limit
+from .episode_metrics import TrajectoryRecorder
 from .ground_truth import wall_belt, wanderer_hit_points
+from .navigator_plugin import PluginNavigator
 from ..core import astar, CellLabel, Navigator, NavigatorConfig, NavigatorStatus, path_cost
 from ..core.grid_geometry import GridGeometry
 from ..core.pose2d import compose
@@ -37,6 +47,8 @@ from ..core.pose2d import compose
 HUSKY_HALF_WIDTH = 0.35
 #: Cell side of the grid the reference shortest path is planned on [m].
 REFERENCE_CELL = 0.25
+#: Stream of the pose-noise generator, beside the episode's seed (the world has its own).
+POSE_NOISE_STREAM = 0x9E3779B9
 #: Cell side of the costmap navigator's obstacle layer [m] (Nav2's costmaps: 0.05 to 0.1 m).
 COSTMAP_LAYER_RESOLUTION = 0.1
 
@@ -77,6 +89,8 @@ class EpisodeResult:
     detection : DetectionResult or None
         The map measured as a detector, scan by scan (``detection.DetectionMeter``); None
         when the episode ran without it.
+    metrics : EpisodeMetrics or None
+        The benchmark's own view of the episode (``episode_metrics``).
     detection_wall_time : float or None
         Wall-clock time spent measuring it [s]; left out of comparisons, as it varies.
 
@@ -99,12 +113,15 @@ class EpisodeResult:
     walls_labelled_mobile: int
     ghost_obstacles: int
     detection: object = None
+    metrics: object = None
     detection_wall_time: float = field(default=None, compare=False)
 
     def as_row(self):
         """Return the result as a flat dict, for CSV writing (detection fields None if off)."""
         row = {name: getattr(self, name) for name in self.__dataclass_fields__}
         detection = row.pop('detection')
+        metrics = row.pop('metrics')
+        row.update(metrics.as_row() if metrics is not None else dict.fromkeys(METRIC_FIELDS))
         row.update(detection.as_row() if detection is not None else
                    dict.fromkeys(DETECTION_FIELDS))
         return row
@@ -239,9 +256,11 @@ def build_map(map_model, navigator_config, scenario, wanderer_radius, range_max)
     Parameters
     ----------
     map_model : str
-        ``'labels'`` (the paper's ``LabelGrid``), ``'costmap'`` (``CostmapGrid`` with Nav2
-        Jazzy's default ranges scaled to the laser, its layer in ``COSTMAP_LAYER_RESOLUTION``
-        cells) or ``'oracle'`` (``OracleGrid``).
+        ``'labels'`` (the paper's ``LabelGrid``), ``'costmap'`` or ``'nav2'`` (``CostmapGrid``
+        with Nav2 Jazzy's default ranges scaled to the laser, its layer in
+        ``COSTMAP_LAYER_RESOLUTION`` cells; ``nav2`` runs it with ``Nav2Navigator``) or
+        ``'oracle'`` or ``'foresight'`` (``OracleGrid``; ``foresight`` is fed the agents'
+        forecast positions near the robot, ``baselines.wanderer_forecast``).
     navigator_config : NavigatorConfig
         Its grid size, resolution, origin and safety radius are the map's.
     scenario : sim_bridge.scenario.Scenario
@@ -265,21 +284,23 @@ def build_map(map_model, navigator_config, scenario, wanderer_radius, range_max)
     if map_model == 'labels':
         return None
     config = navigator_config
-    if map_model == 'costmap':
+    if map_model in ('costmap', 'nav2'):
         return CostmapGrid(config.width, config.height, config.resolution, config.origin,
                            CostmapConfig.scaled_to_laser(range_max),
                            layer_resolution=COSTMAP_LAYER_RESOLUTION)
-    if map_model == 'oracle':
+    if map_model in ('oracle', 'foresight'):
         geometry = GridGeometry(config.width, config.height, config.resolution,
                                 tuple(config.origin))
         belt = wall_belt(scenario.occupied, scenario.geometry, geometry, config.safety_radius)
         return OracleGrid(geometry, belt, wanderer_radius + config.safety_radius)
-    raise ValueError(f'unknown map model {map_model!r}: labels, costmap or oracle')
+    raise ValueError(f'unknown map model {map_model!r}: labels, costmap, nav2, oracle or '
+                     'foresight')
 
 
 def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
                 time_limit=None, recorder=None, navigator_options=None, detection=True,
-                setup=None, map_model='labels', wanderer_config=None, laser=None):
+                setup=None, map_model='labels', wanderer_config=None, pose_noise=None,
+                navigator_class=None, laser=None):
     """
     Run one episode in lockstep and measure it.
 
@@ -314,7 +335,14 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
         true positions before every step and has no detection measures.
     wanderer_config : sim_bridge.wanderers.WandererConfig, optional
         The wanderers' behaviour (default: ``WorldConfig``'s); its ``clearance`` must be the
-        default one when ``setup`` holds a prebuilt wanderer grid.
+        one ``setup``'s wanderer grid was built for (``AGENT_MODELS`` has the presets).
+    pose_noise : (float, float), optional
+        Standard deviations of the pose the navigator is given [m, rad]: Gaussian, drawn per
+        scan from a generator seeded by ``seed`` (the benchmark judges the true pose).
+    navigator_class : type, optional
+        A plug-in navigator (``navigator_plugin``), built as ``navigator_class(config)`` in
+        place of the built-in one; ``map_model`` is then unused, and there are no detection or
+        map-quality measures.
     laser : sim_bridge.laser.LaserConfig, optional
         The world's laser (default: ``WorldConfig``'s, the ``ideal`` profile). The navigator
         reads the beam layout and range limits from each scan, and its default configuration
@@ -341,19 +369,34 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
         setup = task_setup(scenario, task_index)
     shortest = setup.shortest_path
     if time_limit is None:
-        time_limit = 30.0 + 3.0 * shortest / navigator_config.follower.max_linear_speed
+        time_limit = rule_time_limit(shortest)
     travelled = 0.0
     if wanderer_config is not None:
         world_config = dataclasses.replace(world_config, wanderer=wanderer_config)
     with World(scenario, world_config, start=task.start,
                wanderer_grid=setup.wanderer_grid) as world:
         scan = world.scan()
-        grid = build_map(map_model, navigator_config, scenario, world.wanderer_radius,
-                         scan.range_max)
-        navigator = Navigator(navigator_config, grid)
+        if navigator_class is not None:
+            navigator = PluginNavigator(navigator_class(navigator_config))
+            map_model = 'plugin'
+            detection = False
+        else:
+            grid = build_map(map_model, navigator_config, scenario, world.wanderer_radius,
+                             scan.range_max)
+            navigator = (Nav2Navigator(navigator_config, grid) if map_model == 'nav2'
+                         else Navigator(navigator_config, grid))
+        noise = None
+        if pose_noise is not None and any(pose_noise):
+            noise = (np.random.default_rng([seed, POSE_NOISE_STREAM]),
+                     np.array([pose_noise[0], pose_noise[0], pose_noise[1]], dtype=float))
         navigator.set_goal(*task.goal)
-        oracle = map_model == 'oracle'
+        oracle = map_model in ('oracle', 'foresight')
+        forecast = None
+        if map_model == 'foresight':
+            forecast = {'reach': world.wanderer_radius + navigator_config.safety_radius,
+                        'previous': None, 'time': world.time}
         last_xy = world.husky_pose[:2]
+        trajectory = TrajectoryRecorder(world.wanderer_radius)
         meter = None
         if detection and not oracle:
             started = time.perf_counter()
@@ -364,13 +407,24 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
                 world.wanderer_radius, navigator_config.safety_radius)
             detection_time = time.perf_counter() - started
         while world.time < time_limit:
-            if oracle:
+            trajectory.record(world.time, world.husky_pose, world.husky_velocity,
+                              world.wanderer_positions)
+            if forecast is not None:
+                now = world.wanderer_positions
+                grid.set_wanderers(forecast_positions(
+                    now, forecast['previous'], world.time - forecast['time'],
+                    world.husky_pose[:2], forecast['reach']))
+                forecast.update(previous=now, time=world.time)
+            elif oracle:
                 grid.set_wanderers(world.wanderer_positions)
             if meter is not None:
                 path = navigator.path
                 path_labels = None if path is None else navigator.grid.labels[path[:, 0],
                                                                               path[:, 1]]
-            out = navigator.step(world.time, world.husky_pose, scan.ranges, scan.angle_min,
+            pose = world.husky_pose
+            if noise is not None:
+                pose = tuple(np.asarray(pose, dtype=float) + noise[0].normal(0.0, noise[1]))
+            out = navigator.step(world.time, pose, scan.ranges, scan.angle_min,
                                  scan.angle_increment, scan.range_min, scan.range_max)
             if meter is not None:
                 started = time.perf_counter()
@@ -378,18 +432,27 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
                 detection_time += time.perf_counter() - started
             if recorder is not None:
                 recorder(world, navigator)
-            if out.status is NavigatorStatus.GOAL_REACHED:
+            if (out.status is NavigatorStatus.GOAL_REACHED
+                    or math.dist(world.husky_pose[:2], task.goal[:2]) <= GOAL_TOLERANCE):
                 break
             scan = world.advance(out.command.linear, out.command.angular)
             travelled += math.dist(last_xy, world.husky_pose[:2])
             last_xy = world.husky_pose[:2]
+        else:
+            trajectory.record(world.time, world.husky_pose, world.husky_velocity,
+                              world.wanderer_positions)
         contacts = world.contacts
-        walls_mobile, ghosts = map_quality(
-            navigator.grid.labels, navigator.grid.geometry, scenario.occupied,
-            scenario.geometry, world.wanderer_positions, world.wanderer_radius,
-            navigator_config.safety_radius)
+        walls_mobile = ghosts = 0
+        if navigator.grid is not None:
+            walls_mobile, ghosts = map_quality(
+                navigator.grid.labels, navigator.grid.geometry, scenario.occupied,
+                scenario.geometry, world.wanderer_positions, world.wanderer_radius,
+                navigator_config.safety_radius)
         end_time = world.time
-    reached = navigator.status is NavigatorStatus.GOAL_REACHED
+    reported_goal = navigator.status is NavigatorStatus.GOAL_REACHED
+    metrics = trajectory.metrics(task.goal, shortest, time_limit, travelled, contacts.events,
+                                 reported_goal, navigator.status is NavigatorStatus.NO_PATH)
+    reached = metrics.judged_success
     if contacts.events:
         failure = 'collision'
     elif reached:
@@ -406,7 +469,7 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
         forgets=navigator.forgets,
         wall_contacts=contacts.wall_events, wanderer_contacts=contacts.wanderer_events,
         walls_labelled_mobile=walls_mobile, ghost_obstacles=ghosts,
-        detection=None if meter is None else meter.result(),
+        detection=None if meter is None else meter.result(), metrics=metrics,
         detection_wall_time=None if meter is None else round(detection_time, 3))
 
 

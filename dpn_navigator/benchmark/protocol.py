@@ -22,11 +22,14 @@ import numpy as np
 #: navigator as shipped; ``paper`` turns off what this project added to the paper's method (the
 #: obstacle proximity cost of A*, forgetting unseen obstacles when stuck, the label rules:
 #: conservative free space, object-level relabelling and ghost expiry, and the turn sweep).
-#: The two reference navigators (`MAP_MODELS`) plan on another map with dpn's planner and
+#: The reference navigators (`MAP_MODELS`) plan on another map with dpn's planner and
 #: follower, the turn sweep included; they forget nothing (the costmap has no decay, the oracle
-#: nothing to forget). ``dpn_no_sweep`` is dpn with the turn sweep off
-#: (``NavigatorConfig.turn_sweep_memory``, on by default), as shipped before 25 November; paper
-#: turns it off too.
+#: nothing to forget). ``costmap`` is the Nav2-faithful one (recoveries, 1 Hz replanning,
+#: NavFn's unknown cost); ``costmap-bare`` the costmap alone, as it ran before 27 November.
+#: ``oracle`` blocks only the agents near the robot, at their forecast positions over 2 s
+#: (``baselines.wanderer_forecast``); ``oracle-bare`` every agent where it stands, as before.
+#: ``dpn_no_sweep`` is dpn with the turn sweep off (``NavigatorConfig.turn_sweep_memory``, on
+#: by default), as shipped before 25 November; paper turns it off too.
 NAVIGATORS = {
     'dpn': {},
     'dpn_no_sweep': {'turn_sweep_memory': 0.0},
@@ -37,14 +40,18 @@ NAVIGATORS = {
               'trail_distance': 0.0, 'object_memory': 0.0,
               'object_memory_short_segments': False, 'turn_sweep_memory': 0.0},
     'costmap': {'forget_obstacles_after': 0.0},
+    'costmap-bare': {'forget_obstacles_after': 0.0},
     'oracle': {'forget_obstacles_after': 0.0},
+    'oracle-bare': {'forget_obstacles_after': 0.0},
 }
 
 #: The map each ``--navigator`` plans on: ``labels`` (the paper's labelled grid,
 #: ``LabelGrid``), ``costmap`` (Nav2's obstacle and inflation layers, ``CostmapGrid``) or
-#: ``oracle`` (the true walls and wanderers, ``OracleGrid``).
-MAP_MODELS = {'dpn': 'labels', 'dpn_no_sweep': 'labels', 'paper': 'labels', 'costmap': 'costmap',
-              'oracle': 'oracle'}
+#: ``oracle`` (the true walls and wanderers, ``OracleGrid``); ``nav2`` is the costmap run by
+#: Nav2's default behaviour tree (``baselines.nav2_navigator.Nav2Navigator``: 1 Hz replanning,
+#: NavFn's cost of unknown space, the recoveries), ``costmap`` the bare costmap without them.
+MAP_MODELS = {'dpn': 'labels', 'dpn_no_sweep': 'labels', 'paper': 'labels', 'costmap': 'nav2',
+              'costmap-bare': 'costmap', 'oracle': 'foresight', 'oracle-bare': 'oracle'}
 
 #: A ``--maps`` range of map numbers, e.g. ``1-34``.
 _NUMBER_RANGE = re.compile(r'\d+-\d+')

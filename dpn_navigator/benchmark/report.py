@@ -126,7 +126,9 @@ def summary_markdown(rows, title='dpn benchmark', navigator='dpn'):
     text : str
         A success-rate table (map x wanderer count, in %), then per map and wanderer count:
         episodes, success, failures by reason, mean time of successes, mean replans, episodes
-        with contacts and mean label errors; then the detection table per wanderer count.
+        with contacts and mean label errors; the standard measures with 95 % intervals and
+        success per map with its interval (``metrics_report``); then the detection table per
+        wanderer count, pooled and per episode.
 
     """
     maps = map_order(rows)
@@ -174,7 +176,12 @@ def summary_markdown(rows, title='dpn benchmark', navigator='dpn'):
                 f'{stats.mean_replans:.1f} | {stats.wall_contacts} / '
                 f'{stats.wanderer_contacts} | {stats.mean_walls_labelled_mobile:.1f} / '
                 f'{stats.mean_ghost_obstacles:.1f} |')
-    return '\n'.join(lines) + '\n\n' + detection_markdown({navigator: rows})
+    from .metrics_report import (detection_distribution_markdown, per_map_markdown,
+                                 standard_metrics_markdown)
+    by_navigator = {navigator: rows}
+    return ('\n'.join(lines) + '\n\n' + standard_metrics_markdown(by_navigator) + '\n'
+            + per_map_markdown(by_navigator) + '\n' + detection_markdown(by_navigator)
+            + '\n' + detection_distribution_markdown(by_navigator))
 
 
 def success_matrix(rows):

@@ -81,21 +81,22 @@ def _scenario(map_key, index):
 
 
 @functools.lru_cache(maxsize=8)
-def _wanderer_grid(map_key, index):
-    """Build a map's wanderer clearance grid once per worker process."""
-    from sim_bridge.world import wanderer_clearance_grid, WorldConfig
-    return wanderer_clearance_grid(_scenario(map_key, index), WorldConfig().wanderer)
+def _wanderer_grid(map_key, index, agents='p3at'):
+    """Build a map's clearance grid for an agent model once per worker process."""
+    from sim_bridge.wanderers import AGENT_MODELS
+    from sim_bridge.world import wanderer_clearance_grid
+    return wanderer_clearance_grid(_scenario(map_key, index), AGENT_MODELS[agents])
 
 
 @functools.lru_cache(maxsize=24)
-def _task_setup(map_key, index, task):
+def _task_setup(map_key, index, task, agents='p3at'):
     """Compute a task's `TaskSetup` once per worker process."""
-    return task_setup(_scenario(map_key, index), task, _wanderer_grid(map_key, index))
+    return task_setup(_scenario(map_key, index), task, _wanderer_grid(map_key, index, agents))
 
 
 #: The kernels an episode runs besides A* and the planning masks, by ``protocol.MAP_MODELS``.
 _MAP_MODEL_WARM_UPS = {'labels': (warm_up_label_update,), 'costmap': (warm_up_costmap,),
-                       'oracle': ()}
+                       'nav2': (warm_up_costmap,), 'oracle': (), 'foresight': ()}
 
 
 def warm_up_kernels(map_model):
@@ -113,7 +114,7 @@ def warm_up_kernels(map_model):
 
 
 def run_spec(spec, index=None, navigator_options=None, detection=True, record_dir=None,
-             map_model='labels', laser='ideal'):
+             map_model='labels', episode_options=None):
     """
     Run one episode and return its log row; record it into a bag if asked.
 
@@ -132,8 +133,11 @@ def run_spec(spec, index=None, navigator_options=None, detection=True, record_di
         ``episode_bag.episode_bag_name`` (``EpisodeBagRecorder``).
     map_model : str
         The map the navigator plans on (``protocol.MAP_MODELS``).
-    laser : str
-        The world's laser, a ``sim_bridge.laser_profiles`` name.
+    episode_options : dict, optional
+        `EPISODE_OPTIONS` for ``run_episode``: ``agents`` (a name of
+        ``sim_bridge.wanderers.AGENT_MODELS``), ``pose_noise`` (``(sigma_xy, sigma_yaw)``),
+        ``navigator_class`` (a plug-in's ``'package.module:Class'``) and ``laser`` (a name of
+        ``sim_bridge.laser_profiles``; ``ideal`` by default).
 
     Returns
     -------
@@ -141,20 +145,21 @@ def run_spec(spec, index=None, navigator_options=None, detection=True, record_di
         Every column of ``episode_log.COLUMNS``; ``wall_time`` includes the recording.
 
     """
-    from sim_bridge.laser_profiles import laser_profile
     started = time.perf_counter()
-    laser_config = laser_profile(laser).laser
     scenario = _scenario(spec.map_key, index)
     if not 0 <= spec.task < len(scenario.tasks):
         raise ValueError(f'map {spec.map_key!r} has {len(scenario.tasks)} tasks; there is no '
                          f'task {spec.task}')
     warm_up_kernels(map_model)
+    extra = episode_keywords(episode_options)
+    agents = (episode_options or {}).get('agents', 'p3at')
+    laser = (episode_options or {}).get('laser', 'ideal')
     recorder = None if record_dir is None else _episode_bag(spec, scenario, record_dir, laser)
     try:
         result = run_episode(scenario, spec.task, spec.wanderers, spec.seed,
                              navigator_options=navigator_options, detection=detection,
-                             setup=_task_setup(spec.map_key, index, spec.task),
-                             recorder=recorder, map_model=map_model, laser=laser_config)
+                             setup=_task_setup(spec.map_key, index, spec.task, agents),
+                             recorder=recorder, map_model=map_model, **extra)
     finally:
         if recorder is not None:
             recorder.close()
@@ -165,7 +170,45 @@ def run_spec(spec, index=None, navigator_options=None, detection=True, record_di
     return row
 
 
-def _episode_bag(spec, scenario, record_dir, laser):
+#: Keys of ``episode_options``.
+EPISODE_OPTIONS = ('agents', 'pose_noise', 'navigator_class', 'laser')
+
+
+def episode_keywords(episode_options):
+    """
+    Turn ``episode_options`` into ``run_episode`` keywords.
+
+    Raises
+    ------
+    ValueError
+        For an unknown key, agent model or laser profile, or a plug-in that does not load.
+
+    """
+    from sim_bridge.laser_profiles import laser_profile
+    from sim_bridge.wanderers import AGENT_MODELS
+    from .navigator_plugin import load_navigator_class
+    options = dict(episode_options or {})
+    unknown = set(options) - set(EPISODE_OPTIONS)
+    if unknown:
+        raise ValueError(f'unknown episode options {sorted(unknown)}; known: {EPISODE_OPTIONS}')
+    keywords = {}
+    agents = options.get('agents', 'p3at')
+    if agents not in AGENT_MODELS:
+        raise ValueError(f'unknown agent model {agents!r}; one of {sorted(AGENT_MODELS)}')
+    if agents != 'p3at':
+        keywords['wanderer_config'] = AGENT_MODELS[agents]
+    if options.get('pose_noise'):
+        keywords['pose_noise'] = tuple(options['pose_noise'])
+    if options.get('navigator_class'):
+        keywords['navigator_class'] = load_navigator_class(options['navigator_class'])
+    laser = options.get('laser', 'ideal')
+    profile = laser_profile(laser)          # an unknown name fails here
+    if laser != 'ideal':
+        keywords['laser'] = profile.laser
+    return keywords
+
+
+def _episode_bag(spec, scenario, record_dir, laser='ideal'):
     """Return an `EpisodeBagRecorder` for one episode, in ``record_dir``."""
     from .episode_bag import EpisodeBagRecorder, episode_bag_name
     return EpisodeBagRecorder(
@@ -206,7 +249,7 @@ def default_workers():
 
 def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, progress=True,
                  navigator_options=None, detection=True, record_dir=None, map_model='labels',
-                 laser='ideal'):
+                 episode_options=None):
     """
     Run the episodes a log does not hold yet and append their rows to it.
 
@@ -234,8 +277,9 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
         Record every episode run now (not those already in the log) as a bag in this folder.
     map_model : str
         The map every episode's navigator plans on (``protocol.MAP_MODELS``).
-    laser : str
-        Every episode's laser, a ``sim_bridge.laser_profiles`` name (``--laser``).
+    episode_options : dict, optional
+        As for `run_spec` (agents, pose noise, a plug-in navigator, the laser), for every
+        episode.
 
     Returns
     -------
@@ -244,7 +288,7 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
     Raises
     ------
     ValueError
-        If ``workers`` is not positive, the laser profile is unknown or the log belongs to
+        If ``workers`` is not positive, ``episode_options`` are bad or the log belongs to
         another version; a
         ``BagPathError`` if an episode's bag exists already or cannot be written.
     ImportError
@@ -252,12 +296,11 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
 
     """
     from tqdm import tqdm
+    episode_keywords(episode_options)   # bad options (a laser, an agent model) fail here
     if workers is None:
         workers = default_workers()
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
         raise ValueError(f'workers must be a positive integer, got {workers!r}')
-    from sim_bridge.laser_profiles import laser_profile
-    laser_profile(laser)  # an unknown name fails here, not in every worker
     started = time.perf_counter()
     index = None if index is None else os.fspath(index)
     with EpisodeLog(log_path) as log:
@@ -274,10 +317,10 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
             if ray_address is not None:
                 results, workers = _ray_results(pending, ray_address, index,
                                                 navigator_options, detection, record_dir,
-                                                map_model, laser)
+                                                map_model, episode_options)
             else:
                 results = _local_results(pending, workers, index, navigator_options, detection,
-                                         record_dir, map_model, laser)
+                                         record_dir, map_model, episode_options)
             for row in results:
                 log.append(row)
                 ran += 1
@@ -292,24 +335,24 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
 
 
 def _local_results(pending, workers, index, navigator_options, detection, record_dir,
-                   map_model, laser='ideal'):
+                   map_model, episode_options=None):
     """Yield the rows of pending episodes from local worker processes, as they finish."""
     if workers == 1 or len(pending) <= 1:
         for spec in pending:
             yield run_spec(spec, index, navigator_options, detection, record_dir, map_model,
-                           laser)
+                           episode_options)
         return
     # spawn: each worker starts clean (its own pybullet client, no forked state).
     context = multiprocessing.get_context('spawn')
     with context.Pool(min(workers, len(pending))) as pool:
         yield from pool.imap_unordered(
             _run_spec_star,
-            [(spec, index, navigator_options, detection, record_dir, map_model, laser)
-             for spec in pending])
+            [(spec, index, navigator_options, detection, record_dir, map_model,
+              episode_options) for spec in pending])
 
 
 def _ray_results(pending, address, index, navigator_options, detection, record_dir,
-                 map_model, laser='ideal'):
+                 map_model, episode_options=None):
     """Start the pending episodes on Ray; return a generator of rows and Ray's CPU count."""
     import ray
     if not ray.is_initialized():
@@ -320,7 +363,7 @@ def _ray_results(pending, address, index, navigator_options, detection, record_d
 
     def rows():
         waiting = [remote.remote(spec, index, navigator_options, detection, record_dir,
-                                 map_model, laser)
+                                 map_model, episode_options)
                    for spec in pending]
         while waiting:
             finished, waiting = ray.wait(waiting, num_returns=1)

@@ -8,15 +8,98 @@ undoes; the metadata lists no rosbag2 compression). Messages are serialised by r
 bytes from a raw subscription. The writer is ``rosbags`` (docs/recording.md says why): it writes
 each type's Jazzy message definition into the MCAP schema and its type hash into the metadata.
 
+Two details are made as rosbag2 Jazzy's MCAP storage (``rosbag2_storage_mcap``,
+``MCAPStorage::create_topic``) writes them, where rosbags differs: each MCAP channel's metadata
+holds ``topic_type_hash`` (the type's ``RIHS01_`` hash) beside ``offered_qos_profiles``, and
+``ros_distro`` is ``jazzy`` (rosbags writes ``rosbags``) in ``metadata.yaml`` and in the
+MCAP file's ``rosbag2`` metadata record (``serialized_metadata``). `jazzy_writer_class` makes
+that writer from rosbags' (pinned in requirements.txt, whose internals it extends).
+
 """
 
 from dataclasses import dataclass
 import functools
+from io import BytesIO
 import os
 from pathlib import Path
+import re
 
 #: rosbag2 metadata version Jazzy writes.
 METADATA_VERSION = 9
+#: ``ros_distro`` of the bags written here.
+ROS_DISTRO = 'jazzy'
+_ROS_DISTRO_LINE = re.compile(r'^(\s*ros_distro:) .*$', re.MULTILINE)
+
+
+def with_ros_distro(metadata_text, distro=ROS_DISTRO):
+    """
+    Return rosbag2 metadata YAML with its ``ros_distro`` line set to ``distro``.
+
+    Parameters
+    ----------
+    metadata_text : str
+        ``metadata.yaml`` or the ``serialized_metadata`` of an MCAP file, as rosbags dumps it.
+    distro : str
+        The distribution's name.
+
+    Raises
+    ------
+    ValueError
+        When the text holds no ``ros_distro`` line (a rosbags that dumps it otherwise).
+
+    """
+    text, count = _ROS_DISTRO_LINE.subn(lambda m: f'{m.group(1)} {distro}', metadata_text)
+    if count != 1:
+        raise ValueError(f'expected one ros_distro line in the bag metadata, found {count}')
+    return text
+
+
+@functools.lru_cache(maxsize=1)
+def jazzy_writer_class():
+    """
+    Return a rosbags ``Writer`` whose bags carry what rosbag2 Jazzy's MCAP storage writes.
+
+    Its MCAP storage adds ``topic_type_hash`` to each channel's metadata and both metadata
+    copies say ``ros_distro: jazzy`` (see the module).
+
+    Returns
+    -------
+    type
+        A subclass of ``rosbags.rosbag2.Writer``.
+
+    """
+    from rosbags.rosbag2 import StoragePlugin, Writer
+    from rosbags.rosbag2.storage_mcap import Channel, McapWriter, write_channel, write_string
+
+    class JazzyMcapStorage(McapWriter):
+        """rosbags' MCAP storage, with rosbag2 Jazzy's channel metadata and distribution."""
+
+        def add_connection(self, connection, offered_qos_profiles):
+            # As rosbags' add_connection, plus the key rosbag2's create_topic adds.
+            metadata = BytesIO()
+            write_string(metadata, 'offered_qos_profiles')
+            write_string(metadata, offered_qos_profiles)
+            write_string(metadata, 'topic_type_hash')
+            write_string(metadata, connection.digest or '')
+            self.channels.append(Channel(connection.id, connection.msgtype, connection.topic,
+                                         connection.ext.serialization_format,
+                                         metadata.getvalue()))
+            self.channel_stats[connection.id] = 0
+            write_channel(self.chunk.bio, self.channels[-1], self.schemas)
+
+        def close(self, version, metadata):
+            super().close(version, with_ros_distro(metadata))
+
+    class JazzyWriter(Writer):
+        """rosbags' rosbag2 writer with `JazzyMcapStorage` and ``ros_distro: jazzy``."""
+
+        STORAGE_PLUGINS = {**Writer.STORAGE_PLUGINS, StoragePlugin.MCAP: JazzyMcapStorage}
+
+        def close(self):
+            super().close()
+            self.metapath.write_text(with_ros_distro(self.metapath.read_text()), 'utf8')
+
+    return JazzyWriter
 
 
 class BagPathError(ValueError):
@@ -151,13 +234,13 @@ class BagWriter:
     """
 
     def __init__(self, path, topics, custom_data=None):
-        from rosbags.rosbag2 import CompressionFormat, CompressionMode, StoragePlugin, Writer
+        from rosbags.rosbag2 import CompressionFormat, CompressionMode, StoragePlugin
         names = [topic.name for topic in topics]
         if len(set(names)) != len(names):
             raise ValueError(f'topic names must differ: {names}')
         self.path = check_bag_path(path)
-        self._writer = Writer(self.path, version=METADATA_VERSION,
-                              storage_plugin=StoragePlugin.MCAP)
+        self._writer = jazzy_writer_class()(self.path, version=METADATA_VERSION,
+                                            storage_plugin=StoragePlugin.MCAP)
         self._writer.set_compression(CompressionMode.STORAGE, CompressionFormat.ZSTD)
         for key, value in {'recorded_by': 'dpn_navigator', **(custom_data or {})}.items():
             self._writer.set_custom_data(str(key), str(value))

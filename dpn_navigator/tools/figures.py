@@ -83,7 +83,8 @@ def save_map_figure(path, values, resolution, origin, **drawing):
     aspect = (height / width) if width else 1.0
     figure, axes = pyplot.subplots(figsize=(8.0, max(3.0, 8.0 * aspect) + 0.8))
     draw_map(axes, values, resolution, origin, **drawing)
-    axes.legend(loc='upper right', fontsize=8, framealpha=0.9)
+    if axes.get_legend_handles_labels()[0]:         # no empty legend box (a laser standing still)
+        axes.legend(loc='upper right', fontsize=8, framealpha=0.9)
     figure.tight_layout()
     figure.savefig(path, dpi=110)
     pyplot.close(figure)

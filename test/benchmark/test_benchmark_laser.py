@@ -12,7 +12,7 @@ from dpn_navigator.benchmark import cli
 from dpn_navigator.benchmark.episode import run_episode
 from dpn_navigator.benchmark.episode_log import read_log
 from dpn_navigator.benchmark.protocol import plan_episodes
-from dpn_navigator.benchmark.runner import run_protocol
+from dpn_navigator.benchmark.runner import episode_keywords, run_protocol
 import numpy as np
 import pytest
 from sim_bridge.laser_profiles import laser_profile, LASER_PROFILE_NAMES
@@ -43,13 +43,19 @@ def test_run_protocol_refuses_an_unknown_laser(tmp_path):
     specs = plan_episodes(('tunnel',), (0,), (0,), 1, 0)
     with pytest.raises(ValueError, match='unknown laser profile'):
         run_protocol(specs, tmp_path / 'episodes.csv', workers=1, progress=False,
-                     laser='lms200')
+                     episode_options={'laser': 'lms200'})
 
 
-def test_run_settings_name_the_laser_unless_ideal():
-    assert cli.run_settings('dpn', 'ideal') == {'navigator': 'dpn'}
-    expected = {'navigator': 'paper', 'laser': 'rplidar_a2'}
-    assert cli.run_settings('paper', 'rplidar_a2') == expected
+def test_run_settings_and_episode_options_name_the_laser_unless_ideal():
+    parse = cli.build_parser().parse_args
+    assert cli.run_settings(parse([])) == {'navigator': 'dpn'}
+    assert cli.episode_options(parse([])) is None
+    args = parse(['--navigator', 'paper', '--laser', 'rplidar_a2'])
+    assert cli.run_settings(args) == {'navigator': 'paper', 'laser': 'rplidar_a2'}
+    assert cli.episode_options(args) == {'laser': 'rplidar_a2'}
+    assert episode_keywords({'laser': 'rplidar_a2'}) == {
+        'laser': laser_profile('rplidar_a2').laser}
+    assert episode_keywords({'laser': 'ideal'}) == {}
 
 
 @pytest.mark.slow

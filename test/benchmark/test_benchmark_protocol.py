@@ -31,7 +31,8 @@ def make_row(map_name='maze', number=15, task=0, wanderers=0, repetition=0, seed
     row.update(map=map_name, number=number, family='maze', task=task, wanderers=wanderers,
                repetition=repetition, seed=seed, success=failure == '', failure=failure,
                time=time, time_limit=60.0, path_length=12.5, shortest_path=11.0, replans=3,
-               wall_time=0.4)
+               wall_time=0.4, end_reason={'timeout': 'timeout_moving'}.get(failure, failure),
+               spl=11.0 / 12.5 if failure == '' else 0.0)
     row.update(extra)
     return row
 

@@ -101,6 +101,9 @@ def test_precision_counts_visible_mobile_cells_near_a_wanderer():
     result = m.result()
     assert (result.mobile_visible, result.mobile_visible_true) == (4, 2)
     assert result.mobile_precision == 0.5
+    # Over every mobile cell, in view or not: (3, 5) is a ghost out of view and counts.
+    assert (result.mobile_all, result.mobile_all_true) == (5, 2)
+    assert result.mobile_precision_all == pytest.approx(2 / 5)
     # Pooled over scans: a second scan with no wanderer adds 4 visible, 0 true.
     m.record_scan(labels, whole_window(cell_input), np.zeros((0, 2)), NO_HITS)
     assert m.result().mobile_precision == pytest.approx(2 / 8)
@@ -132,6 +135,10 @@ def test_recall_counts_the_wanderers_f1_cells_off_walls_labelled_mobile():
     m.record_scan(labels, whole_window(np.full(GRID.shape, INSIDE)), [[3.0, 2.0]], hits)
     result = m.result()
     assert (result.wanderer_hit_cells, result.wanderer_hit_cells_mobile) == (1, 0)
+    # The cell in the wall belt is reported apart, not dropped: (2, 2), labelled mobile.
+    assert (result.wanderer_hit_cells_near_wall,
+            result.wanderer_hit_cells_near_wall_mobile) == (1, 1)
+    assert result.wanderer_hit_recall_near_wall == 1.0
     labels[1, 4] = M
     m.record_scan(labels, whole_window(np.full(GRID.shape, INSIDE)), [[3.0, 2.0]], hits)
     assert m.result().wanderer_hit_recall == 0.5

@@ -53,6 +53,14 @@ def test_an_episode_succeeds_and_repeats_exactly(back_and_forth):
     assert first.wall_contacts == first.wanderer_contacts == 0
     assert first.replans >= 2
     assert first.path_length >= 0.9 * first.shortest_path
+    # The benchmark's own view: the true pose within 0.3 m, SPL and BARN from L and the time.
+    metrics = first.metrics
+    assert metrics.judged_success and metrics.end_reason == '' and metrics.goal_distance <= 0.3
+    assert first.time_limit == pytest.approx(30.0 + 3.0 * first.shortest_path, abs=2e-3)
+    expected_spl = first.shortest_path / max(first.path_length, first.shortest_path)
+    assert metrics.spl == pytest.approx(expected_spl, rel=1e-4)   # the result's rounding
+    assert 0.0 < metrics.barn_score <= 0.5 and metrics.path_ratio >= 0.9
+    assert metrics.min_agent_distance is not None and metrics.min_agent_distance > 0.0
     # Again with the setup a benchmark worker keeps between episodes: the very same episode.
     setup = task_setup(back_and_forth, 1)
     assert setup.shortest_path == shortest_path_length(back_and_forth, back_and_forth.tasks[1])
@@ -72,6 +80,10 @@ def test_running_out_of_time_is_a_timeout(back_and_forth):
     result = run_episode(back_and_forth, 0, wanderers=0, seed=0, time_limit=5.0)
     assert not result.success and result.failure == 'timeout'
     assert result.time == pytest.approx(5.0, abs=0.11)
+    # Driving when time ran out: the benchmark says so.
+    assert result.metrics.end_reason == 'timeout_moving' and result.metrics.spl == 0.0
+    assert result.metrics.min_agent_distance is None and result.metrics.goal_distance > 0.3
+    assert {'end_reason', 'spl', 'barn_score', 'jerk_rms'} <= set(result.as_row())
     assert set(result.as_row()) >= {'scenario', 'success', 'failure', 'ghost_obstacles'}
 
 

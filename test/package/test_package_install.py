@@ -45,6 +45,7 @@ PYTHON_MODULE_KEYS = {
     'numpy': 'python3-numpy', 'yaml': 'python3-yaml', 'pybullet': 'python3-pybullet-pip',
     'pybullet_data': 'python3-pybullet-pip', 'matplotlib': 'python3-matplotlib',
     'tqdm': 'python3-tqdm', 'numba': 'python3-numba', 'rosbags': 'python3-rosbags-pip',
+    'PIL': 'python3-pil',
 }
 #: Imported only on request, by an optional feature: Ray (``dpn-benchmark --backend ray``,
 #: requirements-ray.txt) has no rosdep key.

@@ -28,7 +28,8 @@ TIME_LIMIT = 150.0      # simulated [s]; the task's shortest path is about 29 m
 
 
 def test_executables_are_where_ros2_run_looks():
-    for package, name in (('dpn_navigator', 'dpn'), ('sim_bridge', 'pybullet_world')):
+    for package, name in (('dpn_navigator', 'dpn'), ('dpn_navigator', 'dpn-replay'),
+                          ('sim_bridge', 'pybullet_world')):
         path = installed_executable(package, name)
         assert path.parts[-3:] == ('lib', package, name)
 
