@@ -157,6 +157,27 @@ class NavigatorConfig:
         'of one or two hits have hit (a wanderer glimpsed far off through a gap) are listed '
         'and forgotten as `object_memory` forgets small objects, unless a longer segment '
         'anchors them; false: kept (read only with `object_memory` > 0)')
+    no_echo_below_range_min: bool = setting(
+        False, '', 'no-echo codes: a finite reading below range_min is read as no return '
+        '(+inf), not as invalid (REP 117), for drivers that write a beam with no echo as a '
+        'tiny range (the old Hokuyo driver: 0.000-0.019 m; [real data](real_data.md))')
+    no_return_reach: float = setting(
+        0.8, '1', 'a beam with no return shows space empty out to this share of range_max '
+        '(weak echoes of dark or far surfaces drop out before range_max); 1: to range_max '
+        "(the paper, REP 117; Nav2's inf_is_valid true); 0: it clears nothing (inf_is_valid "
+        'false)', 0.0, 1.0)
+    surface_time: float = setting(
+        2.0, 's', 'intermittent surfaces: a place (a cell of `noise_margin`) hit for this '
+        'long in all is a known surface; hits within one place of it show no motion and '
+        'continue no motion track (longer than a leg stands at walking pace, about 0.6 s, '
+        'or a walker or robot pauses briefly; 1 s: more precision on real recordings, less '
+        'recall in the simulator, [real data](real_data.md)); 0: off (the paper)', 0.0, 3600.0)
+    surface_memory: float = setting(
+        10.0, 's', "intermittent surfaces: a place's hit time drains by `surface_time` in this "
+        'long', 0.001, 86400.0)
+    noise_margin: float = setting(
+        0.1, 'm', 'intermittent surfaces: side of a place, about the range noise of the '
+        'laser (Hokuyo UTM-30LX and SICK LMS1xx: +-30 mm)', 0.01, 5.0)
     robot_length: float = setting(
         0.99, 'm', "the robot's footprint along x, centred on the base (Husky A200 with "
         'bumpers); used by the turn sweep', 0.01, 10.0)

@@ -145,7 +145,9 @@ PARAMETERS = (
                 'fine_evidence_resolution', 'fine_evidence_radius', 'fine_evidence_range',
                 'mobile_expiry', 'track_confirm_time', 'track_still_distance',
                 'track_exclusive', 'trail_distance', 'object_memory',
-                'object_memory_short_segments', 'robot_length', 'robot_width',
+                'object_memory_short_segments', 'no_echo_below_range_min',
+                'no_return_reach', 'surface_time', 'surface_memory', 'noise_margin',
+                'robot_length', 'robot_width',
                 'turn_sweep_memory', 'turn_sweep_margin', 'turn_sweep_spot_distance'),
     _part('goal_x', 2.0, 'm', 'goal x in the map frame (back_and_forth, task 0); NaN: wait for '
           'a goal on `goal_pose`', None, None, 'node', 'goal', 0),

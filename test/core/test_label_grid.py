@@ -12,6 +12,7 @@ from literal_reference import FSM, literal_update, literal_update_with_rule
 import numpy as np
 from numpy.testing import assert_array_equal
 import pytest
+from real_sensor_rules import LiteralSurfaceMemory
 
 N, E, S, M = (CellLabel.NON_EXPLORED, CellLabel.EXPLORED,
               CellLabel.STEADY_OBSTACLE, CellLabel.MOBILE_OBSTACLE)
@@ -283,7 +284,17 @@ RULES = {
     'expiry': LabelRule(mobile_expiry=1.0),
     'all': LabelRule(free_evidence_radius=0.75, moving_object_size=1.0, segment_gap=1.1,
                      object_min_hits=2, mobile_expiry=0.5),
+    # The rules for real lasers: no-echo codes, no-return reach, intermittent surfaces.
+    'real': LabelRule(free_evidence_radius=0.5, moving_object_size=0.7, segment_gap=0.6,
+                      object_min_hits=2, fine_evidence_resolution=0.25,
+                      fine_evidence_radius=0.3, fine_evidence_range=2.5,
+                      no_echo_below_range_min=True, no_return_reach=0.6, surface_time=0.3,
+                      surface_memory=2.0, noise_margin=0.25),
+    'no_return_clears_nothing': LabelRule(free_evidence_radius=0.5, no_return_reach=0.0,
+                                          no_echo_below_range_min=True),
+    'no_return_short': LabelRule(no_return_reach=0.3),
 }
+REAL_SENSOR_RULES = ('real', 'no_return_clears_nothing', 'no_return_short')
 
 
 @settings(max_examples=120)
@@ -291,7 +302,19 @@ RULES = {
        stamps=st.lists(st.sampled_from([0.0, 0.25, 0.5, 1.0, 2.0, 3.5]), min_size=3,
                        max_size=3))
 def test_rule_update_equals_the_literal_twin(case, rule_name, stamps):
-    rule = RULES[rule_name]
+    check_rule_against_the_literal_twin(case, RULES[rule_name], stamps)
+
+
+@settings(max_examples=150)
+@given(case=scans(), rule_name=st.sampled_from(sorted(REAL_SENSOR_RULES)),
+       stamps=st.lists(st.sampled_from([0.0, 0.1, 0.25, 0.5, 1.0, 0.9]), min_size=3,
+                       max_size=3))
+def test_real_sensor_rules_equal_the_literal_twin(case, rule_name, stamps):
+    check_rule_against_the_literal_twin(case, RULES[rule_name], stamps)
+
+
+def check_rule_against_the_literal_twin(case, rule, stamps):
+    """Update a grid and the literal twin with ``rule`` from the same random state."""
     grid = LabelGrid(case['cols'] * case['resolution'], case['rows'] * case['resolution'],
                      case['resolution'], case['origin'], rule)
     rng = np.random.default_rng(case['path_seed'])
@@ -308,6 +331,17 @@ def test_rule_update_equals_the_literal_twin(case, rule_name, stamps):
     if grid.fine_evidence is not None:
         fine_seen_free = rng.random(grid.fine_evidence.seen_free.shape) < 0.3
         grid.fine_evidence.seen_free[...] = fine_seen_free
+    surfaces = None
+    if grid.surface_memory is not None:
+        memory = grid.surface_memory
+        surfaces = LiteralSurfaceMemory(case['origin'], rule.noise_margin, rule.surface_time,
+                                        rule.surface_memory)
+        levels = np.where(rng.random(memory.hit_time.shape) < 0.3,
+                          rng.choice([0.1, 0.3, 0.6], memory.hit_time.shape), 0.0)
+        for row, col in np.argwhere(levels > 0.0):
+            memory.hit_time[row, col] = levels[row, col]
+            memory.filled[row, col] = 0.0
+            surfaces.buckets[(int(row), int(col))] = (float(levels[row, col]), 0.0)
     grid.labels_changed()
     path = np.argwhere(rng.random(grid.labels.shape) < 0.3)
     scan = {k: case[k] for k in ('angle_min', 'angle_increment', 'range_min', 'range_max',
@@ -317,7 +351,7 @@ def test_rule_update_equals_the_literal_twin(case, rule_name, stamps):
         want, last_stamp = literal_update_with_rule(
             labels, seen_free, last_hit, case['origin'], case['resolution'], pose,
             case['ranges'], rule=rule, stamp=stamp, last_stamp=last_stamp, path=path,
-            fine_seen_free=fine_seen_free, **scan)
+            fine_seen_free=fine_seen_free, surfaces=surfaces, **scan)
         got = grid.update(pose, case['ranges'], path=path, stamp=stamp, **scan)
         assert_array_equal(grid.labels, labels)
         if grid.seen_free is not None:

@@ -10,6 +10,7 @@ import heapq
 import math
 
 import numpy as np
+from real_sensor_rules import literal_fine_ranges, literal_read, literal_shorten
 
 NON_EXPLORED, EXPLORED, STEADY, MOBILE = 0, 1, 2, 3
 
@@ -233,16 +234,20 @@ def literal_moving_hits(hits, beams, evidence, segment_gap, object_size, min_hit
 
 def literal_update_with_rule(labels, seen_free, last_hit, origin, resolution, pose, ranges,
                              angle_min, angle_increment, range_min, range_max, safety_radius,
-                             rule, stamp, last_stamp, path=None, fine_seen_free=None):
+                             rule, stamp, last_stamp, path=None, fine_seen_free=None,
+                             surfaces=None):
     """
     Apply the dpn label rule to every cell, in place; return (replan, new last_stamp).
 
     ``seen_free`` (bool) and ``last_hit`` (float) are updated in place when their rule is on,
     and so is ``fine_seen_free`` (bool, the fine grid's cells of
-    ``rule.fine_evidence_resolution`` from ``origin``) with the fine free evidence.
+    ``rule.fine_evidence_resolution`` from ``origin``) with the fine free evidence, and
+    ``surfaces`` (``real_sensor_rules.LiteralSurfaceMemory``) with the intermittent surfaces.
     """
+    ranges = literal_read(ranges, range_min, rule.no_echo_below_range_min)
     vertices, hits = literal_scan_points(
         pose, ranges, angle_min, angle_increment, range_min, range_max)
+    vertices = literal_shorten(vertices, ranges, range_max, range_min, rule.no_return_reach)
     beams = [i for i, reading in enumerate(ranges)
              if math.isfinite(float(reading)) and range_min <= float(reading) < range_max]
     x0, y0 = origin
@@ -268,6 +273,12 @@ def literal_update_with_rule(labels, seen_free, last_hit, origin, resolution, po
                 if (0 <= i < fine_seen_free.shape[0] and 0 <= j < fine_seen_free.shape[1]
                         and fine_seen_free[i, j]):
                     evidence[k] = True
+        if rule.surface_time > 0.0:
+            # Intermittent surfaces: no evidence on a known surface.
+            shape = (math.ceil(rows * resolution / rule.noise_margin - 1e-9),
+                     math.ceil(cols * resolution / rule.noise_margin - 1e-9))
+            known = surfaces.surface_hits(hits, stamp, shape)
+            evidence = [e and not s for e, s in zip(evidence, known)]
         moving = literal_moving_hits(hits, beams, evidence, rule.segment_gap,
                                      rule.moving_object_size, rule.object_min_hits,
                                      vertices[0], len(ranges))
@@ -311,7 +322,8 @@ def literal_update_with_rule(labels, seen_free, last_hit, origin, resolution, po
         radius = rule.fine_evidence_radius
         # The scan as the fine grid takes it: no farther than fine_evidence_range.
         vertices, hits = literal_scan_points(
-            pose, ranges, angle_min, angle_increment, range_min,
+            pose, literal_fine_ranges(ranges, range_min, range_max, rule.no_return_reach),
+            angle_min, angle_increment, range_min,
             min(range_max, max(rule.fine_evidence_range, range_min)))
         for i in range(fine_seen_free.shape[0]):
             for j in range(fine_seen_free.shape[1]):

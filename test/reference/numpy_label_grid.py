@@ -110,8 +110,16 @@ class NumpyExtrasLabelGrid(LabelGrid):
                                                    self.rule.fine_evidence_range)
 
     def _follow(self, *args):
-        """Follow the objects; the label kernel then finds the scan's points itself again."""
-        followed, _ = super()._follow(*args)
+        """
+        Follow the objects; the label kernel then finds the scan's points itself again.
+
+        Not with the rules for real lasers (``no_return_reach`` below 1, ``surface_time``),
+        which change the points and their evidence; their twin is the literal one
+        (``real_sensor_rules.py``).
+        """
+        followed, points = super()._follow(*args)
+        if self.surface_memory is not None or self.rule.no_return_reach < 1.0:
+            return followed, points
         return followed, None
 
     def _trails(self, safety_radius, stamp):

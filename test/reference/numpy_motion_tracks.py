@@ -172,7 +172,7 @@ class NumpyMotionTracks:
         self._last_stamp = -math.inf
 
     def update(self, stamp, laser_xy, hits_x, hits_y, hit_beams, beam_count, moving,
-               segment_gap, first_angle=None, increment=None, beam_reach=None):
+               segment_gap, first_angle=None, increment=None, beam_reach=None, surface=None):
         """
         Follow the moving objects through one scan.
 
@@ -197,6 +197,9 @@ class NumpyMotionTracks:
         beam_reach : (L,) ndarray of float64, optional
             How far each beam saw free space [m] (``seen_free_points``); without it no
             segment is seen to move by the place it left.
+        surface : (K,) ndarray of bool, optional
+            Hits on known surfaces: a segment with at least half its hits on them is not
+            compact for the tracks (continues nothing, left no place, is not remembered).
 
         Returns
         -------
@@ -240,7 +243,10 @@ class NumpyMotionTracks:
                                        confirmed=True)
                 own = slice(first[s], stop[s])
                 self.hit_ids[own][moving[own]] = self.ids[track]
-        compact = small & (open_sides == 2) & enough
+        on_surface = np.zeros(segments, dtype=bool)
+        if surface is not None and surface.shape[0] == count:
+            on_surface = 2 * np.bincount(segment[surface], minlength=segments) >= stop - first
+        compact = small & (open_sides == 2) & enough & ~on_surface
         still = self._still(stamp, centroid_x, centroid_y, small & ~evidence)
         self.hit_long = ~small[segment]
         self.hit_object = (small & (stop - first >= OBJECT_MIN_HITS))[segment]
@@ -259,7 +265,7 @@ class NumpyMotionTracks:
                 followed[first[s]:stop[s]] = True
                 self.hit_ids[first[s]:stop[s]] = self.ids[track]
         if self.config.half_open_gate > 0.0 and self.positions.shape[0]:
-            for s in np.flatnonzero(small & (open_sides == 1) & ~evidence):
+            for s in np.flatnonzero(small & (open_sides == 1) & ~evidence & ~on_surface):
                 position = np.array([centroid_x[s], centroid_y[s]])
                 track = self._continue(position, stamp, confirmed=False,
                                        gate=self.config.half_open_gate, still=bool(still[s]))

@@ -80,9 +80,13 @@ def track_update(positions, ids, last_seen, last_confirmed, origins, moved, next
                  hits_x, hits_y, hit_beams, beam_count, moving, segment_gap, compact_size,
                  gate, lost_after, confirm_within, vacated_on, history, min_age, reach,
                  free_margin, half_open_gate, still_distance, still_age, move_distance,
-                 min_hits, exclusive, beam_reach):
+                 min_hits, exclusive, beam_reach, surface):
     """
     `MotionTracks.update` after its time check, as one pass over the scan's segments.
+
+    ``surface`` (K,) bool marks hits on known surfaces (or is empty: none); a segment with at
+    least half its hits on them continues no track, is not seen to move by a place left empty
+    and is not remembered as a place an object stood.
 
     Returns ``(followed, hit_ids, hit_long, hit_object, positions, ids, last_seen,
     last_confirmed, origins, moved, next_id, history_xy, history_stamp)``, the state arrays
@@ -188,12 +192,20 @@ def track_update(positions, ids, last_seen, last_confirmed, origins, moved, next
         for k in range(first[s], first[s + 1]):
             hit_long[k] = not small[s]
             hit_object[k] = small[s] and size >= OBJECT_MIN_HITS
+    # Segments lying on known surfaces (at least half their hits).
+    on_surface = np.zeros(segments, dtype=np.bool_)
+    if surface.shape[0] == count:
+        for s in range(segments):
+            known = 0
+            for k in range(first[s], first[s + 1]):
+                known += surface[k]
+            on_surface[s] = 2 * known >= first[s + 1] - first[s]
     # Compact free-standing segments next to a place such a segment left, now seen empty.
     candidate = np.zeros(segments, dtype=np.bool_)
     vacated = np.zeros(segments, dtype=np.bool_)
     for s in range(segments):
         candidate[s] = (small[s] and open_sides[s] == 2 and moving_count[s] == 0
-                        and first[s + 1] - first[s] >= min_hits)
+                        and first[s + 1] - first[s] >= min_hits and not on_surface[s])
     # Compact segments standing where a compact free-standing one stood a while ago: still.
     still = np.zeros(segments, dtype=np.bool_)
     if still_distance > 0.0:
@@ -234,7 +246,8 @@ def track_update(positions, ids, last_seen, last_confirmed, origins, moved, next
                 hit_ids[k] = ids[track]
     if half_open_gate > 0.0 and tracks > 0:
         for s in range(segments):
-            if not (small[s] and open_sides[s] == 1 and moving_count[s] == 0):
+            if not (small[s] and open_sides[s] == 1 and moving_count[s] == 0
+                    and not on_surface[s]):
                 continue
             track, tracks, next_id = continue_tracks(
                 positions, ids, last_seen, last_confirmed, origins, moved, claimed, exclusive,
@@ -251,7 +264,7 @@ def track_update(positions, ids, last_seen, last_confirmed, origins, moved, next
     remembered = np.zeros(segments, dtype=np.bool_)
     for s in range(segments):
         remembered[s] = (small[s] and open_sides[s] == 2
-                         and first[s + 1] - first[s] >= min_hits)
+                         and first[s + 1] - first[s] >= min_hits and not on_surface[s])
         kept += remembered[s]
     new_xy = np.empty((kept, 2))
     new_stamp = np.empty(kept)

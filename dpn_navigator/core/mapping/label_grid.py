@@ -22,7 +22,10 @@ from .fine_evidence import FineEvidence
 from .label_update import expire_listed, mark_free_window, scan_hits, scan_update, squared_bound
 from .motion_tracks import MotionTracks, TrackConfig
 from .object_memory import ObjectMemory
+from .scan_reading import no_return_as_reading, read_no_echo, shorten_no_returns
+from .surface_memory import SurfaceMemory
 from .trail_marks import update_trails
+from .._kernels import motion_evidence
 from ..cell_label import blocked_mask, CellLabel, LABEL_DTYPE
 from ..grid_geometry import GridGeometry
 from ..scan_polygon import check_pose, check_scan
@@ -214,6 +217,32 @@ class LabelRule:
         incidence) list the steady cells near them as the small objects' do, so that they
         are forgotten on the same terms unless a longer segment anchors them. Off, such hits
         neither anchor nor list. Read only with ``object_memory`` > 0.
+    no_echo_below_range_min : bool
+        No-echo codes: a finite reading ``0 <= range < range_min`` is read as no return
+        (``+inf``) instead of invalid (REP 117). For drivers that write a beam with no echo
+        as a tiny range (the old Hokuyo driver writes 0.000-0.019 m); False (REP 117) for
+        drivers that write ``+inf``.
+    no_return_reach : float
+        How far a beam with no return (``+inf`` or ``range >= range_max``) shows space empty,
+        as a share of ``range_max`` [1], in ``[0, 1]``: its polygon vertex lies at
+        ``no_return_reach * range_max`` (no farther than the fine evidence's range), and at
+        the laser when that is below ``range_min``. 1: out to ``range_max`` (the paper, REP
+        117; Nav2's obstacle layer with ``inf_is_valid`` true and ``raytrace_max_range`` at
+        the sensor's range); 0: a no-return beam clears nothing (``inf_is_valid`` false).
+        Weak echoes (dark or far surfaces, grazing incidence) drop out long before
+        ``range_max``, so a beam with no return does not show the last stretch empty.
+    surface_time : float
+        Intermittent surfaces [s] (``surface_memory.SurfaceMemory``): a place (a cell of
+        ``noise_margin``) hit for this long in all, in the scans' time, is a known surface,
+        and a hit within one such cell of a known surface shows no motion and continues no
+        motion track: a flickering surface (no echo in some scans) is not a moving object.
+        0 turns it off. Needs ``moving_object_size`` > 0.
+    surface_memory : float
+        A place's hit time drains by ``surface_time`` in this long [s] (it holds at most twice
+        ``surface_time``); > 0.
+    noise_margin : float
+        Side of the places of the intermittent surfaces [m], about the laser's range noise: a
+        hit within one place of a known surface is on it; > 0.
 
     """
 
@@ -232,6 +261,11 @@ class LabelRule:
     trail_distance: float = 0.0
     object_memory: float = 0.0
     object_memory_short_segments: bool = False
+    no_echo_below_range_min: bool = False
+    no_return_reach: float = 1.0
+    surface_time: float = 0.0
+    surface_memory: float = 10.0
+    noise_margin: float = 0.1
 
     def __post_init__(self):
         for name in ('free_evidence_radius', 'moving_object_size', 'evidence_margin',
@@ -271,6 +305,22 @@ class LabelRule:
         if self.fine_evidence_radius > 0.0 and self.moving_object_size == 0.0:
             raise ValueError('fine_evidence_radius needs moving_object_size > 0: fine evidence '
                              'shows objects moving')
+        if not isinstance(self.no_echo_below_range_min, (bool, np.bool_)):
+            raise ValueError('no_echo_below_range_min must be a bool, got '
+                             f'{self.no_echo_below_range_min!r}')
+        if not (math.isfinite(self.no_return_reach) and 0.0 <= self.no_return_reach <= 1.0):
+            raise ValueError('no_return_reach is a share of range_max in [0, 1], got '
+                             f'{self.no_return_reach!r}')
+        for name in ('surface_time', 'surface_memory', 'noise_margin'):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value >= 0.0):
+                raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
+        if self.surface_time > 0.0:
+            if self.moving_object_size == 0.0:
+                raise ValueError('surface_time needs moving_object_size > 0: it takes away '
+                                 'motion evidence')
+            if self.surface_memory == 0.0 or self.noise_margin == 0.0:
+                raise ValueError('surface_time needs surface_memory > 0 and noise_margin > 0')
         if self.moving_object_size > 0.0 and self.free_evidence_radius == 0.0:
             raise ValueError('moving_object_size needs free_evidence_radius > 0: motion is '
                              'shown by hits in space surely seen free')
@@ -303,7 +353,8 @@ def warm_up_label_update():
     rule = LabelRule(free_evidence_radius=0.5, moving_object_size=0.5, mobile_expiry=1.0,
                      track_confirm_time=1.0, track_still_distance=0.1, track_exclusive=True,
                      trail_distance=1.0, object_memory=1.0, fine_evidence_resolution=0.25,
-                     fine_evidence_radius=0.25)
+                     fine_evidence_radius=0.25, no_echo_below_range_min=True,
+                     no_return_reach=0.8, surface_time=0.2)
     grid = LabelGrid(2.0, 2.0, 0.5, rule=rule)
     grid.labels[0, 0] = CellLabel.MOBILE_OBSTACLE          # to expire at the second scan
     grid.last_hit[0, 0] = 0.0
@@ -529,6 +580,9 @@ class LabelGrid(PlanningMap):
                               if rule.fine_evidence_radius > 0.0 else None)
         # Free evidence an update left for `settle`: (free window, fine scan), or None.
         self._deferred = None
+        self.surface_memory = (SurfaceMemory(self.geometry, rule.noise_margin,
+                                             rule.surface_time, rule.surface_memory)
+                               if rule.surface_time > 0.0 else None)
 
     def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
                safety_radius, path=None, angle_max=None, stamp=None, defer_evidence=False):
@@ -582,15 +636,19 @@ class LabelGrid(PlanningMap):
         expiring = self.rule.mobile_expiry > 0.0
         if expiring:
             self._restart_clocks_if_time_went_back(stamp)
+        ranges = read_no_echo(ranges, range_min, self.rule.no_echo_below_range_min)
         followed = points = None
-        if self.rule.track_confirm_time > 0.0 or self.fine_evidence is not None:
+        if (self.rule.track_confirm_time > 0.0 or self.fine_evidence is not None
+                or self.surface_memory is not None or self.rule.no_return_reach < 1.0):
             followed, points = self._follow(pose, ranges, angle_min, angle_increment,
                                             range_min, range_max, stamp)
         fine_scan = None
         if self.fine_evidence is not None:
             # Read by the next scans only (`_follow` took this one's before).
-            fine_scan = (pose, ranges.copy() if defer_evidence else ranges, angle_min,
-                         angle_increment, range_min, range_max)
+            fine_ranges = no_return_as_reading(ranges, range_min, range_max,
+                                               self.rule.no_return_reach)
+            fine_scan = (pose, fine_ranges.copy() if defer_evidence and fine_ranges is ranges
+                         else fine_ranges, angle_min, angle_increment, range_min, range_max)
             if not defer_evidence:
                 self.fine_evidence.update(*fine_scan)
                 fine_scan = None
@@ -640,8 +698,15 @@ class LabelGrid(PlanningMap):
         """
         points = scan_hits(
             _NO_BOOL if self.seen_free is None else self.seen_free, self.geometry, pose, ranges,
-            angle_min, angle_increment, range_min, range_max, self._kernel_rule)
+            angle_min, angle_increment, range_min, range_max, self._kernel_rule,
+            find_moving=self.surface_memory is None)
         vertices_x, vertices_y, hits_x, hits_y, hit_beams, moving = points
+        if self.rule.no_return_reach < 1.0:
+            shorten_no_returns(vertices_x, vertices_y, ranges, range_min, range_max,
+                               self.rule.no_return_reach)
+        if self.surface_memory is not None:
+            return self._follow_off_surfaces(pose, ranges, angle_min, angle_increment, stamp,
+                                             points)
         fine_moving = None
         if self.fine_evidence is not None:
             # From the fine evidence before this scan; the hits are moving for the label
@@ -663,6 +728,50 @@ class LabelGrid(PlanningMap):
             followed = np.zeros(hits_x.shape[0], dtype=bool)
         if fine_moving is not None:
             followed = followed | fine_moving
+        return followed, points
+
+    def _follow_off_surfaces(self, pose, ranges, angle_min, angle_increment, stamp, points):
+        """
+        `_follow` with the intermittent surfaces: no evidence nor track on known surfaces.
+
+        The evidence of each hit (the coarse free space's and the fine's) is taken away on
+        known surfaces before the object rule spreads it along the segments; then the scan's
+        hits fill the surface memory, but those of objects followed and seen to move.
+        """
+        vertices_x, vertices_y, hits_x, hits_y, hit_beams, _ = points
+        rule = self.rule
+        (_, _, _, _, evidence_radius, evidence_bound, segment_gap, object_size, min_hits,
+         _) = self._kernel_rule
+        x0, y0 = self.geometry.origin
+        evidence = motion_evidence.hit_evidence(self.seen_free, hits_x, hits_y, x0, y0,
+                                                self.geometry.resolution, evidence_radius,
+                                                evidence_bound)
+        if self.fine_evidence is not None:
+            evidence = evidence | self.fine_evidence.evidence(hits_x, hits_y)
+        on_surface = self.surface_memory.on_surface(hits_x, hits_y, stamp)
+        moving = motion_evidence.moving_hits(hits_x, hits_y, hit_beams, evidence & ~on_surface,
+                                             segment_gap, object_size, min_hits,
+                                             vertices_x[0], vertices_y[0], ranges.shape[0])
+        points = (vertices_x, vertices_y, hits_x, hits_y, hit_beams, moving)
+        self._followed_hits = (hits_x, hits_y)
+        self._laser_xy = (vertices_x[0], vertices_y[0])
+        if rule.track_confirm_time > 0.0:
+            beam_reach = np.hypot(vertices_x[1:-1] - vertices_x[0],
+                                  vertices_y[1:-1] - vertices_y[0])
+            followed = self.tracks.update(
+                stamp, (vertices_x[0], vertices_y[0]), hits_x, hits_y, hit_beams,
+                ranges.shape[0], moving, segment_gap, pose[2] + angle_min, angle_increment,
+                beam_reach, surface=on_surface)
+            followed &= ~on_surface
+            # The hits of objects followed and seen to move fill no place.
+            fill = None
+            for track in self.tracks.ids[self.tracks.moved]:      # a few tracks at most
+                fill = self.tracks.hit_ids != track if fill is None else (
+                    fill & (self.tracks.hit_ids != track))
+        else:
+            followed = np.zeros(hits_x.shape[0], dtype=bool)
+            fill = None
+        self.surface_memory.fill(hits_x, hits_y, stamp, fill)
         return followed, points
 
     def _trails(self, safety_radius, stamp):
@@ -782,3 +891,5 @@ class LabelGrid(PlanningMap):
             self.object_memory.reset()
         if self.fine_evidence is not None:
             self.fine_evidence.reset()
+        if self.surface_memory is not None:
+            self.surface_memory.reset()

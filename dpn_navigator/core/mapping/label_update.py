@@ -188,7 +188,7 @@ def mark_free_window(seen_free, geometry, deferred):
 
 
 def scan_hits(seen_free, geometry, pose, ranges, angle_min, angle_increment, range_min,
-              range_max, rule_arguments):
+              range_max, rule_arguments, find_moving=True):
     """
     Return the scan's polygon and hits, and the hits the object rule finds moving.
 
@@ -201,6 +201,8 @@ def scan_hits(seen_free, geometry, pose, ranges, angle_min, angle_increment, ran
         Cells once surely seen free (a stand-in without the object rule).
     geometry, pose, ranges, angle_min, angle_increment, range_min, range_max, rule_arguments
         As in `scan_update`.
+    find_moving : bool
+        False leaves ``moving`` all False (for a caller that finds it itself).
 
     Returns
     -------
@@ -220,7 +222,7 @@ def scan_hits(seen_free, geometry, pose, ranges, angle_min, angle_increment, ran
     (_, _, _, objects_on, evidence_radius, evidence_bound, segment_gap, object_size,
      min_hits, _) = rule_arguments
     moving = np.zeros(hits_x.shape[0], dtype=bool)
-    if objects_on:
+    if objects_on and find_moving:
         x0, y0 = geometry.origin
         evidence = motion_evidence.hit_evidence(seen_free, hits_x, hits_y, x0, y0,
                                                 geometry.resolution, evidence_radius,

@@ -192,7 +192,7 @@ class MotionTracks:
         self._last_stamp = -math.inf
 
     def update(self, stamp, laser_xy, hits_x, hits_y, hit_beams, beam_count, moving,
-               segment_gap, first_angle=None, increment=None, beam_reach=None):
+               segment_gap, first_angle=None, increment=None, beam_reach=None, surface=None):
         """
         Follow the moving objects through one scan.
 
@@ -217,6 +217,10 @@ class MotionTracks:
         beam_reach : (L,) ndarray of float64, optional
             How far each beam saw free space [m]: its range, ``range_max`` for no return, 0
             for an invalid beam; without it no segment is seen to move by the place it left.
+        surface : (K,) ndarray of bool, optional
+            Hits on known surfaces (``surface_memory``): a segment with at least half its
+            hits on them continues no track, is not seen to move by a place left empty and
+            is not remembered as a place an object stood.
 
         Returns
         -------
@@ -252,7 +256,9 @@ class MotionTracks:
             float(config.min_age), float(config.reach), float(config.free_margin),
             float(config.half_open_gate), float(config.still_distance),
             float(config.still_age), float(config.move_distance), int(config.min_hits),
-            bool(config.exclusive), np.ascontiguousarray(beam_reach, np.float64))
+            bool(config.exclusive), np.ascontiguousarray(beam_reach, np.float64),
+            np.zeros(0, dtype=bool) if surface is None
+            else np.ascontiguousarray(surface, dtype=bool))
         return followed
 
 

@@ -1,0 +1,99 @@
+"""The real-data measure (``dpn_navigator.tools.real_data``): definitions and the recordings."""
+
+import math
+
+from dpn_navigator.core.cell_label import CellLabel
+from dpn_navigator.tools import real_data
+import numpy as np
+import pytest
+from realdata_paths import realdata_dir
+
+E, S, M = CellLabel.EXPLORED, CellLabel.STEADY_OBSTACLE, CellLabel.MOBILE_OBSTACLE
+
+
+def test_measures_count_as_defined():
+    # Two scans of a 2 x 3 grid; column 0 static, a walker near column 2 in the first scan.
+    static = np.array([[True, False, False], [True, False, False]])
+    near = [np.array([[False, False, True], [False, False, True]]), np.zeros((2, 3), bool)]
+    walker_cells = [np.array([[False, False, True], [False, False, False]]),
+                    np.zeros((2, 3), bool)]
+    persons = [[walker_cells[0]], []]
+    truth = real_data.GroundTruth(static, np.array([True, True]), near, walker_cells, persons)
+    labels = np.array([[[M, E, M], [S, E, E]],        # walker mobile, a static cell too
+                       [[M, M, E], [S, E, E]]])       # no walker: both mobile cells false
+    visible = np.array([[[True, True, True], [True, True, True]],
+                        [[False, True, True], [True, True, True]]])
+    counts = real_data.measure_run(truth, labels, visible, np.array([1e-3, 2e-3]))
+    assert (counts.mobile_visible, counts.mobile_visible_true) == (3, 1)
+    assert (counts.walker_cells, counts.walker_cells_mobile) == (1, 1)
+    assert (counts.persons, counts.persons_found) == (1, 1)
+    assert (counts.static_seen, counts.static_ever_mobile) == (2, 1)
+    # Ghosts: mobile, not static, not near: none in scan 0, (0, 1) in scan 1.
+    assert counts.ghosts == 1 and counts.scans == 2
+    precision, cells, walkers, static_share, ghosts = counts.ratios()
+    assert precision == pytest.approx(1 / 3) and static_share == pytest.approx(50.0)
+    assert real_data.Counts().ratios() == (None, None, None, None, None)
+
+
+def test_no_echo_codes_read_as_no_return_for_the_ground_truth():
+    ranges = np.array([0.0, 0.019, 0.5, math.inf, math.nan, -math.inf])
+    read = real_data.no_echo_as_no_return(ranges, 0.02)
+    np.testing.assert_array_equal(read, [math.inf, math.inf, 0.5, math.inf, math.nan,
+                                         -math.inf])
+
+
+@pytest.fixture
+def annotated_bag():
+    path = realdata_dir() / 'positive_2.bag'
+    if not (path.exists() and path.with_name('positive_2_extracted.bag').exists()):
+        pytest.skip(f'no positive_2.bag with its annotation in {realdata_dir()} (set '
+                    'DPN_REALDATA_DIR to the real recordings)')
+    return path
+
+
+def test_annotations_pair_with_the_scans_of_their_stamp(annotated_bag):
+    recording = real_data.read_recording(annotated_bag)
+    assert recording.annotated and len(recording.scans) == 243
+    annotated = [k for k, legs in enumerate(recording.legs) if legs is not None]
+    assert len(annotated) == 83                      # every /training_scan paired
+    for k in annotated:
+        legs = recording.legs[k]
+        assert legs.shape[1] == 2 and 1 <= legs.shape[0] <= 3
+        # A leg cluster is made of the scan's own points: some hit lies within 0.25 m.
+        stamp, ranges, angle_min, increment, range_min, range_max = recording.scans[k]
+        angles = angle_min + increment * np.arange(ranges.shape[0])
+        valid = (ranges >= range_min) & (ranges < range_max)
+        x, y = ranges[valid] * np.cos(angles[valid]), ranges[valid] * np.sin(angles[valid])
+        for lx, ly in legs:
+            assert np.hypot(x - lx, y - ly).min() <= real_data.LEG_HIT_DISTANCE
+
+
+@pytest.mark.slow
+def test_the_tool_writes_the_page_and_the_real_sensor_rules_help(annotated_bag, tmp_path):
+    data = tmp_path / 'data'
+    data.mkdir()
+    for name in ('positive_2.bag', 'positive_2_extracted.bag'):
+        (data / name).symlink_to(annotated_bag.with_name(name))
+    out = tmp_path / 'page'
+    assert real_data.main(['--data', str(data), '--out', str(out), '--no-cost']) == 0
+    page = (tmp_path / 'page.md').read_text()
+    assert '| stationary laser, annotated walkers, as recorded | paper |' in page
+    assert (out / 'positive_2.png').stat().st_size > 0
+    # Read with the no-echo codes as no return, the rules for real lasers raise dpn's
+    # precision of mobile and keep static cells from turning mobile.
+    recording = real_data.read_recording(annotated_bag)
+    truth = real_data.ground_truth(recording, 0.6)
+    ratios = {}
+    for name, overrides in (('before', {'no_return_reach': 1.0, 'surface_time': 0.0}),
+                            ('after', {})):
+        config = real_data.grid_config(recording, 'dpn', no_echo_below_range_min=True,
+                                       **overrides)
+        labels, visible, _, seconds = real_data.run_core(recording, config)
+        ratios[name] = real_data.measure_run(truth, labels, visible, seconds).ratios()
+    assert ratios['after'][0] > ratios['before'][0]
+    assert ratios['after'][3] <= ratios['before'][3]
+
+
+def test_no_recordings_exit_2(tmp_path, capsys):
+    assert real_data.main(['--data', str(tmp_path), '--out', str(tmp_path / 'x')]) == 2
+    assert 'no recordings' in capsys.readouterr().err

@@ -1,0 +1,102 @@
+"""
+Literal twins of the rules for real lasers: no-echo codes, no-return reach, surfaces.
+
+Written beam by beam and hit by hit from ``LabelRule``'s definitions (``no_echo_below_range_min``,
+``no_return_reach``, ``surface_time``), for ``literal_reference.literal_update_with_rule``.
+
+"""
+
+import math
+
+MAX_SCAN_PERIOD = 0.5
+
+
+def literal_read(ranges, range_min, no_echo):
+    """Return each reading, a finite ``0 <= range < range_min`` read as ``+inf`` if asked."""
+    read = []
+    for reading in ranges:
+        reading = float(reading)
+        if no_echo and math.isfinite(reading) and 0.0 <= reading < range_min:
+            reading = math.inf
+        read.append(reading)
+    return read
+
+
+def literal_shorten(vertices, ranges, range_max, range_min, reach):
+    """Return the polygon with each no-return beam's vertex moved to ``reach`` of its length."""
+    x, y = vertices[0]
+    shortened = [vertices[0]]
+    for i, reading in enumerate(ranges):
+        vx, vy = vertices[i + 1]
+        if float(reading) >= range_max:                     # no return (+inf too)
+            if reach * range_max < range_min:
+                vx, vy = x, y
+            else:
+                vx, vy = x + (vx - x) * reach, y + (vy - y) * reach
+        shortened.append((vx, vy))
+    return shortened
+
+
+def literal_fine_ranges(ranges, range_min, range_max, reach):
+    """Return the ranges of the fine evidence: a no-return beam a return at its reach."""
+    if reach >= 1.0:
+        return list(ranges)
+    distance = reach * range_max
+    return [(distance if distance >= range_min else math.nan) if float(r) >= range_max
+            else float(r) for r in ranges]
+
+
+class LiteralSurfaceMemory:
+    """
+    The intermittent surfaces' buckets as a dict of places, one hit at a time.
+
+    ``buckets[(row, col)] = (hit_time, filled)``; a place not in it holds nothing.
+    """
+
+    def __init__(self, origin, margin, surface_time, memory):
+        self.origin = origin
+        self.margin = margin
+        self.surface_time = surface_time
+        self.drain = surface_time / memory
+        self.capacity = 2.0 * surface_time
+        self.buckets = {}
+        self.last_scan = None
+
+    def place(self, x, y):
+        """Return the place ``(row, col)`` of a point."""
+        return (math.floor((y - self.origin[1]) / self.margin),
+                math.floor((x - self.origin[0]) / self.margin))
+
+    def level(self, place, now):
+        """Return the hit time a place holds at ``now``."""
+        if place not in self.buckets:
+            return 0.0
+        hit_time, filled = self.buckets[place]
+        age = max(now - filled, 0.0)
+        return max(hit_time - age * self.drain, 0.0)
+
+    def surface_hits(self, hits, now, shape, fill=None):
+        """Tell which hits lie within one place of a known surface; then fill the places hit."""
+        rows, cols = shape
+        known = []
+        for x, y in hits:
+            row, col = self.place(x, y)
+            known.append(any(
+                0 <= r < rows and 0 <= c < cols
+                and self.level((r, c), now) >= self.surface_time
+                for r in (row - 1, row, row + 1) for c in (col - 1, col, col + 1)))
+        period = 0.0 if self.last_scan is None else min(max(now - self.last_scan, 0.0),
+                                                        MAX_SCAN_PERIOD)
+        self.last_scan = now
+        places = set()
+        for k, (x, y) in enumerate(hits):
+            if fill is not None and not fill[k]:
+                continue
+            row, col = self.place(x, y)
+            if 0 <= row < rows and 0 <= col < cols:
+                places.add((row, col))
+        for place in places:
+            if place in self.buckets and self.buckets[place][1] == now:
+                continue
+            self.buckets[place] = (min(self.level(place, now) + period, self.capacity), now)
+        return known
