@@ -43,7 +43,7 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import LaserScan
 from visualization_msgs.msg import MarkerArray
 
-from .laser import LaserConfig
+from .laser_profiles import laser_config
 from .odometry_drift import DriftConfig, DriftingOdometry, Localiser, LocaliserConfig
 from .robot_frames import FrameNames, RobotFramePublisher
 from .scenario import load_scenario
@@ -68,7 +68,6 @@ class PybulletWorldNode(Node):
         wanderers, seed, gui = params.wanderers, params.seed, params.gui
         self.real_time_factor = params.real_time_factor
         physics_rate, scan_rate = params.physics_rate, params.scan_rate
-        noise = params.laser_noise
         self.cmd_timeout = params.cmd_timeout
         cmd_vel_stamped = params.cmd_vel_stamped
         self.frames = FrameNames(params.map_frame, params.odom_frame, params.base_frame,
@@ -80,9 +79,13 @@ class PybulletWorldNode(Node):
                              f'task {task} does not exist')
         default_start = scenario.tasks[task].start
         start = tuple(default_start[k] if math.isnan(start[k]) else start[k] for k in range(3))
-        laser = LaserConfig(noise_std=noise, mount=(params.laser_x, params.laser_y,
-                                                    params.laser_yaw),
-                            height=params.laser_z, upside_down=params.laser_upside_down)
+        laser = laser_config(
+            params.laser_profile, noise_std=params.laser_noise, dropout=params.laser_dropout,
+            max_incidence=params.laser_max_incidence,
+            mixed_pixel_probability=params.laser_mixed_pixel_probability,
+            error_encoding=params.laser_error_encoding,
+            mount=(params.laser_x, params.laser_y, params.laser_yaw), height=params.laser_z,
+            upside_down=params.laser_upside_down)
         config = WorldConfig(physics_rate=physics_rate, scan_rate=scan_rate,
                              n_wanderers=wanderers, seed=seed, gui=gui, laser=laser)
         self.odometry = DriftingOdometry(
@@ -113,7 +116,8 @@ class PybulletWorldNode(Node):
             f'ignored /clock: {error}', throttle_duration_sec=WARN_THROTTLE))
         self.get_logger().info(
             f'{scenario.name}: task {task}, start {start}, goal {self.goal}, '
-            f'{wanderers} wanderers, real-time factor {self.real_time_factor}')
+            f'{wanderers} wanderers, laser {params.laser_profile}, real-time factor '
+            f'{self.real_time_factor}')
 
     def on_cmd_vel(self, msg):
         """Keep the latest finite command; ignore and count a non-finite one."""

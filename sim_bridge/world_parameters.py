@@ -30,7 +30,7 @@ class WorldNodeParameters:
     start_yaw: float = setting(
         math.nan, 'rad', "override the task's start heading; NaN: the task's")
     wanderers: int = setting(3, '', 'wandering P3-AT robots', 0, 10)
-    seed: int = setting(0, '', 'seed of the wanderers and the laser noise', 0, 2**31 - 1)
+    seed: int = setting(0, '', 'seed of the wanderers and the laser artefacts', 0, 2**31 - 1)
     gui: bool = setting(False, '', 'open the pybullet GUI window')
     real_time_factor: float = setting(
         1.0, '', '1.0 = wall-clock pace; higher runs faster', 0.01, 1000.0)
@@ -38,8 +38,25 @@ class WorldNodeParameters:
         50.0, 'Hz', 'physics ticks per simulated second', 1.0, 1000.0)
     scan_rate: float = setting(
         10.0, 'Hz', 'scans per simulated second; must divide `physics_rate`', 0.1, 1000.0)
+    laser_profile: str = setting(
+        'ideal', '', "the simulated laser: `ideal` (the paper's perfect 640-beam, 180-degree "
+        'laser), `sick_lms1xx`, `hokuyo_utm30lx`, `hokuyo_urg04lx` or `rplidar_a2`, modelled on '
+        'their data sheets ([simulator.md](simulator.md#laser-profiles))')
     laser_noise: float = setting(
-        0.0, 'm', 'standard deviation of Gaussian range noise', 0.0, 1.0)
+        math.nan, 'm', "standard deviation of the Gaussian range noise's floor; NaN: the "
+        "profile's (0 for `ideal`)")
+    laser_dropout: float = setting(
+        math.nan, '', "share of the hits that return nothing, 0 to 1; NaN: the profile's")
+    laser_max_incidence: float = setting(
+        math.nan, 'rad', 'beams meeting a surface farther than this from its normal return '
+        "nothing, up to pi/2 (off); NaN: the profile's")
+    laser_mixed_pixel_probability: float = setting(
+        math.nan, '', 'chance that a beam beside a depth jump returns a range between the two '
+        "surfaces, 0 to 1; NaN: the profile's")
+    laser_error_encoding: str = setting(
+        '', '', 'how a beam with no valid reading is written: `rep117` (+inf no return, -inf '
+        "too close), `nan`, or `tiny_codes` (the old Hokuyo driver's codes below `range_min`); "
+        "empty: the profile's")
     cmd_timeout: float = setting(
         0.5, 's', 'stop when no `cmd_vel` came for this long (simulated time)', 0.01, 60.0)
     cmd_vel_stamped: bool = setting(

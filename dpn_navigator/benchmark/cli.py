@@ -7,6 +7,7 @@ Examples::
     dpn-benchmark --maps 3 maze /path/to/map.yaml --tasks 0 1 --wanderers 0 5 10 --repeats 2
     dpn-benchmark --profile paper --ray-address auto --out out/paper
     dpn-benchmark --maps back_and_forth --tasks 0 --wanderers 5 --repeats 1 --record out/bags
+    dpn-benchmark --profile smoke --laser hokuyo_utm30lx --out out/smoke_utm30lx
 
 
 Episodes are appended to ``OUT/episodes.csv`` as they finish; running the same command again
@@ -31,6 +32,9 @@ from .episode_log import read_log
 from .protocol import MAP_MODELS, NAVIGATORS, plan_episodes, PROFILES, resolve_maps
 from .report import save_success_figure, summary_markdown
 from .runner import default_workers, run_protocol
+
+#: ``--laser`` choices (``sim_bridge.laser_profiles``), kept here so --help needs no pybullet.
+LASER_PROFILE_NAMES = ('ideal', 'sick_lms1xx', 'hokuyo_utm30lx', 'hokuyo_urg04lx', 'rplidar_a2')
 
 
 def build_parser():
@@ -110,7 +114,7 @@ def navigator_choice(text):
 
 
 def add_world_options(parser):
-    """Add the options of the agents and the pose noise (issue 30) to the parser."""
+    """Add the options of the agents, the pose noise (issue 30) and the laser to the parser."""
     from sim_bridge.wanderers import AGENT_MODELS
     parser.add_argument('--agents', choices=sorted(AGENT_MODELS), default='p3at',
                         help='the moving agents: p3at, the wandering Pioneer 3-ATs that stop '
@@ -120,20 +124,28 @@ def add_world_options(parser):
     parser.add_argument('--pose-noise', nargs=2, type=float, metavar=('SIGMA_XY', 'SIGMA_YAW'),
                         help='Gaussian noise on the pose the navigator is given [m, rad], per '
                              'scan (the benchmark judges the true pose)')
+    parser.add_argument('--laser', default='ideal', metavar='PROFILE',
+                        help="the world's laser: "
+                             f'{", ".join(LASER_PROFILE_NAMES)}; ideal is the paper\'s perfect '
+                             'laser, the others are modelled on data sheets, with noise, lost '
+                             'returns and mixed pixels (docs/simulator.md) (default: '
+                             '%(default)s)')
 
 
 def run_settings(args):
     """
     Return what must be the same for every episode of one log, for ``run.json``.
 
-    The navigator; the agent model and the pose noise only when not the defaults, so that
-    the ``run.json`` of a default run reads as before.
+    The navigator; the agent model, the pose noise and the laser only when not the defaults,
+    so that the ``run.json`` of a default run reads as before.
     """
     settings = {'navigator': args.navigator}
     if args.agents != 'p3at':
         settings['agents'] = args.agents
     if args.pose_noise:
         settings['pose_noise'] = list(args.pose_noise)
+    if args.laser != 'ideal':
+        settings['laser'] = args.laser
     return settings
 
 
@@ -144,8 +156,8 @@ def episode_options(args):
     Raises
     ------
     ValueError
-        For negative pose noise, a plug-in navigator that does not load, or one with
-        ``--record``.
+        For negative pose noise, an unknown laser, a plug-in navigator that does not load, or
+        one with ``--record``.
 
     """
     from .navigator_plugin import load_navigator_class
@@ -156,6 +168,11 @@ def episode_options(args):
         if min(args.pose_noise) < 0.0 or not all(map(math.isfinite, args.pose_noise)):
             raise ValueError(f'--pose-noise must be finite and >= 0, got {args.pose_noise}')
         options['pose_noise'] = tuple(args.pose_noise)
+    if args.laser not in LASER_PROFILE_NAMES:
+        raise ValueError(f'unknown --laser {args.laser!r}: choose one of '
+                         f'{", ".join(LASER_PROFILE_NAMES)}')
+    if args.laser != 'ideal':
+        options['laser'] = args.laser
     if args.navigator not in NAVIGATORS:
         if getattr(args, 'record', None):
             raise ValueError('--record needs a built-in navigator (a bag holds its map)')
@@ -174,6 +191,9 @@ def main(argv=None):
     parser = build_parser()
     args = parser.parse_args(argv)
     from sim_bridge.scenario import load_index
+    if args.laser not in LASER_PROFILE_NAMES:        # before the output folder is made
+        parser.error(f'unknown --laser {args.laser!r}: choose one of '
+                     f'{", ".join(LASER_PROFILE_NAMES)}')
     profile = PROFILES[args.profile]
     try:
         entries = load_index(args.index)
@@ -206,6 +226,8 @@ def main(argv=None):
           f'worker, {stats.episodes_per_hour:.0f} episodes per hour')
     rows = read_log(log_path)
     title = f'dpn benchmark, {args.navigator} navigator'
+    if args.laser != 'ideal':
+        title += f', {args.laser} laser'
     summary = summary_markdown(rows, title=title, navigator=args.navigator)
     (args.out / 'summary.md').write_text(summary)
     if rows:
@@ -219,7 +241,8 @@ def main(argv=None):
         print(f'wrote {args.out / "detection.png"}')
     if (args.strip or args.animate) and specs and args.navigator in NAVIGATORS:
         showcase = rerun_showcase(specs, args.index, navigator_options=NAVIGATORS[args.navigator],
-                                  map_model=MAP_MODELS[args.navigator])
+                                  map_model=MAP_MODELS[args.navigator],
+                                  episode_options=episode_options(args))
         if args.strip:
             write_strip(args.out / 'strip.png', showcase)
             print(f'wrote {args.out / "strip.png"}')
@@ -294,7 +317,8 @@ class Showcase:
                 f'{spec.seed}: {outcome} at t = {result.time:.0f} s')
 
 
-def rerun_showcase(specs, index=None, navigator_options=None, period=1.0, map_model='labels'):
+def rerun_showcase(specs, index=None, navigator_options=None, period=1.0, map_model='labels',
+                   episode_options=None):
     """
     Rerun one episode of a protocol with an `EpisodeRecorder`.
 
@@ -313,6 +337,8 @@ def rerun_showcase(specs, index=None, navigator_options=None, period=1.0, map_mo
         The map the navigator plans on (``protocol.MAP_MODELS``).
     period : float
         Simulated time between snapshots [s].
+    episode_options : dict, optional
+        As for ``run_protocol`` (the agents, the pose noise, the laser).
 
     Returns
     -------
@@ -321,6 +347,7 @@ def rerun_showcase(specs, index=None, navigator_options=None, period=1.0, map_mo
     """
     from sim_bridge.scenario import load_scenario
     from .episode import run_episode
+    from .runner import episode_keywords
     from .snapshots import EpisodeRecorder
     first = specs[0]
     spec = max((s for s in specs if (s.map_key, s.task, s.repetition) ==
@@ -329,7 +356,8 @@ def rerun_showcase(specs, index=None, navigator_options=None, period=1.0, map_mo
     recorder = EpisodeRecorder(period=period)
     started = time.perf_counter()
     result = run_episode(scenario, spec.task, spec.wanderers, spec.seed, recorder=recorder,
-                         navigator_options=navigator_options, map_model=map_model)
+                         navigator_options=navigator_options, map_model=map_model,
+                         **episode_keywords(episode_options))
     recorder.finish()
     return Showcase(spec, scenario, result, recorder, time.perf_counter() - started)
 

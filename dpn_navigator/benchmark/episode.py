@@ -303,7 +303,7 @@ def build_map(map_model, navigator_config, scenario, wanderer_radius, range_max)
 def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
                 time_limit=None, recorder=None, navigator_options=None, detection=True,
                 setup=None, map_model='labels', wanderer_config=None, pose_noise=None,
-                navigator_class=None):
+                navigator_class=None, laser=None):
     """
     Run one episode in lockstep and measure it.
 
@@ -346,18 +346,25 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
         A plug-in navigator (``navigator_plugin``), built as ``navigator_class(config)`` in
         place of the built-in one; ``map_model`` is then unused, and there are no detection or
         map-quality measures.
+    laser : sim_bridge.laser.LaserConfig, optional
+        The world's laser (default: ``WorldConfig``'s, the ``ideal`` profile). The navigator
+        reads the beam layout and range limits from each scan, and its default configuration
+        takes the laser's mount.
 
     Returns
     -------
     EpisodeResult
 
     """
-    from sim_bridge.husky import LASER_MOUNT
     from sim_bridge.world import World, WorldConfig
     task = scenario.tasks[task_index]
+    world_config = WorldConfig(n_wanderers=wanderers, seed=seed)
+    if laser is not None:
+        world_config = dataclasses.replace(world_config, laser=laser)
     if navigator_config is None:
         navigator_config = NavigatorConfig(width=scenario.width, height=scenario.height,
-                                           origin=scenario.origin, laser_offset=LASER_MOUNT,
+                                           origin=scenario.origin,
+                                           laser_offset=world_config.laser.mount,
                                            **(navigator_options or {}))
     elif navigator_options:
         raise ValueError('give navigator_config or navigator_options, not both')
@@ -367,7 +374,6 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
     if time_limit is None:
         time_limit = rule_time_limit(shortest)
     travelled = 0.0
-    world_config = WorldConfig(n_wanderers=wanderers, seed=seed)
     if wanderer_config is not None:
         world_config = dataclasses.replace(world_config, wanderer=wanderer_config)
     with World(scenario, world_config, start=task.start,

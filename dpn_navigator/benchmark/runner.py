@@ -136,8 +136,9 @@ def run_spec(spec, index=None, navigator_options=None, detection=True, record_di
         The map the navigator plans on (``protocol.MAP_MODELS``).
     episode_options : dict, optional
         `EPISODE_OPTIONS` for ``run_episode``: ``agents`` (a name of
-        ``sim_bridge.wanderers.AGENT_MODELS``), ``pose_noise`` (``(sigma_xy, sigma_yaw)``)
-        and ``navigator_class`` (a plug-in's ``'package.module:Class'``).
+        ``sim_bridge.wanderers.AGENT_MODELS``), ``pose_noise`` (``(sigma_xy, sigma_yaw)``),
+        ``navigator_class`` (a plug-in's ``'package.module:Class'``) and ``laser`` (a name of
+        ``sim_bridge.laser_profiles``; ``ideal`` by default).
 
     Returns
     -------
@@ -153,7 +154,8 @@ def run_spec(spec, index=None, navigator_options=None, detection=True, record_di
     warm_up_kernels(map_model)
     extra = episode_keywords(episode_options)
     agents = (episode_options or {}).get('agents', 'p3at')
-    recorder = None if record_dir is None else _episode_bag(spec, scenario, record_dir)
+    laser = (episode_options or {}).get('laser', 'ideal')
+    recorder = None if record_dir is None else _episode_bag(spec, scenario, record_dir, laser)
     try:
         result = run_episode(scenario, spec.task, spec.wanderers, spec.seed,
                              navigator_options=navigator_options, detection=detection,
@@ -170,7 +172,7 @@ def run_spec(spec, index=None, navigator_options=None, detection=True, record_di
 
 
 #: Keys of ``episode_options``.
-EPISODE_OPTIONS = ('agents', 'pose_noise', 'navigator_class')
+EPISODE_OPTIONS = ('agents', 'pose_noise', 'navigator_class', 'laser')
 
 
 def episode_keywords(episode_options):
@@ -180,9 +182,10 @@ def episode_keywords(episode_options):
     Raises
     ------
     ValueError
-        For an unknown key or agent model, or a plug-in that does not load.
+        For an unknown key, agent model or laser profile, or a plug-in that does not load.
 
     """
+    from sim_bridge.laser_profiles import laser_profile
     from sim_bridge.wanderers import AGENT_MODELS
     from .navigator_plugin import load_navigator_class
     options = dict(episode_options or {})
@@ -199,17 +202,21 @@ def episode_keywords(episode_options):
         keywords['pose_noise'] = tuple(options['pose_noise'])
     if options.get('navigator_class'):
         keywords['navigator_class'] = load_navigator_class(options['navigator_class'])
+    laser = options.get('laser', 'ideal')
+    profile = laser_profile(laser)          # an unknown name fails here
+    if laser != 'ideal':
+        keywords['laser'] = profile.laser
     return keywords
 
 
-def _episode_bag(spec, scenario, record_dir):
+def _episode_bag(spec, scenario, record_dir, laser='ideal'):
     """Return an `EpisodeBagRecorder` for one episode, in ``record_dir``."""
     from .episode_bag import EpisodeBagRecorder, episode_bag_name
     return EpisodeBagRecorder(
         Path(record_dir) / episode_bag_name(spec),
         description={'scenario': scenario.name, 'map': spec.map_key, 'task': spec.task,
                      'wanderers': spec.wanderers, 'repetition': spec.repetition,
-                     'seed': spec.seed})
+                     'seed': spec.seed, 'laser': laser})
 
 
 def check_bag_folders(specs, record_dir):
@@ -272,7 +279,8 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
     map_model : str
         The map every episode's navigator plans on (``protocol.MAP_MODELS``).
     episode_options : dict, optional
-        As for `run_spec` (agents, pose noise, a plug-in navigator), for every episode.
+        As for `run_spec` (agents, pose noise, a plug-in navigator, the laser), for every
+        episode.
 
     Returns
     -------
@@ -281,13 +289,15 @@ def run_protocol(specs, log_path, workers=None, ray_address=None, index=None, pr
     Raises
     ------
     ValueError
-        If ``workers`` is not positive or the log belongs to another version; a
+        If ``workers`` is not positive, ``episode_options`` are bad or the log belongs to
+        another version; a
         ``BagPathError`` if an episode's bag exists already or cannot be written.
     ImportError
         If ``ray_address`` is given and Ray is not installed.
 
     """
     from tqdm import tqdm
+    episode_keywords(episode_options)   # bad options (a laser, an agent model) fail here
     if workers is None:
         workers = default_workers()
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
