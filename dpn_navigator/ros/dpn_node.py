@@ -42,11 +42,13 @@ from .diagnostics import diagnostic_status, DiagnosticsPublisher
 from .dpn_params import declare_parameters
 from .names import DEFAULT_NAMESPACE
 from .navigator_markers import extend_trail, NavigatorMarkers
+from .parameter_declaration import refuse_undeclared_parameters
 from .qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS
 from .safety_params import declare_safety_parameters
 from .sensor_watchdog import SensorWatchdog, steady_arrival_time
 from .sim_clock import guard_clock
 from .spin import run_node
+from .stop_guard import StopGuard
 from ..core import Navigator, NavigatorStatus
 from ..core.mapping.map_values import warm_up_map_values
 from ..core.navigator import warm_up_navigator
@@ -68,6 +70,7 @@ class DpnNode(Node):
         super().__init__('dpn', **node_kwargs)
         self.params = declare_parameters(self)
         self.limits = declare_safety_parameters(self)
+        refuse_undeclared_parameters(self)
         # Compile (or load) the kernels now, so that the first scan does not wait for them.
         started = time.perf_counter()
         warm_up_navigator()
@@ -105,6 +108,11 @@ class DpnNode(Node):
         self.marker_pub = self.create_publisher(MarkerArray, 'marker', LATCHED_QOS)
         self.plan_pub = self.create_publisher(Path, 'plan', LATCHED_QOS)
         self.diagnostics = DiagnosticsPublisher(self, 'status')
+        # The stop on stale sensors, on a thread of its own: it runs however long a callback
+        # takes; every command goes through it.
+        self.stop_guard = StopGuard(self.watchdog, self.cmd_pub, self.now_seconds,
+                                    self.steady_seconds, WATCHDOG_PERIOD,
+                                    on_error=self.on_stop_guard_error)
         # With the message info, so that the watchdog dates a message by its arrival.
         self.create_subscription(LaserScan, 'scan',
                                  lambda msg, info: self.on_scan(msg, info), SENSOR_QOS)
@@ -118,6 +126,7 @@ class DpnNode(Node):
         if self.params.goal is not None:
             self.set_goal(*self.params.goal)
         self.publish_status()
+        self.stop_guard.start()
         self.get_logger().info(
             f'dpn ready: {self.navigator.grid.geometry.cols}x'
             f'{self.navigator.grid.geometry.rows} cells of '
@@ -180,7 +189,7 @@ class DpnNode(Node):
         self.pose = pose
         self.velocity = velocity if all(math.isfinite(v) for v in velocity) else (0.0, 0.0)
         self.pose_history.add(stamp_to_seconds(msg.header.stamp), pose, self.velocity)
-        self.watchdog.heard('odometry', self.now_seconds(), self.arrival_seconds(info))
+        self.stop_guard.heard('odometry', self.now_seconds(), self.arrival_seconds(info))
         if self.navigator.goal is not None:
             extend_trail(self.trail, pose[:2])
 
@@ -216,7 +225,7 @@ class DpnNode(Node):
         except ValueError as error:
             self.reject('scan', error)
             return
-        self.watchdog.heard('scan', now, self.arrival_seconds(info))
+        self.stop_guard.heard('scan', now, self.arrival_seconds(info))
         stamp = msg.header.stamp
         # The map first: it is ready now, and planning can take longer.
         if (self.last_map_time is None
@@ -228,8 +237,8 @@ class DpnNode(Node):
         elif self.map_updates_pub is not None and self.publish_map_update(stamp):
             self.scan_to_map_ms.append(1e3 * (time.perf_counter() - received))
         out = self.navigator.decide(now, self.pose)
-        if not self.watchdog.is_stale(self.now_seconds(), self.steady_seconds()):
-            self.cmd_pub.publish(out.command.linear, out.command.angular)
+        # Sent only while the sensors are fresh: never after the stop.
+        self.stop_guard.publish(out.command.linear, out.command.angular)
         self.odom_real_pub.publish(pose_to_odometry(
             self.pose, self.velocity, stamp, frame_id=self.params.map_frame,
             child_frame_id=self.params.base_frame))
@@ -303,10 +312,11 @@ class DpnNode(Node):
             'sensors stale' if self.stale else status.value, values))
 
     def on_watchdog(self):
-        """Stop the robot while scans or odometry are stale on either clock."""
-        stale = self.watchdog.stale_streams(self.now_seconds(), self.steady_seconds())
+        """Report stale scans or odometry; the stop guard's thread stops the robot."""
+        # The thread sends the zero commands; should it have ended, this timer does.
+        stale = (self.stop_guard.stale_streams() if self.stop_guard.running
+                 else self.stop_guard.check())
         if stale:
-            self.cmd_pub.publish(0.0, 0.0)
             if self.navigator.goal is not None:
                 self.get_logger().warning(f'{" and ".join(stale)} stale: stopping',
                                           throttle_duration_sec=WARN_THROTTLE)
@@ -323,13 +333,24 @@ class DpnNode(Node):
                 'is commanding this robot', throttle_duration_sec=10.0 * WARN_THROTTLE)
         self.publish_status()
 
+    def on_stop_guard_error(self, error):
+        """Log why the stop guard's thread ended (the watchdog timer stops the robot then)."""
+        self.get_logger().error(f'stop guard ended: {error}; the watchdog timer stops the robot')
+
     def destroy_node(self):
         """Send a zero command (waiting briefly for its delivery), then destroy the node."""
+        self.stop_guard.close()
         self.cmd_pub.publish(0.0, 0.0)
         self.cmd_pub.wait_for_delivery(STOP_ACK_TIMEOUT)
         return super().destroy_node()
 
 
-def main(args=None):
-    """Run the ``dpn`` node: ``ros2 run dpn_navigator dpn``."""
-    return run_node(DpnNode, args)
+def main(args=None, stop=None):
+    """
+    Run the node: ``ros2 run dpn_navigator dpn`` (through ``node_entry``).
+
+    ``stop`` holds the stop-signal handlers ``node_entry`` installed before this module's
+    imports (``spin.run_node``).
+
+    """
+    return run_node(DpnNode, args, stop)
