@@ -136,8 +136,28 @@ class WorldWatcher(Node):
         self.commands.append((time.monotonic(), msg.linear.x, msg.angular.z))
 
 
-def world_kill_trials(trials, domain_id, log_dir):
-    """Stop times [s] after SIGKILL of the world; None where no zero command came."""
+def commands_after_stop(commands, since, late=0.5):
+    """
+    Count the non-zero commands after the first zero one and more than ``late`` after ``since``.
+
+    Returns
+    -------
+    after_stop, after_late : int
+
+    """
+    stop = next((t for t, linear, angular in commands
+                 if t >= since and linear == angular == 0.0), None)
+    moving = [t for t, linear, angular in commands if (linear, angular) != (0.0, 0.0)]
+    after_stop = 0 if stop is None else sum(1 for t in moving if t > stop)
+    return after_stop, sum(1 for t in moving if t > since + late)
+
+
+def world_kill_trials(trials, domain_id, log_dir, moving_after=None):
+    """
+    Stop times [s] after SIGKILL of the world; None where no zero command came.
+
+    ``moving_after``, a list, gets per trial the `commands_after_stop` counts.
+    """
     scenario = load_scenario('back_and_forth')
     dpn = start_process('dpn_navigator', 'dpn', navigator_arguments(scenario, 0), domain_id,
                         log_dir / 'dpn_world_kill.log')
@@ -162,6 +182,9 @@ def world_kill_trials(trials, domain_id, log_dir):
                 spin_for(executor, 1.0)
                 times.append(None if watcher.last_heard is None else first_zero_after(
                     watcher.commands, watcher.last_heard))
+                if moving_after is not None and watcher.last_heard is not None:
+                    moving_after.append(commands_after_stop(watcher.commands,
+                                                            watcher.last_heard))
                 watcher.commands.clear()
         finally:
             stop_nodes({'dpn': dpn})
@@ -262,8 +285,13 @@ def main(argv=None):
         print(summary('stop, sensors stop, sim time', stand_in_trials(
             args.trials, args.domain_id, log_dir, sim_time=True)), flush=True)
     if 'kill' in args.parts:
+        moving_after = []
         print(summary('stop, world killed (SIGKILL)', world_kill_trials(
-            args.trials, args.domain_id, log_dir)), flush=True)
+            args.trials, args.domain_id, log_dir, moving_after)), flush=True)
+        print(f'non-zero commands after the first zero one: '
+              f'{sum(after for after, _ in moving_after)}; more than 0.5 s after the last '
+              f'world message: {sum(late for _, late in moving_after)} (in '
+              f'{len(moving_after)} trials)', flush=True)
     if 'exits' in args.parts:
         for name, results in exit_trials(args.trials, args.domain_id, log_dir).items():
             clean = sum(1 for code, traceback in results if code == 0 and not traceback)

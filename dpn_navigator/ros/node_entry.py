@@ -20,7 +20,14 @@ def _run(name, module, args):
     try:
         from importlib import import_module
         node_main = import_module(module).main
+    except Exception:
+        # A C extension being imported (rclpy's) turns the exception raised by the signal
+        # handler into an ImportError: any error after a stop signal is the signal's doing.
+        if not stop.requested:
+            raise
     except StartupInterrupted:
+        pass
+    if stop.requested:
         sys.stderr.write(f'{name}: {stop.signal_name} during start-up: stopping\n')
         return 0
     return node_main(args, stop=stop)

@@ -51,16 +51,20 @@ def run_node(node_class, args=None, stop=None):
     if stop is None:
         stop = StopRequest(starting=True)
     node = None
+    spinning = False
     try:
         rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
         try:
             node = node_class()
         except (ValueError, ParameterException) as error:
+            if stop.requested:
+                raise           # the signal's doing (below)
             get_logger(node_class.__name__).fatal(f'cannot start: {error}')
             return 1
         executor = SingleThreadedExecutor()
         executor.add_node(node)
         stop.started()
+        spinning = True
         while not stop.requested and rclpy.ok():
             executor.spin_once(timeout_sec=SPIN_POLL)
         if stop.requested:
@@ -69,6 +73,13 @@ def run_node(node_class, args=None, stop=None):
         get_logger(node_class.__name__).info(f'{stop.signal_name} during start-up: stopping')
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
+    except Exception:
+        # A library (a C extension, a numba dispatcher) may turn the exception raised by the
+        # signal handler into an error of its own: any error during the start-up after a stop
+        # signal is the signal's doing.
+        if spinning or not stop.requested:
+            raise
+        get_logger(node_class.__name__).info(f'{stop.signal_name} during start-up: stopping')
     finally:
         # A stop signal from here on is ignored or only sets the flag.
         stop.started()
