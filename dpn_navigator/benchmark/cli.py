@@ -67,8 +67,11 @@ def build_parser():
     parser.add_argument('--seed', type=int, default=0,
                         help='base seed of the episode seeds (default: %(default)s)')
     parser.add_argument('--out', default='benchmark_out', type=Path,
-                        help='output folder; episodes.csv in it is resumed: episodes logged '
-                             'there are skipped, never run twice (default: %(default)s)')
+                        help='output folder; a run into it resumes episodes.csv there: the '
+                             'episodes logged are skipped, never logged twice, and a second '
+                             'run while one is writing is refused. A failed write ends the '
+                             'run with one line and exit status 2, keeping every logged '
+                             'episode (default: %(default)s)')
     parser.add_argument('--workers', type=int,
                         help=f'local worker processes (default: the CPUs, {default_workers()} '
                              'here)')
@@ -87,7 +90,9 @@ def build_parser():
                         help='write every episode run (not those already in the log) as a '
                              'rosbag2 MCAP bag into DIR: what the nodes would have published '
                              '(docs/recording.md); choose the episodes with --maps, --tasks, '
-                             '--wanderers and --repeats')
+                             '--wanderers and --repeats. A complete bag is never overwritten; '
+                             'the bag of an episode cut short by a kill (no metadata.yaml) is '
+                             'replaced when the episode runs again')
     parser.add_argument('--no-detection', action='store_true',
                         help='skip the detection measures (about 8-10 %% of episode time; see '
                              'docs/detection.md): their columns are left empty')
