@@ -179,6 +179,13 @@ def main(argv=None):
               f'growth after the first minute {slope:+.2f} MB/h, 95 % interval '
               f'[{slope - half_width:+.2f}, {slope + half_width:+.2f}] MB/h (least squares '
               f'over {len(kept)} samples, every {SAMPLE_PERIOD:g} s)')
+        # A growth that levels off (a warm-up) shows as a smaller slope in the second half.
+        half = len(points) // 2
+        late_slope, late_half_width = fitted_growth(*zip(*points[half:]))
+        print(f'{name}: growth over the second half {late_slope:+.2f} MB/h, 95 % interval '
+              f'[{late_slope - late_half_width:+.2f}, {late_slope + late_half_width:+.2f}] '
+              f'MB/h; RSS every minute: '
+              + ' '.join(f'{rss:.1f}' for t, rss in points[::max(1, round(60 / SAMPLE_PERIOD))]))
     print(f'logs: {log_dir}')
     return 0
 
