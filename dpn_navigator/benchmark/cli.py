@@ -16,8 +16,9 @@ while the first still writes is refused (the log is locked). A bag folder of an 
 short by a kill (``--record``, no ``metadata.yaml``) is replaced when it runs again. A write
 that fails (a full disk, a file-size limit, a read-only OUT) ends the run with one line on
 stderr and exit status 2; the log keeps every episode finished before. At the end
-``OUT/summary.md`` and ``OUT/success_rate.png`` are written from the whole log, with ``OUT/detection.png`` (the map as a detector against the
-wanderer count, ``detection_report``), with ``--strip`` a Fig. 9-style strip of one episode and
+``OUT/summary.md`` and ``OUT/success_rate.png`` are written from the whole log, with
+``OUT/detection.png`` (the map as a detector against the wanderer count,
+``detection_report``), with ``--strip`` a Fig. 9-style strip of one episode and
 with ``--animate`` an animated GIF of it. ``--record DIR`` writes every episode run as a
 rosbag2 MCAP bag into DIR (docs/recording.md).
 
