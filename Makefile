@@ -27,10 +27,11 @@
 #                prints counters, crashes and exit codes (docs/safety.md)
 #   make soak    build, then python tools/soak_ros.py $(SOAK_ARGS): both nodes with 10
 #                wanderers for 10 minutes (--minutes), new goals as goals are reached; prints
-#                the RSS growth of each process [MB/h]
+#                the RSS growth of each process [MB/h]: a fitted slope and its 95 % interval
 #   make faults  build, then python tools/faults_ros.py $(FAULTS_ARGS): 20 trials each
 #                of the time from the last message to the first zero command (sensors stop on
-#                wall time, on sim time, the world killed) and of SIGINT/SIGTERM exits
+#                wall time, on sim time, the world killed; with the commands after the stop)
+#                and of SIGINT/SIGTERM exits, of busy pairs and 0.2-3 s after a node's start
 #   make clean   remove build/ install/ log/;  make distclean  also removes .venv/
 #
 # Needs only python3.11 with its venv module (Debian/Ubuntu: apt-get install python3-venv; a

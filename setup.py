@@ -32,7 +32,7 @@ PACKAGE_NAME = 'dpn_navigator'
 
 #: Console scripts of ``dpn_navigator``; setup.cfg installs them to ``lib/dpn_navigator``.
 CONSOLE_SCRIPTS = [
-    'dpn = dpn_navigator.ros.dpn_node:main',
+    'dpn = dpn_navigator.ros.node_entry:dpn',
     'dpn-benchmark = dpn_navigator.benchmark.cli:main',
     'dpn-replay = dpn_navigator.tools.replay:main',
     'compile_kernels = dpn_navigator.tools.compile_kernels:main',
@@ -40,10 +40,10 @@ CONSOLE_SCRIPTS = [
 
 #: Console scripts of the other ROS packages this distribution registers in the ament index,
 #: by package, as ``'<exe> = <module>:<function>'``; each lands in ``lib/<package>/<exe>``,
-#: e.g. ``{'sim_bridge': ['pybullet_world = sim_bridge.pybullet_world_node:main']}``.
+#: e.g. ``{'sim_bridge': ['pybullet_world = dpn_navigator.ros.node_entry:pybullet_world']}``.
 #: The keys are also the extra names registered in the ament index.
 PACKAGE_SCRIPTS = {
-    'sim_bridge': ['pybullet_world = sim_bridge.pybullet_world_node:main'],
+    'sim_bridge': ['pybullet_world = dpn_navigator.ros.node_entry:pybullet_world'],
 }
 
 #: Manifests of the other ROS packages: description and run-time dependencies (rosdep keys) of

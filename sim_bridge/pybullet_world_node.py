@@ -33,7 +33,8 @@ from dpn_navigator.ros.command_publisher import command_to_velocity, command_typ
 from dpn_navigator.ros.conversions import make_laser_scan, pose_to_odometry, seconds_to_time
 from dpn_navigator.ros.diagnostics import diagnostic_status, DiagnosticsPublisher
 from dpn_navigator.ros.names import DEFAULT_NAMESPACE
-from dpn_navigator.ros.parameter_declaration import declare_setting
+from dpn_navigator.ros.parameter_declaration import (declare_setting,
+                                                     refuse_undeclared_parameters)
 from dpn_navigator.ros.qos import COMMAND_QOS, SENSOR_PUBLISHER_QOS
 from dpn_navigator.ros.sim_clock import guard_clock
 from dpn_navigator.ros.spin import run_node
@@ -63,6 +64,7 @@ class PybulletWorldNode(Node):
         values = {name: declare_setting(self, name, default, spec)
                   for name, (default, spec) in world_node_settings().items()}
         params = WorldNodeParameters(**values)
+        refuse_undeclared_parameters(self)
         scenario_name, task = params.scenario, params.task
         start = (params.start_x, params.start_y, params.start_yaw)
         wanderers, seed, gui = params.wanderers, params.seed, params.gui
@@ -193,6 +195,12 @@ class PybulletWorldNode(Node):
         return super().destroy_node()
 
 
-def main(args=None):
-    """Run the ``pybullet_world`` node: ``ros2 run sim_bridge pybullet_world``."""
-    return run_node(PybulletWorldNode, args)
+def main(args=None, stop=None):
+    """
+    Run the node: ``ros2 run sim_bridge pybullet_world`` (through ``node_entry``).
+
+    ``stop`` holds the stop-signal handlers ``node_entry`` installed before this module's
+    imports (``spin.run_node``).
+
+    """
+    return run_node(PybulletWorldNode, args, stop)

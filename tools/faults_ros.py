@@ -9,6 +9,9 @@ Fault measurements of the node processes: how fast the robot stops, and how clea
    world), the ``dpn`` process (``use_sim_time``) running through all the world's restarts.
 2. Exits: world + navigator pairs, busy, five at a time; each process gets SIGINT or SIGTERM;
    the exit code and whether the log holds a traceback.
+3. Exits during start-up: a lone ``dpn`` or ``pybullet_world`` process gets SIGINT or SIGTERM
+   at a random moment 0.2 to 3 s after its start (imports, kernel warm-up, the first
+   callbacks); the exit code and whether its output holds a traceback.
 
 Not a test: it prints min / median / max and counts. ``make faults`` (``FAULTS_ARGS``:
 ``--trials N``).
@@ -45,7 +48,7 @@ from sim_bridge.scenario import load_scenario  # noqa: E402
 from sim_stand_in import SimulatorStandIn  # noqa: E402
 
 ALL_STREAMS = ('clock', 'odometry', 'scan')
-PARTS = ('wall', 'sim', 'kill', 'exits')
+PARTS = ('wall', 'sim', 'kill', 'exits', 'startup')
 
 
 def spin_for(executor, seconds, tick=None):
@@ -134,8 +137,28 @@ class WorldWatcher(Node):
         self.commands.append((time.monotonic(), msg.linear.x, msg.angular.z))
 
 
-def world_kill_trials(trials, domain_id, log_dir):
-    """Stop times [s] after SIGKILL of the world; None where no zero command came."""
+def commands_after_stop(commands, since, late=0.5):
+    """
+    Count the non-zero commands after the first zero one and more than ``late`` after ``since``.
+
+    Returns
+    -------
+    after_stop, after_late : int
+
+    """
+    stop = next((t for t, linear, angular in commands
+                 if t >= since and linear == angular == 0.0), None)
+    moving = [t for t, linear, angular in commands if (linear, angular) != (0.0, 0.0)]
+    after_stop = 0 if stop is None else sum(1 for t in moving if t > stop)
+    return after_stop, sum(1 for t in moving if t > since + late)
+
+
+def world_kill_trials(trials, domain_id, log_dir, moving_after=None):
+    """
+    Stop times [s] after SIGKILL of the world; None where no zero command came.
+
+    ``moving_after``, a list, gets per trial the `commands_after_stop` counts.
+    """
     scenario = load_scenario('back_and_forth')
     dpn = start_process('dpn_navigator', 'dpn', navigator_arguments(scenario, 0), domain_id,
                         log_dir / 'dpn_world_kill.log')
@@ -160,6 +183,9 @@ def world_kill_trials(trials, domain_id, log_dir):
                 spin_for(executor, 1.0)
                 times.append(None if watcher.last_heard is None else first_zero_after(
                     watcher.commands, watcher.last_heard))
+                if moving_after is not None and watcher.last_heard is not None:
+                    moving_after.append(commands_after_stop(watcher.commands,
+                                                            watcher.last_heard))
                 watcher.commands.clear()
         finally:
             stop_nodes({'dpn': dpn})
@@ -206,6 +232,36 @@ def exit_trials(per_signal, domain_id, log_dir, batch_size=5):
     return outcomes
 
 
+def startup_exit_trials(per_signal, domain_id, log_dir, earliest=0.2, latest=3.0, seed=0):
+    """
+    Return ``{signal name: [(exit code, traceback in log, delay), ...]}``: signals at start-up.
+
+    Each trial starts one process (``dpn`` and ``pybullet_world`` in turn) and sends it
+    SIGINT or SIGTERM after a delay drawn uniformly from ``[earliest, latest]`` [s].
+
+    """
+    import random
+    draw = random.Random(seed)
+    outcomes = {'SIGINT': [], 'SIGTERM': []}
+    for trial in range(2 * per_signal):
+        signum = signal.SIGINT if trial % 2 == 0 else signal.SIGTERM
+        package, name = (('dpn_navigator', 'dpn') if trial % 4 < 2
+                         else ('sim_bridge', 'pybullet_world'))
+        log = log_dir / f'startup_{trial}_{name}.log'
+        process = start_process(package, name, [], domain_id, log)
+        delay = draw.uniform(earliest, latest)
+        time.sleep(delay)
+        os.kill(process.pid, signum)
+        try:
+            code = process.wait(15.0)
+        except subprocess.TimeoutExpired:
+            code = None
+            stop_nodes({name: process})
+        outcomes[signal.Signals(signum).name].append(
+            (code, 'Traceback' in log.read_text(), delay))
+    return outcomes
+
+
 def summary(name, times):
     measured = [t for t in times if t is not None]
     if not measured:
@@ -230,13 +286,26 @@ def main(argv=None):
         print(summary('stop, sensors stop, sim time', stand_in_trials(
             args.trials, args.domain_id, log_dir, sim_time=True)), flush=True)
     if 'kill' in args.parts:
+        moving_after = []
         print(summary('stop, world killed (SIGKILL)', world_kill_trials(
-            args.trials, args.domain_id, log_dir)), flush=True)
+            args.trials, args.domain_id, log_dir, moving_after)), flush=True)
+        print(f'non-zero commands after the first zero one: '
+              f'{sum(after for after, _ in moving_after)}; more than 0.5 s after the last '
+              f'world message: {sum(late for _, late in moving_after)} (in '
+              f'{len(moving_after)} trials)', flush=True)
     if 'exits' in args.parts:
         for name, results in exit_trials(args.trials, args.domain_id, log_dir).items():
             clean = sum(1 for code, traceback in results if code == 0 and not traceback)
             print(f'{name}: {clean}/{len(results)} clean exits (exit code 0, no traceback); '
                   f'codes {sorted({code for code, _ in results}, key=str)}')
+    if 'startup' in args.parts:
+        for name, results in startup_exit_trials(args.trials, args.domain_id, log_dir).items():
+            clean = sum(1 for code, traceback, _ in results if code == 0 and not traceback)
+            unclean = ', '.join(f'{delay:.2f} s: exit {code}{" traceback" * traceback}'
+                                for code, traceback, delay in results
+                                if code != 0 or traceback)
+            print(f'{name} at start-up (0.2-3 s): {clean}/{len(results)} clean exits'
+                  + (f'; not clean: {unclean}' if unclean else ''), flush=True)
     print(f'logs: {log_dir}')
     return 0
 

@@ -6,13 +6,15 @@ as ``make demo`` starts them. Whenever the navigator reports ``goal_reached``, t
 it back to the other end of the task, so that it keeps mapping, planning and driving. Every 10 s
 it samples each process's resident set size (``VmRSS`` in ``/proc``); the growth is the slope of
 a least-squares line through the samples after the first minute (start-up allocations, the
-first map and plans), in MB per hour.
+first map and plans), in MB per hour, with its 95 % interval (the slope's standard error times
+Student's t quantile for ``n - 2`` degrees of freedom).
 
 Not a test: it prints the samples' summary. ``make soak`` (``SOAK_ARGS``: ``--minutes N``).
 
 """
 
 import argparse
+import math
 from pathlib import Path
 import sys
 import tempfile
@@ -68,11 +70,68 @@ class GoalSwitcher(Node):
             self.goal_pub.publish(goal)
 
 
-def slope_per_hour(times, values):
-    """Return the least-squares slope of values over times, per hour."""
-    if len(times) < 2:
-        return float('nan')
-    return float(np.polyfit(np.asarray(times), np.asarray(values), 1)[0]) * 3600.0
+def student_t_quantile(probability, dof):
+    """
+    Return the quantile of Student's t distribution with ``dof`` degrees of freedom.
+
+    The density integrated with Simpson's rule, the quantile found by bisection (numpy only:
+    scipy is no dependency of this package); within 1e-6 of ``scipy.stats.t.ppf``.
+    """
+    if not 0.5 <= probability < 1.0 or dof < 1:
+        raise ValueError(f'need 0.5 <= probability < 1 and dof >= 1, got {probability}, {dof}')
+    log_scale = (math.lgamma((dof + 1) / 2.0) - math.lgamma(dof / 2.0)
+                 - 0.5 * math.log(dof * math.pi))
+
+    def cdf(x):
+        grid = np.linspace(0.0, x, 4001)
+        density = np.exp(log_scale - (dof + 1) / 2.0 * np.log1p(grid * grid / dof))
+        step = grid[1] - grid[0]
+        integral = step / 3.0 * (density[0] + density[-1] + 4.0 * density[1:-1:2].sum()
+                                 + 2.0 * density[2:-1:2].sum())
+        return 0.5 + integral
+
+    low, high = 0.0, 1.0
+    while cdf(high) < probability:
+        low, high = high, 2.0 * high
+    for _ in range(60):
+        middle = 0.5 * (low + high)
+        low, high = (middle, high) if cdf(middle) < probability else (low, middle)
+    return 0.5 * (low + high)
+
+
+def fitted_growth(times, values, confidence=0.95):
+    """
+    Fit a least-squares line to RSS samples; return its slope and the slope's interval.
+
+    Parameters
+    ----------
+    times : sequence of float
+        Sample times [s].
+    values : sequence of float
+        RSS [MB].
+    confidence : float
+        Of the two-sided interval.
+
+    Returns
+    -------
+    slope, half_width : float
+        [MB/h]: the slope and the half-width of its interval, the slope's standard error
+        (from the residuals, ``n - 2`` degrees of freedom) times Student's t quantile; NaN
+        with fewer than three samples.
+
+    """
+    t = np.asarray(times, dtype=np.float64)
+    y = np.asarray(values, dtype=np.float64)
+    if t.shape[0] < 3:
+        return math.nan, math.nan
+    centred = t - t.mean()
+    spread = float(centred @ centred)
+    slope = float(centred @ (y - y.mean())) / spread
+    residuals = y - (y.mean() + slope * centred)
+    dof = t.shape[0] - 2
+    standard_error = math.sqrt(float(residuals @ residuals) / dof / spread)
+    quantile = student_t_quantile(0.5 + confidence / 2.0, dof)
+    return slope * 3600.0, quantile * standard_error * 3600.0
 
 
 def main(argv=None):
@@ -115,9 +174,18 @@ def main(argv=None):
     for name, points in samples.items():
         kept = [(t, rss) for t, rss in points if t >= WARM_UP]
         times, values = zip(*kept) if kept else ((), ())
+        slope, half_width = fitted_growth(times, values)
         print(f'{name}: RSS {points[0][1]:.1f} MB at start, {points[-1][1]:.1f} MB at the end, '
-              f'growth after the first minute {slope_per_hour(times, values):+.2f} MB/h '
-              f'({len(kept)} samples)')
+              f'growth after the first minute {slope:+.2f} MB/h, 95 % interval '
+              f'[{slope - half_width:+.2f}, {slope + half_width:+.2f}] MB/h (least squares '
+              f'over {len(kept)} samples, every {SAMPLE_PERIOD:g} s)')
+        # A growth that levels off (a warm-up) shows as a smaller slope in the second half.
+        half = len(points) // 2
+        late_slope, late_half_width = fitted_growth(*zip(*points[half:]))
+        print(f'{name}: growth over the second half {late_slope:+.2f} MB/h, 95 % interval '
+              f'[{late_slope - late_half_width:+.2f}, {late_slope + late_half_width:+.2f}] '
+              f'MB/h; RSS every minute: '
+              + ' '.join(f'{rss:.1f}' for t, rss in points[::max(1, round(60 / SAMPLE_PERIOD))]))
     print(f'logs: {log_dir}')
     return 0
 

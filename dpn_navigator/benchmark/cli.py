@@ -10,10 +10,16 @@ Examples::
     dpn-benchmark --profile smoke --laser hokuyo_utm30lx --out out/smoke_utm30lx
 
 
-Episodes are appended to ``OUT/episodes.csv`` as they finish; running the same command again
-skips the episodes already there. At the end ``OUT/summary.md`` and ``OUT/success_rate.png``
-are written from the whole log, with ``OUT/detection.png`` (the map as a detector against the
-wanderer count, ``detection_report``), with ``--strip`` a Fig. 9-style strip of one episode and
+Episodes are appended to ``OUT/episodes.csv`` as they finish. Running a command again into the
+same OUT resumes: it skips the episodes already logged (each episode is logged once; a log that
+holds one twice is refused), so a second run of the same command adds nothing; a second run
+while the first still writes is refused (the log is locked). A bag folder of an episode cut
+short by a kill (``--record``, no ``metadata.yaml``) is replaced when it runs again. A write
+that fails (a full disk, a file-size limit, a read-only OUT) ends the run with one line on
+stderr and exit status 2; the log keeps every episode finished before. At the end
+``OUT/summary.md`` and ``OUT/success_rate.png`` are written from the whole log, with
+``OUT/detection.png`` (the map as a detector against the wanderer count,
+``detection_report``), with ``--strip`` a Fig. 9-style strip of one episode and
 with ``--animate`` an animated GIF of it. ``--record DIR`` writes every episode run as a
 rosbag2 MCAP bag into DIR (docs/recording.md).
 
@@ -29,6 +35,7 @@ import time
 
 from .detection_report import detection_stats, save_detection_figure
 from .episode_log import read_log
+from .output_files import os_error_line, write_file_atomically, write_text_atomically
 from .protocol import MAP_MODELS, NAVIGATORS, plan_episodes, PROFILES, resolve_maps
 from .report import save_success_figure, summary_markdown
 from .runner import default_workers, run_protocol
@@ -75,8 +82,11 @@ def build_parser():
     parser.add_argument('--seed', type=int, default=0,
                         help='base seed of the episode seeds (default: %(default)s)')
     parser.add_argument('--out', default='benchmark_out', type=Path,
-                        help='output folder; episodes.csv in it is resumed (default: '
-                             '%(default)s)')
+                        help='output folder; a run into it resumes episodes.csv there: the '
+                             'episodes logged are skipped, never logged twice, and a second '
+                             'run while one is writing is refused. A failed write ends the '
+                             'run with one line and exit status 2, keeping every logged '
+                             'episode (default: %(default)s)')
     parser.add_argument('--workers', type=int,
                         help=f'local worker processes (default: the CPUs, {default_workers()} '
                              'here)')
@@ -95,7 +105,9 @@ def build_parser():
                         help='write every episode run (not those already in the log) as a '
                              'rosbag2 MCAP bag into DIR: what the nodes would have published '
                              '(docs/recording.md); choose the episodes with --maps, --tasks, '
-                             '--wanderers and --repeats')
+                             '--wanderers and --repeats. A complete bag is never overwritten; '
+                             'the bag of an episode cut short by a kill (no metadata.yaml) is '
+                             'replaced when the episode runs again')
     parser.add_argument('--no-detection', action='store_true',
                         help='skip the detection measures (about 8-10 %% of episode time; see '
                              'docs/detection.md): their columns are left empty')
@@ -187,9 +199,19 @@ def map_str(values):
 
 
 def main(argv=None):
-    """Run ``dpn-benchmark``; return the exit status."""
+    """Run ``dpn-benchmark``; return the exit status (2 with one line on stderr for an error)."""
     parser = build_parser()
     args = parser.parse_args(argv)
+    try:
+        return run_benchmark(parser, args)
+    except OSError as exc:
+        parser.exit(2, f'dpn-benchmark: error: {os_error_line(exc)} (the episodes finished '
+                       f'are in {args.out / "episodes.csv"}; run the command again to '
+                       'resume)\n')
+
+
+def run_benchmark(parser, args):
+    """Run the episodes and write the reports of ``args``; return the exit status."""
     from sim_bridge.scenario import load_index
     if args.laser not in LASER_PROFILE_NAMES:        # before the output folder is made
         parser.error(f'unknown --laser {args.laser!r}: choose one of '
@@ -229,25 +251,27 @@ def main(argv=None):
     if args.laser != 'ideal':
         title += f', {args.laser} laser'
     summary = summary_markdown(rows, title=title, navigator=args.navigator)
-    (args.out / 'summary.md').write_text(summary)
+    write_text_atomically(args.out / 'summary.md', summary)
     if rows:
-        save_success_figure(args.out / 'success_rate.png', rows,
-                            title=f'Success rate per map, {args.navigator} navigator')
+        write_file_atomically(args.out / 'success_rate.png', lambda path: save_success_figure(
+            path, rows, title=f'Success rate per map, {args.navigator} navigator'))
     print(f'wrote {args.out / "summary.md"} and {args.out / "success_rate.png"}')
     if detection_stats(rows) is not None:
-        save_detection_figure(args.out / 'detection.png', {args.navigator: rows},
-                              title=f'Detection against wanderer count, {args.navigator} '
-                                    'navigator')
+        write_file_atomically(args.out / 'detection.png', lambda path: save_detection_figure(
+            path, {args.navigator: rows},
+            title=f'Detection against wanderer count, {args.navigator} navigator'))
         print(f'wrote {args.out / "detection.png"}')
     if (args.strip or args.animate) and specs and args.navigator in NAVIGATORS:
         showcase = rerun_showcase(specs, args.index, navigator_options=NAVIGATORS[args.navigator],
                                   map_model=MAP_MODELS[args.navigator],
                                   episode_options=episode_options(args))
         if args.strip:
-            write_strip(args.out / 'strip.png', showcase)
+            write_file_atomically(args.out / 'strip.png',
+                                  lambda path: write_strip(path, showcase))
             print(f'wrote {args.out / "strip.png"}')
         if args.animate:
-            write_animation(args.out / 'episode.gif', showcase)
+            write_file_atomically(args.out / 'episode.gif',
+                                  lambda path: write_animation(path, showcase))
             print(f'wrote {args.out / "episode.gif"}')
     return 0
 
@@ -279,7 +303,7 @@ def check_run_settings(path, settings):
             raise ValueError(f'{path.parent} holds a run with {recorded}, not {settings}: '
                              'use another --out')
     else:
-        path.write_text(json.dumps(settings, sort_keys=True) + '\n')
+        write_text_atomically(path, json.dumps(settings, sort_keys=True) + '\n')
 
 
 @dataclass(frozen=True)

@@ -6,6 +6,14 @@ as soon as its episode ends, so an interrupted run loses at most the episodes in
 re-run reads the log and skips every episode whose key (map, task, wanderers, repetition, seed)
 is already there. A last line cut short by a kill is dropped when the log is reopened.
 
+The log holds each key once: a log with a key twice is refused when it is read, a row whose key
+is there already is refused when it is appended, and an open log is locked (``flock``), so that
+a second run into the same folder while one is writing ends with an error instead of running
+every episode again. A row is written with one ``write`` call; if that fails (a full disk, a
+file-size limit) the file is cut back to its last complete row and the error raised. Text
+columns hold no control characters (a NUL, a newline): such a row is refused, when read or
+appended.
+
 Columns (`COLUMNS`), per episode:
 
 - ``map``, ``number``, ``family``: the map's index name (or yaml path), index number and family
@@ -33,6 +41,8 @@ success as the navigator reported it) still reads, its new columns None; it is n
 """
 
 import csv
+import errno
+import fcntl
 import io
 import os
 
@@ -70,6 +80,29 @@ _DETECTION_INT_COLUMNS = tuple(name for name in DETECTION_COLUMNS
 FAILURES = ('', 'collision', 'no_path', 'timeout')
 #: Metric columns holding text; the others hold float. Empty fields read as None.
 _METRIC_TEXT_COLUMNS = ('end_reason',)
+#: Free-text columns (checked by `check_text_columns`); ``map`` must not be empty.
+TEXT_COLUMNS = ('map', 'family')
+
+
+def check_text_columns(row):
+    """
+    Check the free-text columns of a row: no control characters, a ``map``.
+
+    Raises
+    ------
+    ValueError
+        Naming the column and the first bad character.
+
+    """
+    for column in TEXT_COLUMNS:
+        text = row[column]
+        if not isinstance(text, str):
+            raise ValueError(f'{column} must be text, got {text!r}')
+        bad = next((char for char in text if ord(char) < 32 or ord(char) == 127), None)
+        if bad is not None:
+            raise ValueError(f'{column} {text!r} holds the control character {bad!r}')
+    if not row['map']:
+        raise ValueError('map is empty')
 
 
 def row_key(row):
@@ -115,16 +148,23 @@ def read_log(path):
                          f'header is {list(header)!r}, expected {list(COLUMNS)}; use another '
                          '--out')
     rows = []
-    for line_number, values in enumerate(reader, start=2):
+    lines = {}                  # key -> line number
+    for line_number, values in _csv_records(reader, path):
         if len(values) != len(header):
             raise ValueError(f'{os.fspath(path)!r} line {line_number}: {len(values)} fields, '
                              f'expected {len(header)}')
         try:
             row = dict.fromkeys(COLUMNS, '')
             row.update(zip(header, values))
-            rows.append(_parse_row(row, legacy=header == LEGACY_COLUMNS))
+            row = _parse_row(row, legacy=header == LEGACY_COLUMNS)
         except ValueError as exc:
             raise ValueError(f'{os.fspath(path)!r} line {line_number}: {exc}') from exc
+        key = row_key(row)
+        if key in lines:
+            raise ValueError(f'{os.fspath(path)!r} line {line_number}: episode {key} is logged '
+                             f'already on line {lines[key]}; remove one of the two lines')
+        lines[key] = line_number
+        rows.append(row)
     return rows
 
 
@@ -134,12 +174,26 @@ def _is_legacy(path):
         return tuple(next(csv.reader(stream), ())) == LEGACY_COLUMNS
 
 
+def _csv_records(reader, path):
+    """Yield ``(first line number, values)`` per CSV record; raise ValueError for a bad one."""
+    while True:
+        first_line = reader.line_num + 1
+        try:
+            values = next(reader)
+        except StopIteration:
+            return
+        except csv.Error as exc:
+            raise ValueError(f'{os.fspath(path)!r} line {first_line}: {exc}') from exc
+        yield first_line, values
+
+
 def _parse_row(row, legacy=False):
     """
     Convert one row's strings to the column types; raise ValueError when one does not fit.
 
     A version-1 row (``legacy``) has None in every column it lacks.
     """
+    check_text_columns(row)
     for column in INT_COLUMNS:
         row[column] = int(row[column])
     for column in FLOAT_COLUMNS:
@@ -168,7 +222,7 @@ def _parse_row(row, legacy=False):
 
 class EpisodeLog:
     """
-    An episode log open for appending.
+    An episode log open for appending, locked against a second writer.
 
     Use as a context manager. Opening creates the file with its header, or drops a cut-short
     last line of an existing one, so that the next row starts on a line of its own.
@@ -181,44 +235,89 @@ class EpisodeLog:
     Raises
     ------
     ValueError
-        If an existing file is not a log of this version (see `read_log`), or of version 1
-        (read, never resumed).
+        If an existing file is not a log of this version or holds a key twice (see
+        `read_log`), is of version 1 (read, never resumed), or another process has it open
+        (another run into the same folder).
+    OSError
+        If the file cannot be created, read or written.
 
     """
 
     def __init__(self, path):
         self.path = path
-        self.rows = read_log(path)
-        if os.path.isfile(path) and _is_legacy(path):
-            raise ValueError(f'{os.fspath(path)!r} is a version-1 episode log (success as the '
-                             'navigator reported it, the time limit from its own speed): '
-                             'it reads, but a run with the current rules needs another --out')
-        with open(path, 'a+b') as stream:
-            stream.seek(0)
-            data = stream.read()
+        self._fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_APPEND | os.O_CLOEXEC, 0o644)
+        try:
+            try:
+                fcntl.flock(self._fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except OSError as exc:
+                if exc.errno not in (errno.EWOULDBLOCK, errno.EAGAIN, errno.EACCES):
+                    raise
+                raise ValueError(
+                    f'{os.fspath(path)!r} is being written by another run (a second '
+                    'dpn-benchmark into the same --out): wait for it to end, then run the '
+                    'command again to resume, or use another --out') from exc
+            self.rows = read_log(path)
+            if _is_legacy(path):
+                raise ValueError(
+                    f'{os.fspath(path)!r} is a version-1 episode log (success as the navigator '
+                    'reported it, the time limit from its own speed): it reads, but a run with '
+                    'the current rules needs another --out')
+            with open(path, 'rb') as stream:
+                data = stream.read()
             keep = data.rfind(b'\n') + 1
             if keep < len(data):
-                stream.truncate(keep)
-        self._stream = open(path, 'a', newline='', encoding='utf-8')
-        self._writer = csv.writer(self._stream, lineterminator='\n')
-        if self._stream.tell() == 0:
-            self._writer.writerow(COLUMNS)
-            self._stream.flush()
+                os.ftruncate(self._fd, keep)
+            if keep == 0:
+                self._write_line(COLUMNS)
+        except BaseException:
+            os.close(self._fd)
+            raise
+        self._keys = {row_key(row) for row in self.rows}
 
     def done_keys(self):
         """Return the keys of the episodes in the log, as in `row_key`."""
-        return {row_key(row) for row in self.rows}
+        return set(self._keys)
+
+    def _write_line(self, values):
+        """Write one CSV line with one ``write``; on failure cut the file back and raise."""
+        text = io.StringIO()
+        csv.writer(text, lineterminator='\n').writerow(values)
+        data = text.getvalue().encode('utf-8')
+        size = os.fstat(self._fd).st_size
+        try:
+            written = 0
+            while written < len(data):
+                written += os.write(self._fd, data[written:])
+        except OSError as exc:
+            try:
+                os.ftruncate(self._fd, size)
+            except OSError:
+                pass
+            if exc.filename is None:
+                raise type(exc)(exc.errno, exc.strerror or str(exc), os.fspath(self.path)) \
+                    from exc
+            raise
 
     def append(self, row):
         """
-        Write one episode's row and flush it to the operating system.
+        Write one episode's row to the operating system (one ``write`` call).
 
         Parameters
         ----------
         row : dict
             Every column of `COLUMNS`; ``success`` as bool or 0/1, ``number`` int or None.
 
+        Raises
+        ------
+        ValueError
+            If the row's key is in the log already or a text column holds a control
+            character; nothing is written then.
+        OSError
+            If the write fails (a full disk, a file-size limit); the log then ends with its
+            last complete row.
+
         """
+        check_text_columns(row)
         values = []
         for column in COLUMNS:
             value = row[column]
@@ -227,16 +326,21 @@ class EpisodeLog:
             elif value is None:
                 value = ''
             values.append(value)
-        self._writer.writerow(values)
-        self._stream.flush()
         parsed = dict(zip(COLUMNS, values))
+        key = row_key(parsed)
+        if key in self._keys:
+            raise ValueError(f'episode {key} is in {os.fspath(self.path)!r} already')
+        self._write_line(values)
         parsed['success'] = int(parsed['success'])
         parsed['number'] = row['number']
         self.rows.append(parsed)
+        self._keys.add(key)
 
     def close(self):
-        """Close the file."""
-        self._stream.close()
+        """Close the file (and release its lock)."""
+        if self._fd is not None:
+            fd, self._fd = self._fd, None
+            os.close(fd)
 
     def __enter__(self):
         return self

@@ -223,16 +223,51 @@ def check_bag_folders(specs, record_dir):
     """
     Check that every episode's bag can be written into ``record_dir``, before any runs.
 
+    The episodes are those the log does not hold. A folder of one of them without its
+    ``metadata.yaml`` and with only MCAP files in it is the bag of an episode that was in
+    flight when a run was killed (`is_partial_bag`): it is removed, and the episode records it
+    again. Any other folder there is refused.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The partial bag folders removed.
+
     Raises
     ------
     dpn_navigator.recording.bag_writer.BagPathError
-        When a bag folder exists already or ``record_dir`` cannot be written.
+        When a complete bag folder (or anything else) exists already or ``record_dir`` cannot
+        be written.
 
     """
+    import shutil
     from ..recording.bag_writer import check_bag_path
     from .episode_bag import episode_bag_name
+    removed = []
     for spec in specs:
-        check_bag_path(Path(record_dir) / episode_bag_name(spec))
+        path = Path(record_dir) / episode_bag_name(spec)
+        if is_partial_bag(path):
+            shutil.rmtree(path)
+            removed.append(path)
+        check_bag_path(path)
+    return removed
+
+
+def is_partial_bag(path):
+    """
+    Tell whether ``path`` is a bag folder cut short: MCAP files only, no ``metadata.yaml``.
+
+    A bag writer writes ``metadata.yaml`` when it closes the bag; a kill before that leaves the
+    folder with its MCAP file alone. Nothing else is taken for one (an empty folder, a folder
+    holding any other file or a sub-folder is not).
+
+    """
+    path = Path(path)
+    if not path.is_dir() or path.is_symlink():
+        return False
+    entries = list(path.iterdir())
+    return bool(entries) and all(entry.is_file() and not entry.is_symlink()
+                                 and entry.suffix == '.mcap' for entry in entries)
 
 
 def _run_spec_star(args):

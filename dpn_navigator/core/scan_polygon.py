@@ -24,6 +24,15 @@ import numpy as np
 #: Slack on the full-turn check [rad], for drivers that round ``angle_increment``.
 _FULL_TURN_SLACK = 1e-6
 
+#: Smallest accepted ``angle_increment`` [rad]. The finest real scanners step about 1e-4 rad
+#: (0.01 degree); a bearing divided by a smaller increment is no beam index (1e-30 gives 1e30,
+#: beyond an int64).
+MIN_ANGLE_INCREMENT = 1e-6
+
+#: Largest accepted ``|angle_min|`` and ``|angle_max|`` [rad]: two full turns, which admits
+#: both conventions of real drivers (``[-pi, pi]`` and ``[0, 2 pi]``) with room to spare.
+MAX_SCAN_ANGLE = 4.0 * math.pi
+
 #: Largest accepted ``|x|`` and ``|y|`` of a pose [m]. A position farther out is no robot's (a
 #: million kilometres), and cell arithmetic on it would overflow (``9e307 / 0.5`` is ``inf``).
 MAX_POSE_COORDINATE = 1e9
@@ -85,6 +94,61 @@ def check_pose(pose, name='pose'):
     return float(values[0]), float(values[1]), float(values[2])
 
 
+def check_scan_angles(beams, angle_min, angle_increment, angle_max=None):
+    """
+    Validate a scan's angle layout: the one check of every consumer of scan angles.
+
+    A real sensor's beams step by at least `MIN_ANGLE_INCREMENT`, start within
+    ``+-MAX_SCAN_ANGLE`` and span at most one full turn; ``angle_max``, when given, agrees with
+    the beam count to within one beam.
+
+    Parameters
+    ----------
+    beams : int
+        Number of beams ``L``.
+    angle_min : float
+        Angle of the first beam in the laser frame [rad].
+    angle_increment : float
+        Angle between consecutive beams [rad]; at least `MIN_ANGLE_INCREMENT`.
+    angle_max : float, optional
+        Angle of the last beam [rad]; ``(angle_max - angle_min) / angle_increment + 1`` must be
+        ``L`` to within one beam.
+
+    Raises
+    ------
+    ValueError
+        Naming the field that is wrong.
+
+    """
+    for name, value in (('angle_min', angle_min), ('angle_increment', angle_increment)):
+        if not math.isfinite(value):
+            raise ValueError(f'{name} must be finite, got {value!r}')
+    if angle_increment <= 0.0:
+        raise ValueError(f'angle_increment must be positive, got {angle_increment!r} rad')
+    if angle_increment < MIN_ANGLE_INCREMENT:
+        raise ValueError(f'angle_increment {angle_increment!r} rad is below '
+                         f'{MIN_ANGLE_INCREMENT:g} rad: no real scanner steps that finely')
+    if abs(angle_min) > MAX_SCAN_ANGLE:
+        raise ValueError(f'angle_min {angle_min!r} rad is beyond +-{MAX_SCAN_ANGLE:.4f} rad')
+    if beams > 1 and (beams - 1) * angle_increment > 2.0 * math.pi + _FULL_TURN_SLACK:
+        raise ValueError(
+            f'{beams} beams of {angle_increment!r} rad span more than a full turn')
+    if angle_max is None:
+        return
+    if not math.isfinite(angle_max):
+        raise ValueError(f'angle_max must be finite, got {angle_max!r}')
+    if abs(angle_max) > MAX_SCAN_ANGLE:
+        raise ValueError(f'angle_max {angle_max!r} rad is beyond +-{MAX_SCAN_ANGLE:.4f} rad')
+    if angle_max - angle_min > 2.0 * math.pi + _FULL_TURN_SLACK:
+        raise ValueError(f'angle_min={angle_min!r} to angle_max={angle_max!r} rad span more '
+                         'than a full turn')
+    expected = (angle_max - angle_min) / angle_increment + 1.0
+    if abs(beams - expected) > 1.0:
+        raise ValueError(
+            f'ranges has {beams} beams but angle_min={angle_min!r}, angle_max={angle_max!r},'
+            f' angle_increment={angle_increment!r} give {expected:.1f}')
+
+
 def check_scan(ranges, angle_min, angle_increment, range_min, range_max, angle_max=None):
     """
     Validate the fields of a laser scan; the ranges themselves may hold any float (REP 117).
@@ -93,16 +157,11 @@ def check_scan(ranges, angle_min, angle_increment, range_min, range_max, angle_m
     ----------
     ranges : (L,) array_like of float
         Measured ranges [m].
-    angle_min : float
-        Angle of the first beam in the laser frame [rad].
-    angle_increment : float
-        Angle between consecutive beams [rad]; positive.
+    angle_min, angle_increment, angle_max : float
+        The angle layout, checked by `check_scan_angles` [rad]; ``angle_max`` optional.
     range_min, range_max : float
         Valid range interval ``[range_min, range_max)`` [m]; finite and
         ``0 <= range_min < range_max``.
-    angle_max : float, optional
-        Angle of the last beam [rad]. When given, ``L`` must be
-        ``(angle_max - angle_min) / angle_increment + 1`` to within one beam.
 
     Returns
     -------
@@ -117,28 +176,14 @@ def check_scan(ranges, angle_min, angle_increment, range_min, range_max, angle_m
     ranges = np.asarray(ranges, dtype=np.float64)
     if ranges.ndim != 1:
         raise ValueError(f'ranges must be one-dimensional, got shape {ranges.shape}')
-    for name, value in (('angle_min', angle_min), ('angle_increment', angle_increment),
-                        ('range_min', range_min), ('range_max', range_max)):
+    for name, value in (('range_min', range_min), ('range_max', range_max)):
         if not math.isfinite(value):
             raise ValueError(f'{name} must be finite, got {value!r}')
-    if angle_increment <= 0.0:
-        raise ValueError(f'angle_increment must be positive, got {angle_increment!r} rad')
+    check_scan_angles(ranges.shape[0], angle_min, angle_increment, angle_max)
     if range_min < 0.0 or range_max <= range_min:
         raise ValueError(
             f'need 0 <= range_min < range_max, got range_min={range_min!r}, '
             f'range_max={range_max!r} m')
-    beams = ranges.shape[0]
-    if angle_max is not None:
-        if not math.isfinite(angle_max):
-            raise ValueError(f'angle_max must be finite, got {angle_max!r}')
-        expected = (angle_max - angle_min) / angle_increment + 1.0
-        if abs(beams - expected) > 1.0:
-            raise ValueError(
-                f'ranges has {beams} beams but angle_min={angle_min!r}, angle_max={angle_max!r},'
-                f' angle_increment={angle_increment!r} give {expected:.1f}')
-    if beams > 1 and (beams - 1) * angle_increment > 2.0 * math.pi + _FULL_TURN_SLACK:
-        raise ValueError(
-            f'{beams} beams of {angle_increment!r} rad span more than a full turn')
     return ranges
 
 

@@ -47,12 +47,14 @@ from .lifecycle import ManagedNavigator
 from .names import DEFAULT_NAMESPACE
 from .navigate_action import load_action_type, NavigateToPoseServer
 from .navigator_markers import extend_trail, NavigatorMarkers
+from .parameter_declaration import refuse_undeclared_parameters
 from .qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS
 from .safety_params import declare_safety_parameters
 from .scan_placement import PoseNotYet, ScanNotPlaced, ScanPlacer
 from .sensor_watchdog import SensorWatchdog, steady_arrival_time
 from .sim_clock import guard_clock
 from .spin import run_node
+from .stop_guard import StopGuard
 from .tf_pose_source import make_tf_lookup, stamp_to_nanoseconds
 from ..core import Navigator, NavigatorStatus
 from ..core.control.acceleration_limit import AccelerationLimiter
@@ -93,6 +95,7 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         self.map_placed = False
         self.params = declare_parameters(self)
         self.limits = declare_safety_parameters(self)
+        refuse_undeclared_parameters(self)
         # Compile (or load) the kernels now, so that the first scan does not wait for them.
         started = time.perf_counter()
         warm_up_navigator()
@@ -141,6 +144,12 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         self.marker_pub = self.create_publisher(MarkerArray, 'marker', LATCHED_QOS)
         self.plan_pub = self.create_publisher(Path, 'plan', LATCHED_QOS)
         self.diagnostics = DiagnosticsPublisher(self, 'status')
+        # The stop on stale sensors, on a thread of its own: it runs however long a callback
+        # takes; every command goes through it.
+        self.stop_guard = StopGuard(self.watchdog, self.cmd_pub, self.now_seconds,
+                                    self.steady_seconds, WATCHDOG_PERIOD,
+                                    on_error=self.on_stop_guard_error)
+        self.stop_guard.enabled = self.active
         # With the message info, so that the watchdog dates a message by its arrival.
         self.create_subscription(LaserScan, 'scan',
                                  lambda msg, info: self.on_scan(msg, info), SENSOR_QOS)
@@ -165,6 +174,7 @@ class DpnNode(ManagedNavigator, LifecycleNode):
             self.trigger_configure()
             self.trigger_activate()
         self.publish_status()
+        self.stop_guard.start()
         self.get_logger().info(
             f'dpn ready: {self.navigator.grid.geometry.cols}x'
             f'{self.navigator.grid.geometry.rows} cells of '
@@ -289,7 +299,7 @@ class DpnNode(ManagedNavigator, LifecycleNode):
             self.pose = pose
         self.velocity = velocity if all(math.isfinite(v) for v in velocity) else (0.0, 0.0)
         self.pose_history.add(stamp_to_seconds(msg.header.stamp), pose, self.velocity)
-        self.watchdog.heard('odometry', self.now_seconds(), self.arrival_seconds(info))
+        self.stop_guard.heard('odometry', self.now_seconds(), self.arrival_seconds(info))
         if self.navigator.goal is not None and self.placer.source != 'tf':
             extend_trail(self.trail, pose[:2])
         if self.pending_scans:
@@ -371,7 +381,7 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         except ValueError as error:
             self.reject('scan', error)
             return
-        self.watchdog.heard('scan', now, pending.arrival)
+        self.stop_guard.heard('scan', now, pending.arrival)
         stamp = msg.header.stamp
         # The map first: it is ready now, and planning can take longer.
         if (self.last_map_time is None
@@ -383,9 +393,9 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         elif self.map_updates_pub is not None and self.publish_map_update(stamp):
             self.scan_to_map_ms.append(1e3 * (time.perf_counter() - received))
         out = self.navigator.decide(now, self.pose)
-        if not self.watchdog.is_stale(self.now_seconds(), self.steady_seconds()):
-            self.cmd_pub.publish(*self.accel_limiter.limit(out.command.linear,
-                                                           out.command.angular, now))
+        # Sent only while the sensors are fresh: never after the stop.
+        self.stop_guard.publish(*self.accel_limiter.limit(out.command.linear,
+                                                          out.command.angular, now))
         self.odom_real_pub.publish(pose_to_odometry(
             self.pose, self.velocity, stamp, frame_id=self.params.map_frame,
             child_frame_id=self.params.base_frame))
@@ -464,14 +474,15 @@ class DpnNode(ManagedNavigator, LifecycleNode):
             'sensors stale' if self.stale else status.value, values))
 
     def on_watchdog(self):
-        """Stop the robot while scans or odometry are stale on either clock; retry queued scans."""
+        """Report stale scans or odometry (a thread stops the robot); retry queued scans."""
         if not self.active:
             return
         if self.pending_scans:
             self.place_pending_scans()
-        stale = self.watchdog.stale_streams(self.now_seconds(), self.steady_seconds())
+        # The stop guard's thread sends the zero commands; should it have ended, this timer does.
+        stale = (self.stop_guard.stale_streams() if self.stop_guard.running
+                 else self.stop_guard.check())
         if stale:
-            self.cmd_pub.publish(0.0, 0.0)
             self.accel_limiter.reset(self.now_seconds())
             if self.navigator.goal is not None:
                 self.get_logger().warning(f'{" and ".join(stale)} stale: stopping',
@@ -489,8 +500,13 @@ class DpnNode(ManagedNavigator, LifecycleNode):
                 'is commanding this robot', throttle_duration_sec=10.0 * WARN_THROTTLE)
         self.publish_status()
 
+    def on_stop_guard_error(self, error):
+        """Log why the stop guard's thread ended (the watchdog timer stops the robot then)."""
+        self.get_logger().error(f'stop guard ended: {error}; the watchdog timer stops the robot')
+
     def destroy_node(self):
         """Send a zero command (waiting briefly for its delivery), then destroy the node."""
+        self.stop_guard.close()
         self.cmd_pub.publish(0.0, 0.0)
         self.cmd_pub.wait_for_delivery(STOP_ACK_TIMEOUT)
         if self.navigate is not None:
@@ -509,6 +525,12 @@ def warn_unused_goal(node):
             'arrives on goal_pose (set use_default_goal:=true to start with it)')
 
 
-def main(args=None):
-    """Run the ``dpn`` node: ``ros2 run dpn_navigator dpn``."""
-    return run_node(DpnNode, args)
+def main(args=None, stop=None):
+    """
+    Run the node: ``ros2 run dpn_navigator dpn`` (through ``node_entry``).
+
+    ``stop`` holds the stop-signal handlers ``node_entry`` installed before this module's
+    imports (``spin.run_node``).
+
+    """
+    return run_node(DpnNode, args, stop)

@@ -59,6 +59,9 @@ class ManagedNavigator:
 
     def _set_active(self, active):
         self.active = active
+        stop_guard = getattr(self, 'stop_guard', None)
+        if stop_guard is not None:
+            stop_guard.enabled = active
         if not active:
             self.pending_scans.clear()
         if self.navigate is not None:

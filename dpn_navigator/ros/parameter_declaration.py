@@ -92,3 +92,32 @@ def declare_setting(node, name, default, setting):
         descriptor.integer_range = [IntegerRange(from_value=setting.low, to_value=setting.high,
                                                  step=1)]
     return node.declare_parameter(name, default, descriptor).value
+
+
+def refuse_undeclared_parameters(node):
+    """
+    Make ``node`` refuse every set request that names a parameter it did not declare.
+
+    rclpy's own check (``Node._check_undeclared_parameters``) tests the names with ``any()``
+    over a generator: a parameter named ``''`` is falsy and passes as a new parameter, and the
+    list of undeclared names it reports has been consumed (``[]``). This check runs first, as a
+    pre-set callback, and raises the ``ParameterNotDeclaredException`` rclpy's parameter
+    services turn into the refusal's reason, naming every offending parameter, e.g.
+    ``['']``.
+
+    Parameters
+    ----------
+    node : rclpy.node.Node
+        A node without ``allow_undeclared_parameters``, its parameters declared.
+
+    """
+    from rclpy.exceptions import ParameterNotDeclaredException
+
+    def check_names(parameters):
+        undeclared = [parameter.name for parameter in parameters
+                      if not parameter.name or not node.has_parameter(parameter.name)]
+        if undeclared:
+            raise ParameterNotDeclaredException(undeclared)
+        return parameters
+
+    node.add_pre_set_parameters_callback(check_names)

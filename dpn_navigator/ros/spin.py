@@ -5,15 +5,14 @@ rclpy's own signal handlers shut the context down from inside the signal, while 
 still be publishing or the executor building its wait set: such a node ends with exit code 1 and
 a traceback (``publisher's context is invalid``, ``failed to initialize wait set``), and a
 second SIGINT raises ``KeyboardInterrupt`` anywhere, even in ``destroy_node``. Here rclpy is
-initialised without signal handlers; SIGINT and SIGTERM only set a flag that the spin loop
-reads between callbacks, and make every later one ignored. The loop then ends, the node is
+initialised without signal handlers; SIGINT and SIGTERM (`stop_signals`) end the start-up
+where it is, or, once the node spins, only set a flag that the spin loop reads between
+callbacks, and make every later one ignored. The loop then ends, the node is
 destroyed while the context is still valid (``DpnNode.destroy_node`` sends its zero command
 there), rclpy shuts down, and ``main`` returns 0. A node that cannot start because of its
 parameters logs one error line and returns 1.
 
 """
-
-import signal
 
 import rclpy
 from rclpy.exceptions import ParameterException
@@ -21,45 +20,27 @@ from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.logging import get_logger
 from rclpy.signals import SignalHandlerOptions
 
+from .stop_signals import StartupInterrupted, StopRequest
+
 #: Longest wait for work before the loop looks at the stop flag again [s].
 SPIN_POLL = 0.05
-STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+
+__all__ = ['run_node', 'SPIN_POLL', 'StopRequest']
 
 
-class StopRequest:
-    """
-    A flag set by SIGINT and SIGTERM, whose handlers this installs.
-
-    Attributes
-    ----------
-    signal_name : str or None
-        The first signal received, e.g. ``'SIGTERM'``.
-
-    """
-
-    def __init__(self):
-        self.signal_name = None
-        for signum in STOP_SIGNALS:
-            signal.signal(signum, self._on_signal)
-
-    def _on_signal(self, signum, frame):
-        if self.signal_name is None:
-            self.signal_name = signal.Signals(signum).name
-        # Later stop signals are ignored, not handled: at exit Python puts the default action
-        # back for signals with a Python handler (not for ignored ones), and a second Ctrl-C
-        # arriving then would kill the stopping process (exit -2) instead of letting it end.
-        for stop_signal in STOP_SIGNALS:
-            signal.signal(stop_signal, signal.SIG_IGN)
-
-    @property
-    def requested(self):
-        """Tell whether a stop signal came."""
-        return self.signal_name is not None
-
-
-def run_node(node_class, args=None):
+def run_node(node_class, args=None, stop=None):
     """
     Initialise rclpy, build ``node_class()`` and spin it until SIGINT, SIGTERM or shutdown.
+
+    Parameters
+    ----------
+    node_class : type
+        The node; built without arguments.
+    args : list of str, optional
+        Command-line arguments for ``rclpy.init``.
+    stop : StopRequest, optional
+        Handlers installed earlier (``node_entry``), in start-up mode: a stop signal before the
+        node spins ends the start-up there. By default they are installed here.
 
     Returns
     -------
@@ -67,24 +48,41 @@ def run_node(node_class, args=None):
         The process exit code: 0 after a stop, 1 when the node's parameters are invalid.
 
     """
-    stop = StopRequest()
-    rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+    if stop is None:
+        stop = StopRequest(starting=True)
     node = None
+    spinning = False
     try:
+        rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
         try:
             node = node_class()
         except (ValueError, ParameterException) as error:
+            if stop.requested:
+                raise           # the signal's doing (below)
             get_logger(node_class.__name__).fatal(f'cannot start: {error}')
             return 1
         executor = SingleThreadedExecutor()
         executor.add_node(node)
+        stop.started()
+        spinning = True
         while not stop.requested and rclpy.ok():
             executor.spin_once(timeout_sec=SPIN_POLL)
         if stop.requested:
             node.get_logger().info(f'{stop.signal_name}: stopping')
+    except StartupInterrupted:
+        get_logger(node_class.__name__).info(f'{stop.signal_name} during start-up: stopping')
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
+    except Exception:
+        # A library (a C extension, a numba dispatcher) may turn the exception raised by the
+        # signal handler into an error of its own: any error during the start-up after a stop
+        # signal is the signal's doing.
+        if spinning or not stop.requested:
+            raise
+        get_logger(node_class.__name__).info(f'{stop.signal_name} during start-up: stopping')
     finally:
+        # A stop signal from here on is ignored or only sets the flag.
+        stop.started()
         if node is not None:
             node.destroy_node()
         rclpy.try_shutdown()

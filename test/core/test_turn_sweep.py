@@ -325,3 +325,43 @@ def test_the_navigator_counts_old_hits_on_the_grids_obstacle_cells():
     labels[rr[1], cc[1]] = CellLabel.MOBILE_OBSTACLE
     points = np.array([[3.2, 4.1], [5.2, 4.1], [7.2, 4.1], [-1.0, 4.1]])
     assert navigator._obstacle_at(points).tolist() == [True, True, False, False]
+
+
+# --- Issue 32: a scan whose angle layout no sensor has (a 2-beam scan of 1e-30 rad steps).
+
+#: The fuzzer's repro: 2 beams, angle_min 0, angle_increment = angle_max = 1e-30 rad.
+TINY_STEP_SCAN = {'ranges': np.array([1.0, 1.0]), 'angle_min': 0.0, 'angle_increment': 1e-30,
+                  'range_min': 0.1, 'range_max': 10.0}
+
+
+def test_seen_through_rejects_an_angle_step_no_scanner_has():
+    with pytest.raises(ValueError, match='angle_increment 1e-30 rad is below'):
+        seen_through(np.array([[0.5, -0.5]]), (0.0, 0.0, 0.0), **TINY_STEP_SCAN)
+
+
+@pytest.mark.parametrize('point', [(math.nan, 0.0), (0.0, math.inf), (-1e300, 1e-300)])
+def test_seen_through_bounds_the_beam_index_on_both_sides(point):
+    # A NaN bearing once became index -2**63, clamped from above only: IndexError.
+    ranges = np.full(640, 3.0)
+    got = seen_through(np.array([point, (2.0, 0.0)]), (0.0, 0.0, 0.0), ranges, ANGLE_MIN,
+                       ANGLE_INCREMENT, RANGE_MIN, 10.0)
+    assert got.tolist() == [False, True]
+
+
+def test_the_navigator_rejects_the_tiny_step_scan_and_drives_on():
+    occupied = walled_room()
+    navigator = Navigator(NavigatorConfig(width=12.0, height=12.0))
+    assert navigator.turn_sweep is not None
+    navigator.set_goal(10.0, 6.0)
+    pose = (2.0, 6.0, 0.0)
+    scan = ray_cast(occupied, pose, 0.05, RANGE_MAX)
+    navigator.step(0.0, pose, scan, ANGLE_MIN, ANGLE_INCREMENT, RANGE_MIN, RANGE_MAX)
+    labels = navigator.grid.labels.copy()
+    with pytest.raises(ValueError, match='angle_increment 1e-30 rad is below'):
+        navigator.step(0.1, pose, angle_max=1e-30, **TINY_STEP_SCAN)
+    np.testing.assert_array_equal(navigator.grid.labels, labels)
+    # The next scans (the sweep reads the last good one) go through.
+    for step in range(2, 4):
+        out = navigator.step(0.1 * step, pose, scan, ANGLE_MIN, ANGLE_INCREMENT, RANGE_MIN,
+                             RANGE_MAX)
+    assert out.status.value == 'active'

@@ -130,6 +130,14 @@ def test_malformed_input_is_rejected_counted_and_survived(nodes):
     probe.send(range_max=0.05)                          # range_max <= range_min
     probe.send(angle_increment=math.nan)
     assert spin_until(executor, lambda: dpn.rejected['scan'] == 5)
+    # Issue 32's crash: 2 beams, angle_min 0, angle_increment = angle_max = 1e-30 rad, twice
+    # (the turn sweep read the first one's hits at the second).
+    tiny_step = make_laser_scan(np.array([1.0, 1.0]), 0.0, 1e-30, RANGE_MIN, RANGE_MAX,
+                                probe.get_clock().now().to_msg())
+    tiny_step.angle_max = 1e-30
+    probe.send(scan=tiny_step)
+    probe.send(scan=tiny_step)
+    assert spin_until(executor, lambda: dpn.rejected['scan'] == 7)
     bad_odom = pose_to_odometry((math.nan, 1.0, 0.0), (0.0, 0.0),
                                 probe.get_clock().now().to_msg())
     probe.odom_pub.publish(bad_odom)
@@ -140,7 +148,7 @@ def test_malformed_input_is_rejected_counted_and_survived(nodes):
     assert spin_until(executor, lambda: dpn.rejected['odometry'] == 1
                       and dpn.rejected['goal'] == 1)
     assert spin_until(executor, lambda: probe.received['status']
-                      and probe.status_value('rejected_scans') == '5'
+                      and probe.status_value('rejected_scans') == '7'
                       and probe.status_value('rejected_goals') == '1')
     assert dpn.navigator.goal == (10.0, 6.0)            # the bad goal did not replace it
     # Still alive: a good scan is mapped and answered.

@@ -34,8 +34,8 @@ def test_launch_file_names_the_real_executables_and_config_files():
     assert ('sim_bridge', 'pybullet_world') in nodes
     assert ('dpn_navigator', 'dpn') in nodes
     setup = (REPO / 'setup.py').read_text()
-    assert "'dpn = dpn_navigator.ros.dpn_node:main'" in setup
-    assert "'pybullet_world = sim_bridge.pybullet_world_node:main'" in setup
+    assert "'dpn = dpn_navigator.ros.node_entry:dpn'" in setup
+    assert "'pybullet_world = dpn_navigator.ros.node_entry:pybullet_world'" in setup
     files = [s for s in literal_strings(tree) if s.endswith(('.yaml', '.rviz'))]
     assert sorted(files) == ['dpn.rviz', 'dpn.yaml', 'pybullet_world.yaml']
     for name in files:

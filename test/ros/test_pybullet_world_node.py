@@ -167,8 +167,8 @@ def test_code_defaults_are_those_of_the_parameter_file(ros_context):
 def test_drifting_odometry_a_localiser_and_an_upside_down_laser_in_tf(ros_context):
     node = PybulletWorldNode(context=ros_context, parameter_overrides=[
         Parameter('wanderers', value=0), Parameter('real_time_factor', value=5.0),
-        Parameter('odom_drift_scale', value=0.1), Parameter('odom_drift_yaw_per_metre',
-                                                           value=0.2),
+        Parameter('odom_drift_scale', value=0.1),
+        Parameter('odom_drift_yaw_per_metre', value=0.2),
         Parameter('laser_upside_down', value=True), Parameter('laser_x', value=0.2)])
     probe = Probe(ros_context)
     velocity = velocity_to_twist(0.8, 0.3)

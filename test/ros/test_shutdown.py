@@ -101,3 +101,56 @@ def test_a_stop_signal_is_taken_once_and_later_ones_are_ignored():
     finally:
         for signum, handler in saved.items():
             signal.signal(signum, handler)
+
+
+#: Moments after the start [s] at which a stop signal is sent: the imports (rclpy, numpy,
+#: numba), the kernels' warm-up and the first callbacks.
+EARLY_DELAYS = (0.2, 0.5, 1.0, 2.0)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize('package, name', [('dpn_navigator', 'dpn'),
+                                           ('sim_bridge', 'pybullet_world')])
+def test_a_stop_signal_during_start_up_ends_the_process_cleanly(ros_domain_id, tmp_path,
+                                                                package, name):
+    executable = str(installed_executable(package, name))
+    outcomes = []
+    for delay in EARLY_DELAYS:
+        for signum in (signal.SIGINT, signal.SIGTERM):
+            log_path = tmp_path / f'{name}_{signum.name}_{delay}.log'
+            with open(log_path, 'w') as log:
+                process = subprocess.Popen([executable], env=ros_environment(ros_domain_id),
+                                           stdout=log, stderr=subprocess.STDOUT,
+                                           start_new_session=True)
+            try:
+                time.sleep(delay)
+                os.kill(process.pid, signum)
+                code = process.wait(EXIT_TIMEOUT)
+            finally:
+                if process.poll() is None:
+                    stop_nodes({name: process})
+            outcomes.append((signum.name, delay, code, log_path.read_text()))
+    for signum, delay, code, text in outcomes:
+        assert code == 0, (signum, delay, code, text[-2000:])
+        assert 'Traceback' not in text, (signum, delay, text[-2000:])
+        assert f'{signum}' in text and 'stopping' in text, (signum, delay, text[-2000:])
+
+
+def test_a_stop_signal_while_starting_raises_out_of_the_start_up_once():
+    from dpn_navigator.ros.stop_signals import StartupInterrupted, StopRequest
+    saved = {signum: signal.getsignal(signum) for signum in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        stop = StopRequest(starting=True)
+        with pytest.raises(StartupInterrupted, match='SIGINT'):
+            os.kill(os.getpid(), signal.SIGINT)
+            time.sleep(1.0)                 # the handler runs at the next bytecode
+        assert stop.requested and not stop.starting
+        os.kill(os.getpid(), signal.SIGTERM)                # ignored from now on
+        assert stop.signal_name == 'SIGINT'
+        stop = StopRequest(starting=True)
+        stop.started()
+        os.kill(os.getpid(), signal.SIGTERM)                # a flag only, once started
+        assert stop.signal_name == 'SIGTERM'
+    finally:
+        for signum, handler in saved.items():
+            signal.signal(signum, handler)

@@ -39,6 +39,7 @@ import numpy as np
 
 from .path_follower import STOP, VelocityCommand
 from ..pose2d import wrap_angle
+from ..scan_polygon import check_scan
 
 #: Angle between two tested poses of a sweep [rad] (a 0.6 m corner moves 3 cm).
 SWEEP_STEP = 0.05
@@ -149,8 +150,8 @@ def seen_through(points, laser_pose, ranges, angle_min, angle_increment, range_m
         The scan's ranges [m]: NaN or below ``range_min`` is no reading, ``range_max`` or more
         (``inf``) a beam that hit nothing within ``range_max``.
     angle_min, angle_increment : float
-        Bearing of the first beam and between beams, in the laser frame [rad],
-        ``angle_increment > 0``.
+        Bearing of the first beam and between beams, in the laser frame [rad]; checked by
+        ``scan_polygon.check_scan_angles``.
     range_min, range_max : float
         [m]
     tolerance : float
@@ -162,17 +163,26 @@ def seen_through(points, laser_pose, ranges, angle_min, angle_increment, range_m
         True where the nearest beam in bearing ends more than ``tolerance`` beyond the point;
         False for points off the scan's fan and for beams without a reading.
 
+    Raises
+    ------
+    ValueError
+        For a malformed scan (``scan_polygon.check_scan``).
+
     """
     points = np.asarray(points, dtype=np.float64).reshape(-1, 2)
-    ranges = np.asarray(ranges, dtype=np.float64).reshape(-1)
+    ranges = check_scan(np.asarray(ranges, dtype=np.float64).reshape(-1), angle_min,
+                        angle_increment, range_min, range_max)
     if points.shape[0] == 0 or ranges.shape[0] == 0:
         return np.zeros(points.shape[0], dtype=bool)
     x, y, yaw = laser_pose
     dx, dy = points[:, 0] - x, points[:, 1] - y
     offset = np.mod(np.arctan2(dy, dx) - yaw - angle_min, 2.0 * math.pi)
-    index = np.rint(offset / angle_increment).astype(np.int64)
-    on_fan = index < ranges.shape[0]
-    measured = ranges[np.minimum(index, ranges.shape[0] - 1)]
+    # The beam index as a float first: bounded on both sides (and NaN, from a NaN point, made
+    # off the fan) before the cast, which cannot overflow then.
+    beam = np.rint(offset / angle_increment)
+    on_fan = (beam >= 0.0) & (beam < ranges.shape[0])
+    index = np.where(on_fan, beam, 0.0).astype(np.int64)
+    measured = ranges[index]
     no_return = measured >= range_max                          # True for +inf
     reading = no_return | (measured >= range_min)              # False for NaN
     ends = np.where(no_return, range_max, measured)

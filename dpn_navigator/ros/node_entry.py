@@ -1,0 +1,43 @@
+"""
+The nodes' console scripts: stop signals handled first, then the node module imported.
+
+``ros2 run dpn_navigator dpn`` and ``ros2 run sim_bridge pybullet_world`` start here. This
+module imports only the standard library and `stop_signals`, so the SIGINT and SIGTERM handlers
+are in place a few tens of milliseconds after the process starts, before the imports of rclpy,
+numpy and the numba kernels and before the kernels' warm-up; a stop signal during any of them
+ends the process with exit code 0 and one line on stderr, never a traceback.
+
+"""
+
+import sys
+
+from .stop_signals import StartupInterrupted, StopRequest
+
+
+def _run(name, module, args):
+    """Install the stop handlers, import ``module`` and run its ``main(args, stop=...)``."""
+    stop = StopRequest(starting=True)
+    try:
+        from importlib import import_module
+        node_main = import_module(module).main
+    except Exception:
+        # A C extension being imported (rclpy's) turns the exception raised by the signal
+        # handler into an ImportError: any error after a stop signal is the signal's doing.
+        if not stop.requested:
+            raise
+    except StartupInterrupted:
+        pass
+    if stop.requested:
+        sys.stderr.write(f'{name}: {stop.signal_name} during start-up: stopping\n')
+        return 0
+    return node_main(args, stop=stop)
+
+
+def dpn(args=None):
+    """Run the ``dpn`` node (``ros2 run dpn_navigator dpn``); return the exit code."""
+    return _run('dpn', 'dpn_navigator.ros.dpn_node', args)
+
+
+def pybullet_world(args=None):
+    """Run the ``pybullet_world`` node (``ros2 run sim_bridge pybullet_world``)."""
+    return _run('pybullet_world', 'sim_bridge.pybullet_world_node', args)
