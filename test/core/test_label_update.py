@@ -105,8 +105,10 @@ def test_planning_masks_equal_the_full_recompute_at_every_plan(monkeypatch):
     from dpn_navigator.core.cell_label import blocked_mask
     from dpn_navigator.core.navigator import Navigator
     from dpn_navigator.core.planning.planning_masks import touches_blocked
+    from dpn_navigator.benchmark.protocol import NOT_GETTING_STUCK_OFF
+    # The masks alone: without issue 31's opened stale cells and extra costs.
     config = NavigatorConfig(width=30.0, height=30.0, mobile_expiry=0.5,
-                             forget_obstacles_after=1.0)
+                             forget_obstacles_after=1.0, **NOT_GETTING_STUCK_OFF)
     navigator = Navigator(config)
     searched = []
     real_search = planning_masks.astar_checked

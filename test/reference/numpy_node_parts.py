@@ -96,6 +96,7 @@ def eager_observe(self, pose, ranges, angle_min, angle_increment, range_min, ran
                               range_max, self.config.safety_radius, path=self.path,
                               angle_max=angle_max, stamp=stamp)
     self._replan_requested |= replan
+    self._remember_scan(stamp)      # issue 31's bookkeeping: hits confirming cells, dead ends
     self._last_scan = (laser_pose, np.array(ranges, dtype=np.float64), angle_min,
                        angle_increment, range_min, range_max, angle_max, stamp)
     if self.turn_sweep is not None:

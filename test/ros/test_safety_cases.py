@@ -179,6 +179,10 @@ def test_fine_evidence_grid_too_large_is_a_parameter_error(ros_context):
     with pytest.raises(ValueError, match='fine_evidence_resolution 0.1 m is 10000 x 10000'):
         DpnNode(context=ros_context, parameter_overrides=overrides)
     overrides.append(Parameter('fine_evidence_resolution', value=0.2))
+    # The surface memory's places (noise_margin, 0.1 m) are bounded the same way.
+    with pytest.raises(ValueError, match='surface memory would have 10000 x 10000'):
+        DpnNode(context=ros_context, parameter_overrides=overrides)
+    overrides.append(Parameter('noise_margin', value=0.2))
     node = DpnNode(context=ros_context, parameter_overrides=overrides)
     try:
         assert node.navigator.grid.fine_evidence.seen_free.shape == (5000, 5000)

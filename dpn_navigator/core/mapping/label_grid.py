@@ -13,7 +13,7 @@ mobile cell that no hit has confirmed for that long goes back to explored while 
 
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 import math
 
 import numpy as np
@@ -364,10 +364,12 @@ def warm_up_label_update():
         grid.update((1.0, 1.5, 0.0), ranges, -0.5, 0.5, 0.1, 1.5, 0.25, path=[[0, 0]],
                     stamp=stamp, defer_evidence=stamp > 2.5)
     grid.settle()
-    # Without the tracks the kernel finds the scan's points itself.
-    for rule in (PAPER_RULE, LabelRule(free_evidence_radius=0.5)):
+    # Without the tracks the kernel finds the scan's points itself; without the surface memory
+    # the fine evidence finds the moving hits.
+    without_surfaces = replace(rule, surface_time=0.0)
+    for rule in (PAPER_RULE, LabelRule(free_evidence_radius=0.5), without_surfaces):
         LabelGrid(2.0, 2.0, 0.5, rule=rule).update(
-            (1.0, 1.5, 0.0), ranges, -0.5, 0.5, 0.1, 1.5, 0.25, path=[[0, 0]],
+            (1.0, 1.5, 0.0), ranges, -0.5, 0.5, 0.1, 1.5, 0.25, path=[[0, 0]], stamp=0.0,
             defer_evidence=True)
 
 
