@@ -46,7 +46,7 @@ def both_updates(seen_free, scans, origin, resolution, radius):
 
 @st.composite
 def dense_scans(draw):
-    """A grid, a radius and a few dense scans with jumps, no-returns and invalid beams."""
+    """Draw a grid, a radius and a few dense scans with jumps, no-returns and invalid beams."""
     resolution = draw(st.sampled_from([0.05, 0.1, 0.25]))
     radius = resolution * draw(st.sampled_from([0.6, 1.0, 1.49, 1.5, 2.0, 3.5]))
     rows = draw(st.integers(5, 60))
@@ -85,7 +85,7 @@ def test_dense_scans_mark_the_cells_of_the_marks(case):
 
 @st.composite
 def lattice_scans(draw):
-    """Scans whose vertices lie on cell centres and sides, and radii equal to their spacing."""
+    """Draw scans whose vertices lie on centres and cell sides, radii equal to their spacing."""
     resolution = 0.25
     radius = resolution * draw(st.sampled_from([1.0, 1.5, 2.0]))
     rows = draw(st.integers(4, 30))
