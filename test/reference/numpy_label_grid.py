@@ -54,8 +54,8 @@ class NumpyFineEvidence(FineEvidence):
 
     The grid has only the conservative free space on and is updated with safety radius
     ``radius``; its ``seen_free`` is the evidence, and its moving hits are found in numpy.
-    The oracle of ``label_update.surely_free_update`` and of the kernel
-    ``_kernels.fine_evidence.fine_moving_hits``.
+    The oracle of ``label_update.surely_free_update`` and of the kernels
+    ``_kernels.fine_evidence.fine_moving_hits`` and ``fine_hit_evidence``.
     """
 
     def __init__(self, geometry, resolution, radius, max_range):
@@ -68,6 +68,14 @@ class NumpyFineEvidence(FineEvidence):
     def seen_free(self):
         """Return the fine grid's ``seen_free``."""
         return self.grid.seen_free
+
+    def evidence(self, hits_x, hits_y):
+        """Look each hit's fine cell up in numpy (the oracle of ``fine_hit_evidence``)."""
+        rows, cols = self.geometry.world_to_cell(hits_x, hits_y)
+        inside = self.geometry.contains_cell(rows, cols)
+        evidence = np.zeros(np.shape(hits_x), dtype=bool)
+        evidence[inside] = self.seen_free[rows[inside], cols[inside]]
+        return evidence
 
     def moving_hits(self, points, rule):
         """`evidence` looked up in numpy, then ``moving_objects.moving_object_hits``."""

@@ -80,10 +80,11 @@ class FineEvidence:
             False for hits off the grid.
 
         """
-        rows, cols = self.geometry.world_to_cell(hits_x, hits_y)
-        inside = self.geometry.contains_cell(rows, cols)
-        evidence = np.zeros(np.shape(hits_x), dtype=bool)
-        evidence[inside] = self.seen_free[rows[inside], cols[inside]]
+        x0, y0 = self.geometry.origin
+        evidence, _ = fine_kernels.fine_hit_evidence(
+            self.seen_free, x0, y0, self.geometry.resolution,
+            np.ascontiguousarray(hits_x, dtype=np.float64),
+            np.ascontiguousarray(hits_y, dtype=np.float64))
         return evidence
 
     def moving_hits(self, points, rule):
