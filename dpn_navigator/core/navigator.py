@@ -564,7 +564,8 @@ class Navigator:
             terms = self._planning_terms(pose)
             replanned = self._plan(pose, terms)
             if self.path is None and self._drop_stale_obstacles(pose, stamp, terms):
-                replanned = self._plan(pose, self._planning_terms(pose))
+                # The same replan, searched again without the stale cells: counted once.
+                replanned = self._plan(pose, self._planning_terms(pose), count=False)
             if self.path is None:
                 self._next_retry = stamp + self.config.no_path_retry_period
                 if self._no_path_since is None:
@@ -627,12 +628,16 @@ class Navigator:
             extra = wait if extra is None else extra + wait
         return extra, opened
 
-    def _plan(self, pose, terms=(None, None)):
-        """Plan from the robot's cell to the goal's; set path, status and reason."""
+    def _plan(self, pose, terms=(None, None), count=True):
+        """
+        Plan from the robot's cell to the goal's; set path, status and reason.
+
+        ``count``: add one to ``replans`` (not for a second search within one replan).
+        """
         geometry = self.grid.geometry
         start = tuple(int(v) for v in geometry.world_to_cell(pose[0], pose[1]))
         goal = tuple(int(v) for v in geometry.world_to_cell(*self.goal))
-        self.replans += 1
+        self.replans += int(count)
         if not geometry.contains_cell(*start):
             return self._no_path('the robot is outside the map')
         self._masks.refresh()

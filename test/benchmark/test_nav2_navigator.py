@@ -74,7 +74,7 @@ def test_the_default_tree_recovers_in_order_then_aborts(monkeypatch):
     nav = navigator()
     nav.set_goal(18.0, 10.0)
 
-    def no_path(pose):
+    def no_path(pose, count=True):
         return nav._no_path('no path to the goal on the current map')
     monkeypatch.setattr(nav, '_plan', no_path)
     outputs = list(drive(nav, (10.0, 10.0, 0.0), 60.0))

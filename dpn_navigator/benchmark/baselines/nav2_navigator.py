@@ -217,7 +217,7 @@ class Nav2Navigator(Navigator):
         self._plan(pose)
         if self.path is None:
             self._clear()
-            self._plan(pose)
+            self._plan(pose, count=False)          # the same replan: counted once
         return self.path is not None
 
     def _clear(self):
