@@ -147,13 +147,13 @@ def test_a_room_marks_its_inside_and_only_once():
     assert_array_equal(rest, first)
 
 
-@pytest.mark.parametrize('name', real_bag_ids())
+@pytest.mark.parametrize('name', [name for name in real_bag_ids()
+                                  if not name.endswith('_extracted.bag')])
 def test_real_recordings_mark_the_cells_of_the_marks(name):
     # As the default rule's fine evidence takes them (0.1 m, 0.2 m, no echo as no return,
-    # no-return beams out to 0.8 of range_max), as recorded and resampled to 1081 beams.
+    # no-return beams out to 0.8 of range_max), as recorded and resampled to 1081 beams. The
+    # `_extracted` bags hold the annotations of the others' scans: not taken.
     path = real_bag(name)
-    if path.stem.endswith('_extracted'):
-        pytest.skip(f'{name} holds annotations, no scans to mark')
     recording = real_data.read_recording(path)
     config = real_data.grid_config(recording, 'dpn')
     rule = config.label_rule()

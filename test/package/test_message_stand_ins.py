@@ -67,11 +67,9 @@ NAVIGATE_TO_POSE_HASH = 'RIHS01_a56dba8a3234a1215e610180dc703ae25bbf406dded8b548
 
 def test_the_nav2_msgs_stand_in_keeps_the_standard_navigate_to_pose():
     import json
-    import pytest
-    try:
-        from nav2_msgs.action import NavigateToPose
-    except ImportError:
-        pytest.skip('nav2_msgs is not installed (make setup builds the stand-in)')
+    # package.xml depends on nav2_msgs; on the PyPI path `make setup` builds the stand-in, so
+    # its absence is a failure here, not a skip.
+    from nav2_msgs.action import NavigateToPose
     assert NavigateToPose.Goal.get_fields_and_field_types() == {
         'pose': 'geometry_msgs/PoseStamped', 'behavior_tree': 'string'}
     assert NavigateToPose.Result.get_fields_and_field_types() == {

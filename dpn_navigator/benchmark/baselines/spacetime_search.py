@@ -27,6 +27,25 @@ import numpy as np
 MOVES = ((0, 1), (1, 0), (0, -1), (-1, 0), (1, 1), (1, -1), (-1, 1), (-1, -1))
 
 
+def moves_from(walls, r, c, straight_steps, diagonal_steps):
+    """
+    Yield the moves out of cell ``(r, c)`` as ``(row, col, duration [steps])``.
+
+    Into the grid's free cells, 8-connected; no diagonal past a wall (no cut corner).
+    """
+    rows, cols = walls.shape
+    for dr, dc in MOVES:
+        nr, nc = r + dr, c + dc
+        if not (0 <= nr < rows and 0 <= nc < cols) or walls[nr, nc]:
+            continue
+        if dr and dc:
+            if walls[r + dr, c] or walls[r, c + dc]:
+                continue
+            yield nr, nc, diagonal_steps
+        else:
+            yield nr, nc, straight_steps
+
+
 def static_time_to_goal(walls, goal, straight_steps, diagonal_steps):
     """
     Return every cell's least time to the goal around the walls [steps] (Dijkstra).
@@ -47,7 +66,6 @@ def static_time_to_goal(walls, goal, straight_steps, diagonal_steps):
 
     """
     walls = np.asarray(walls, dtype=bool)
-    rows, cols = walls.shape
     to_go = np.full(walls.shape, np.inf)
     if walls[goal]:
         return to_go
@@ -57,16 +75,8 @@ def static_time_to_goal(walls, goal, straight_steps, diagonal_steps):
         cost, r, c = heapq.heappop(heap)
         if cost > to_go[r, c]:
             continue
-        for dr, dc in MOVES:
-            nr, nc = r + dr, c + dc
-            if not (0 <= nr < rows and 0 <= nc < cols) or walls[nr, nc]:
-                continue
-            if dr and dc:
-                if walls[r + dr, c] or walls[r, c + dc]:
-                    continue
-                new = cost + diagonal_steps
-            else:
-                new = cost + straight_steps
+        for nr, nc, duration in moves_from(walls, r, c, straight_steps, diagonal_steps):
+            new = cost + duration
             if new < to_go[nr, nc]:
                 to_go[nr, nc] = new
                 heapq.heappush(heap, (new, nr, nc))
@@ -109,7 +119,6 @@ def spacetime_plan(walls, blocked, start, goal, to_go, straight_steps, diagonal_
     walls = np.asarray(walls, dtype=bool)
     blocked = np.asarray(blocked, dtype=bool)
     horizon = blocked.shape[0] - 1
-    rows, cols = walls.shape
     start = (int(start[0]), int(start[1]))
     goal = (int(goal[0]), int(goal[1]))
     if not np.isfinite(to_go[start]):
@@ -143,17 +152,7 @@ def spacetime_plan(walls, blocked, start, goal, to_go, straight_steps, diagonal_
         if best_end is None or f < best_end[0]:
             best_end = (f, state)
         # Wait one step.
-        successors = [(r, c, 1)]
-        for dr, dc in MOVES:
-            nr, nc = r + dr, c + dc
-            if not (0 <= nr < rows and 0 <= nc < cols) or walls[nr, nc]:
-                continue
-            if dr and dc:
-                if walls[r + dr, c] or walls[r, c + dc]:
-                    continue
-                successors.append((nr, nc, diagonal_steps))
-            else:
-                successors.append((nr, nc, straight_steps))
+        successors = [(r, c, 1), *moves_from(walls, r, c, straight_steps, diagonal_steps)]
         for nr, nc, duration in successors:
             nk = min(k + duration, horizon)
             nxt = (nr, nc, nk)

@@ -195,6 +195,34 @@ def inside_around(cell_input, i, j):
 
 
 @kernel
+def polygon_window(shape, ranges, x, y, yaw, angle_min, angle_increment, range_min, range_max,
+                   x0, y0, resolution, radius):
+    """
+    Return a scan's polygon and its f2 cells in the window the free space can change.
+
+    Returns ``(vertices_x, vertices_y, row0, col0, cell_input, extent)``: the polygon's
+    vertices [m], the window's first row and column in a grid of ``shape`` (the window of
+    `points_update` with reach ``radius``), its (n_rows, n_cols) uint8 cells filled by
+    `fill_inside`, and each row's (n_rows, 2) int64 extent of inside cells. An empty window
+    has ``n_rows`` or ``n_cols`` 0 and nothing filled.
+    """
+    vertices_x, vertices_y, _, _, _ = scan_points(
+        ranges, x, y, yaw, angle_min, angle_increment, range_min, range_max)
+    row0, row_end, col0, col_end = scan_window(shape, vertices_x, vertices_y, radius,
+                                               x0, y0, resolution)
+    n_rows = row_end - row0
+    n_cols = col_end - col0
+    cell_input = np.zeros((max(n_rows, 0), max(n_cols, 0)), dtype=np.uint8)
+    extent = np.empty((max(n_rows, 0), 2), dtype=np.int64)
+    if n_rows > 0 and n_cols > 0:
+        extent[:, 0] = n_cols
+        extent[:, 1] = 0
+        fill_inside(cell_input, row0, col0, x0, y0, resolution, vertices_x, vertices_y,
+                    extent)
+    return vertices_x, vertices_y, row0, col0, cell_input, extent
+
+
+@kernel
 def surely_free_update(seen_free, ranges, x, y, yaw, angle_min, angle_increment, range_min,
                        range_max, x0, y0, resolution, radius, bound):
     """
@@ -219,20 +247,12 @@ def surely_free_update(seen_free, ranges, x, y, yaw, angle_min, angle_increment,
         surely_free_update_by_marks(seen_free, ranges, x, y, yaw, angle_min, angle_increment,
                                     range_min, range_max, x0, y0, resolution, radius, bound)
         return
-    vertices_x, vertices_y, _, _, _ = scan_points(
-        ranges, x, y, yaw, angle_min, angle_increment, range_min, range_max)
-    # The window of `points_update` with reach = radius.
-    row0, row_end, col0, col_end = scan_window(seen_free.shape, vertices_x, vertices_y, radius,
-                                               x0, y0, resolution)
-    n_rows = row_end - row0
-    n_cols = col_end - col0
+    vertices_x, vertices_y, row0, col0, cell_input, extent = polygon_window(
+        seen_free.shape, ranges, x, y, yaw, angle_min, angle_increment, range_min, range_max,
+        x0, y0, resolution, radius)
+    n_rows, n_cols = cell_input.shape
     if n_rows == 0 or n_cols == 0:
         return
-    cell_input = np.zeros((n_rows, n_cols), dtype=np.uint8)
-    extent = np.empty((n_rows, 2), dtype=np.int64)
-    extent[:, 0] = n_cols
-    extent[:, 1] = 0
-    fill_inside(cell_input, row0, col0, x0, y0, resolution, vertices_x, vertices_y, extent)
     around = radius >= 1.5 * resolution
     # The cells to test, and an estimate of the tests they take at most (the beams within
     # the bearings `near_polygon` searches), against that of marking the window.
@@ -288,20 +308,12 @@ def surely_free_update_by_marks(seen_free, ranges, x, y, yaw, angle_min, angle_i
     space on and a safety radius equal to ``radius``: f2 cells that no vertex's disc and no
     edge band reaches (a hit's f1 disc is its vertex's disc). Nothing else is computed.
     """
-    vertices_x, vertices_y, _, _, _ = scan_points(
-        ranges, x, y, yaw, angle_min, angle_increment, range_min, range_max)
-    # The window of `points_update` with reach = radius.
-    row0, row_end, col0, col_end = scan_window(seen_free.shape, vertices_x, vertices_y, radius,
-                                               x0, y0, resolution)
-    n_rows = row_end - row0
-    n_cols = col_end - col0
+    vertices_x, vertices_y, row0, col0, cell_input, extent = polygon_window(
+        seen_free.shape, ranges, x, y, yaw, angle_min, angle_increment, range_min, range_max,
+        x0, y0, resolution, radius)
+    n_rows, n_cols = cell_input.shape
     if n_rows == 0 or n_cols == 0:
         return
-    cell_input = np.zeros((n_rows, n_cols), dtype=np.uint8)
-    extent = np.empty((n_rows, 2), dtype=np.int64)
-    extent[:, 0] = n_cols
-    extent[:, 1] = 0
-    fill_inside(cell_input, row0, col0, x0, y0, resolution, vertices_x, vertices_y, extent)
     # Every vertex's disc, hits included (their f1 discs): a safety radius of 0 selects them
     # all.
     not_free = not_surely_free(n_rows, n_cols, row0, col0, x0, y0, resolution, vertices_x,
