@@ -33,8 +33,6 @@ def nav2_msgs_installed():
                     'stand-in)')
 
 
-
-
 def goal_msg(x, y, frame='map'):
     goal = NavigateToPose.Goal()
     goal.pose.header.frame_id = frame
