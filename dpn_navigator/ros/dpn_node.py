@@ -249,6 +249,27 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         self.last_map_time = None
         self.publish_status()
 
+    def restart_map_for_tf(self):
+        """
+        Drop the map made of scans placed from odometry when TF takes over; keep the goal.
+
+        Those scans were placed in the odometry frame with the ``laser_*`` mount: with a laser
+        mounted otherwise, or ``map -> odom`` not the identity, their walls are misplaced.
+        """
+        goal = self.navigator.goal
+        self.navigator = Navigator(self.navigator.config)
+        self.map_buffer = OccupancyGridBuffer(self.navigator.grid.geometry.shape,
+                                              self.params.map_mobile_value)
+        self.map_changes = self.navigator.grid.change_tracker()
+        self.trail = []
+        self.last_map_time = None
+        if goal is not None:
+            self.navigator.set_goal(*goal)
+        self.get_logger().warning(
+            f'TF now links {self.params.map_frame} to the laser: the map of the '
+            f'{self.placer.placed_from_odometry} scan(s) placed from odometry and the laser_* '
+            'mount is dropped and built again from TF')
+
     def on_goal(self, msg):
         """
         Take a goal from ``goal_pose`` (RViz's 2D Goal Pose).
@@ -370,6 +391,8 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         if self.params.centre_on_start and not self.map_placed:
             self.place_map(placement.base_pose)
         if placement.source == 'tf':
+            if self.placer.take_tf_takeover():
+                self.restart_map_for_tf()
             pose = self.placer.robot_pose(None) or placement.base_pose
             self.pose = pose
             if self.navigator.goal is not None:

@@ -12,7 +12,12 @@ Where a scan was taken: the laser's map-frame pose at the scan's stamp, from TF 
   ``laser_y``, ``laser_yaw`` on it (the behaviour before TF).
 - ``auto``: ``tf`` as soon as the TF buffer links ``map_frame`` to the scan's frame, ``odom``
   until then; once TF has placed a scan it stays ``tf`` (a later gap is a counted skip, never a
-  silent switch back to odometry).
+  silent switch back to odometry). When TF takes over after scans were placed from odometry
+  (the node started before the publisher of the laser's mount, or the localiser came up late),
+  `ScanPlacer.take_tf_takeover` tells the node once, so that it drops the map those scans made:
+  they were placed in the odometry frame with the ``laser_*`` mount, and for a laser mounted
+  otherwise (upside down, turned) or a ``map -> odom`` that is not the identity, their walls
+  are in the wrong places.
 
 Either way a scan is placed only with data that brackets its stamp: never extrapolated. A scan
 whose pose has not arrived yet waits (`PoseNotYet`); the node drops it, counted, when it has
@@ -98,6 +103,8 @@ class ScanPlacer:
         self.max_tilt = max_tilt
         self.on_source = on_source
         self.source = 'tf' if mode == 'tf' else None
+        self.placed_from_odometry = 0          # scans placed from odometry before TF
+        self._takeover = False
         self._announced = set()
 
     def _use(self, source):
@@ -122,6 +129,7 @@ class ScanPlacer:
         if self.mode == 'odom':
             return self._place_with_odometry(stamp_ns, fields)
         if self.source != 'tf' and self.tf.connected(self.map_frame, frame_id):
+            self._takeover = self.source == 'odom'
             self.source = 'tf'
         if self.source == 'tf':
             return self._place_with_tf(frame_id, stamp_ns, fields)
@@ -160,7 +168,19 @@ class ScanPlacer:
             raise ScanNotPlaced(f'the scan (stamp {stamp:.3f} s) is older than the kept '
                                 f'odometry')
         self._use('odom')
+        if self.mode == 'auto':
+            self.placed_from_odometry += 1
         return ScanPlacement(pose, None, fields, 'odom')
+
+    def take_tf_takeover(self):
+        """
+        Return True once after TF took over from odometry (``auto``), else False.
+
+        The scans placed from odometry until then (`placed_from_odometry`) were placed in the
+        odometry frame with the ``laser_*`` mount; the caller drops what they mapped.
+        """
+        takeover, self._takeover = self._takeover, False
+        return takeover
 
     def robot_pose(self, odometry_pose):
         """

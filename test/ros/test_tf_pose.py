@@ -72,14 +72,18 @@ class RobotProbe(Node):
         self.create_subscription(DiagnosticStatus, '/compabot/status', self.status.append,
                                  LATCHED_QOS)
         if publish_tf:
-            self.static_pub.publish(tf_message(mount_transform(
-                self.get_clock().now().to_msg())))
+            self.start_tf()
         odom_pose = compose(inverse(ODOM_IN_MAP), TRUE_POSE)
         self.odom_pose = odom_pose
         laser_map = compose(TRUE_POSE, (MOUNT[0], MOUNT[1], MOUNT[3]))
         # Upside down, laser angle a looks along map angle yaw - a: the upright scan reversed
         # (the 180-degree layout is symmetric).
         self.ranges = ray_cast(room(), laser_map, 0.05, RANGE_MAX)[::-1].copy()
+
+    def start_tf(self):
+        """Publish the mount on ``/tf_static`` and from now on ``/tf`` with every scan."""
+        self.publish_tf = True
+        self.static_pub.publish(tf_message(mount_transform(self.get_clock().now().to_msg())))
 
     def send(self):
         stamp = self.get_clock().now().to_msg()
@@ -140,6 +144,39 @@ def test_the_same_robot_placed_from_odometry_and_parameters_maps_wrong(ros_conte
     assert source == 'odom'
     occupied = values >= 70
     assert np.count_nonzero(occupied & ~wall_cells(values.shape)) > 10
+
+
+def test_when_tf_comes_late_the_map_of_the_scans_placed_from_odometry_is_dropped(ros_context):
+    # The node starts before the publisher of the mount: its first scans are placed from
+    # odometry with the laser_* parameters' mount (upright, at 0.337 m), which is wrong here.
+    dpn = DpnNode(context=ros_context, parameter_overrides=[
+        Parameter('map_width', value=12.0), Parameter('map_height', value=12.0),
+        Parameter('use_default_goal', value=True), Parameter('goal_x', value=6.0),
+        Parameter('goal_y', value=6.0)])
+    probe = RobotProbe(ros_context, publish_tf=False)
+    with executor_for(ros_context, dpn, probe) as executor:
+        assert spin_until(executor, lambda: probe.scan_pub.get_subscription_count() > 0
+                          and probe.odom_pub.get_subscription_count() > 0)
+        for _ in range(4):
+            probe.send()
+            spin_until(executor, lambda: False, timeout=0.1)
+        assert spin_until(executor, lambda: dpn.placer.placed_from_odometry >= 3)
+        wrong = np.count_nonzero((occupancy_grid_values(probe.maps[-1]) >= 70)
+                                 & ~wall_cells(dpn.navigator.grid.geometry.shape))
+        assert wrong > 10                                  # the wrong mount did map wrong
+        probe.start_tf()
+        spin_until(executor, lambda: False, timeout=0.3)   # /tf_static delivered
+        for _ in range(4):
+            probe.send()
+            spin_until(executor, lambda: False, timeout=0.1)
+        assert spin_until(executor, lambda: probe.status
+                          and probe.status_value('pose_source') == 'tf')
+        spin_until(executor, lambda: False, timeout=0.3)
+        values = occupancy_grid_values(probe.maps[-1])
+        assert dpn.navigator.goal == (6.0, 6.0)            # the goal is kept
+    occupied = values >= 70
+    assert not np.any(occupied & ~wall_cells(values.shape)), 'an obstacle where it is free'
+    assert np.all(occupied[-1, :]) and np.all(occupied[9:, 0])
 
 
 def test_scans_without_their_transform_are_skipped_and_counted(ros_context):

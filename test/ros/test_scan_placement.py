@@ -1,0 +1,81 @@
+"""
+`ScanPlacer` under ``pose_source: auto``: TF takes over from odometry, and says so once.
+
+A node started a moment before the node that publishes the laser's mount on ``/tf_static``
+places its first scans from odometry with the ``laser_*`` mount (a CI run mapped an upside-down
+laser's first scans mirrored that way and never reached its goal); the node drops that map
+when `ScanPlacer.take_tf_takeover` says TF took over.
+"""
+
+from dpn_navigator.core.pose_history import PoseHistory
+from dpn_navigator.ros.scan_placement import ScanPlacer
+from dpn_navigator.ros.tf_pose_source import TransformUnavailable
+import numpy as np
+import pytest
+
+SECOND = 1_000_000_000
+LASER_IN_MAP = (np.eye(3), np.array([1.0, 2.0, 0.3]))   # (rotation, translation [m])
+
+
+class LateTf:
+    """A TF buffer that links ``map`` to every frame once ``arrive`` is called."""
+
+    kind = 'test'
+
+    def __init__(self):
+        self.linked = False
+
+    def arrive(self):
+        self.linked = True
+
+    def connected(self, target, source):
+        return self.linked
+
+    def lookup(self, target, source, stamp_ns):
+        if not self.linked:
+            raise TransformUnavailable(f'no {target} -> {source}')
+        return LASER_IN_MAP
+
+
+def placer(mode='auto'):
+    """Return ``(placer, tf, sources announced)``; odometry at 10 Hz over 5 s."""
+    history = PoseHistory(span=6.0)
+    for step in range(51):
+        history.add(step * 0.1, (0.5, 0.5, 0.0))
+    tf = LateTf()
+    announced = []
+    return (ScanPlacer(mode, 'map', 'base_link', tf, history, 0.05,
+                       on_source=announced.append), tf, announced)
+
+
+def scan_fields():
+    return {'ranges': np.full(5, 3.0), 'angle_min': -0.2, 'angle_increment': 0.1,
+            'angle_max': 0.2}
+
+
+def test_tf_that_comes_late_takes_over_and_says_so_once():
+    auto, tf, announced = placer()
+    for stamp in (0.5, 0.9, 1.3):
+        assert auto.place('laser', int(stamp * SECOND), scan_fields()).source == 'odom'
+    assert auto.placed_from_odometry == 3 and not auto.take_tf_takeover()
+    tf.arrive()
+    placement = auto.place('laser', int(1.4 * SECOND), scan_fields())
+    assert placement.source == 'tf' and announced == ['odom', 'tf']
+    assert placement.laser_pose[:2] == pytest.approx((1.0, 2.0))
+    assert auto.take_tf_takeover() and not auto.take_tf_takeover()
+    assert auto.place('laser', int(1.5 * SECOND), scan_fields()).source == 'tf'
+    assert not auto.take_tf_takeover() and auto.placed_from_odometry == 3
+
+
+def test_tf_from_the_first_scan_is_no_takeover():
+    auto, tf, announced = placer()
+    tf.arrive()
+    assert auto.place('laser', int(0.5 * SECOND), scan_fields()).source == 'tf'
+    assert not auto.take_tf_takeover() and announced == ['tf']
+
+
+def test_odometry_mode_never_takes_tf():
+    odom, tf, announced = placer('odom')
+    tf.arrive()
+    assert odom.place('laser', int(0.5 * SECOND), scan_fields()).source == 'odom'
+    assert not odom.take_tf_takeover() and odom.placed_from_odometry == 0
