@@ -124,7 +124,8 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         self.tf = (make_tf_lookup(self) if self.params.pose_source != 'odom' else None)
         self.placer = ScanPlacer(self.params.pose_source, self.params.map_frame,
                                  self.params.base_frame, self.tf, self.pose_history,
-                                 self.params.max_laser_tilt, on_source=self.on_pose_source)
+                                 self.params.max_laser_tilt, on_source=self.on_pose_source,
+                                 auto_wait=self.params.pose_source_wait)
         self.velocity = (0.0, 0.0)
         self.last_map_time = None
         self.markers = NavigatorMarkers(self.params.map_frame, self.params.marker_min_period)

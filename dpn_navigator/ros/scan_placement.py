@@ -12,7 +12,10 @@ Where a scan was taken: the laser's map-frame pose at the scan's stamp, from TF 
   ``laser_y``, ``laser_yaw`` on it (the behaviour before TF).
 - ``auto``: ``tf`` as soon as the TF buffer links ``map_frame`` to the scan's frame, ``odom``
   until then; once TF has placed a scan it stays ``tf`` (a later gap is a counted skip, never a
-  silent switch back to odometry). When TF takes over after scans were placed from odometry
+  silent switch back to odometry). The scans of the first ``auto_wait`` seconds (by their
+  stamps) wait for TF instead of falling back at once (dropped, counted, if it does not come):
+  a node started a moment before the publisher of the laser's mount would otherwise map its
+  first scans with the ``laser_*`` mount. When TF takes over after scans were placed from odometry
   (the node started before the publisher of the laser's mount, or the localiser came up late),
   `ScanPlacer.take_tf_takeover` tells the node once, so that it drops the map those scans made:
   they were placed in the odometry frame with the ``laser_*`` mount, and for a laser mounted
@@ -85,16 +88,21 @@ class ScanPlacer:
         Largest tilt of the laser from level or upside down [rad].
     on_source : callable, optional
         Called with the source (``'tf'`` or ``'odom'``) when the first scan is placed with it.
+    auto_wait : float
+        With ``mode='auto'``: how long after the first scan's stamp [s] scans wait for TF
+        (`PoseNotYet`) before odometry is used.
 
     """
 
     def __init__(self, mode, map_frame, base_frame, tf_lookup, history, max_tilt,
-                 on_source=None):
+                 on_source=None, auto_wait=0.0):
         if mode not in POSE_SOURCES:
             raise ValueError(f"pose_source must be one of {', '.join(POSE_SOURCES)}; got "
                              f'{mode!r}')
         if mode != 'odom' and tf_lookup is None:
             raise ValueError(f'pose_source {mode!r} needs a TF buffer')
+        if not auto_wait >= 0.0:
+            raise ValueError(f'auto_wait must be >= 0 s; got {auto_wait!r}')
         self.mode = mode
         self.map_frame = map_frame
         self.base_frame = base_frame
@@ -105,6 +113,8 @@ class ScanPlacer:
         self.source = 'tf' if mode == 'tf' else None
         self.placed_from_odometry = 0          # scans placed from odometry before TF
         self._takeover = False
+        self.auto_wait_ns = int(round(auto_wait * 1e9))
+        self._first_stamp_ns = None
         self._announced = set()
 
     def _use(self, source):
@@ -133,6 +143,12 @@ class ScanPlacer:
             self.source = 'tf'
         if self.source == 'tf':
             return self._place_with_tf(frame_id, stamp_ns, fields)
+        if self.source is None:
+            if self._first_stamp_ns is None:
+                self._first_stamp_ns = stamp_ns
+            if stamp_ns - self._first_stamp_ns < self.auto_wait_ns:
+                raise PoseNotYet(f'no transform {self.map_frame} -> {frame_id} yet; waiting '
+                                 f'{self.auto_wait_ns * 1e-9:g} s for TF before odometry')
         return self._place_with_odometry(stamp_ns, fields)
 
     def _place_with_tf(self, frame_id, stamp_ns, fields):

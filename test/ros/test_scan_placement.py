@@ -8,7 +8,7 @@ when `ScanPlacer.take_tf_takeover` says TF took over.
 """
 
 from dpn_navigator.core.pose_history import PoseHistory
-from dpn_navigator.ros.scan_placement import ScanPlacer
+from dpn_navigator.ros.scan_placement import PoseNotYet, ScanPlacer
 from dpn_navigator.ros.tf_pose_source import TransformUnavailable
 import numpy as np
 import pytest
@@ -37,7 +37,7 @@ class LateTf:
         return LASER_IN_MAP
 
 
-def placer(mode='auto'):
+def placer(mode='auto', auto_wait=0.0):
     """Return ``(placer, tf, sources announced)``; odometry at 10 Hz over 5 s."""
     history = PoseHistory(span=6.0)
     for step in range(51):
@@ -45,7 +45,7 @@ def placer(mode='auto'):
     tf = LateTf()
     announced = []
     return (ScanPlacer(mode, 'map', 'base_link', tf, history, 0.05,
-                       on_source=announced.append), tf, announced)
+                       on_source=announced.append, auto_wait=auto_wait), tf, announced)
 
 
 def scan_fields():
@@ -79,3 +79,23 @@ def test_odometry_mode_never_takes_tf():
     tf.arrive()
     assert odom.place('laser', int(0.5 * SECOND), scan_fields()).source == 'odom'
     assert not odom.take_tf_takeover() and odom.placed_from_odometry == 0
+
+
+def test_scans_of_the_wait_wait_for_tf():
+    auto, tf, announced = placer(auto_wait=1.0)
+    for stamp in (0.5, 0.9, 1.49):
+        with pytest.raises(PoseNotYet, match='waiting 1 s for TF'):
+            auto.place('laser', int(stamp * SECOND), scan_fields())
+    tf.arrive()
+    assert auto.place('laser', int(1.4 * SECOND), scan_fields()).source == 'tf'
+    assert announced == ['tf'] and not auto.take_tf_takeover()
+
+
+def test_without_tf_odometry_is_used_once_the_wait_is_over():
+    auto, tf, announced = placer(auto_wait=1.0)
+    with pytest.raises(PoseNotYet):
+        auto.place('laser', int(0.5 * SECOND), scan_fields())
+    assert auto.place('laser', int(1.5 * SECOND), scan_fields()).source == 'odom'
+    assert announced == ['odom']
+    with pytest.raises(ValueError, match='auto_wait'):
+        ScanPlacer('auto', 'map', 'base_link', tf, PoseHistory(), 0.05, auto_wait=float('nan'))
