@@ -86,6 +86,12 @@ class DpnParameters:
     transform_timeout: float = setting(
         0.2, 's', "longest wait (steady clock) for a scan's transform or bracketing odometry; "
         'then the scan is dropped and counted', 0.0, 10.0)
+    max_pose_gap: float = setting(
+        0.15, 's', "longest time between the two samples of the robot's motion (TF "
+        '`base_frame` in its parent, or two odometry messages) a scan\'s pose is interpolated '
+        'across while the robot moves; a scan beyond it is dropped and counted (lost messages '
+        'under load; a turn that starts inside the gap misplaces far hits); 0: no limit; not '
+        'checked with tf2_ros', 0.0, 10.0)
     max_laser_tilt: float = setting(
         0.05, 'rad', 'largest tilt of the laser (from TF) from level or upside down; a more '
         'tilted scan is dropped and counted', 0.0, 0.5)
@@ -219,7 +225,7 @@ PARAMETERS = (
                                         'marker_min_period', 'map_frame', 'laser_frame',
                                         'base_frame', 'odom_frame', 'pose_source',
                                         'pose_source_wait', 'transform_timeout',
-                                        'max_laser_tilt', 'cmd_vel_stamped',
+                                        'max_pose_gap', 'max_laser_tilt', 'cmd_vel_stamped',
                                         'map_mobile_value')),
 )
 
