@@ -36,7 +36,7 @@ import math
 from dpn_navigator.core.pose2d import compose, wrap_angle
 import numpy as np
 
-from .contacts import ContactLog
+from .contacts import APPROACH_SPEED, approach_speed, ContactLog
 from .free_space import clearance_grid
 from .husky import clamp_command, HUSKY_LENGTH, HUSKY_WIDTH, integrate_pose, ramp
 from .laser import Laser
@@ -142,7 +142,7 @@ class World:
         if wall:
             self.close()
             raise ValueError(f'the Husky collides with a wall at its start pose {self._pose}')
-        self.contacts.update(0.0, wall, touched)
+        self.contacts.update(0.0, wall, touched, approached=())  # the Husky stands at its start
         self._laser = Laser(self.scene.client, config.laser, RAY_MASK,
                             np.random.default_rng(noise_seed))
 
@@ -293,7 +293,11 @@ class World:
         wall, touched, depth = self.scene.husky_contacts()
         self._tick += 1
         self._scan = None
-        self.contacts.update(self.time, wall, touched)
+        new = set(touched) - self.contacts.touching_wanderers
+        approached = {i for i in new if approach_speed(
+            proposed, (lin, ang), HUSKY_LENGTH, HUSKY_WIDTH,
+            self._wanderers.positions[i].tolist()) > APPROACH_SPEED}
+        self.contacts.update(self.time, wall, touched, approached)
         if depth > self._depth:
             # Deeper than at the last accepted pose; but a wanderer may have moved into the
             # Husky since, so compare with the penetration where the Husky stands now.
