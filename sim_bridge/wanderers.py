@@ -184,7 +184,7 @@ PEDESTRIANS_IGNORING = WandererConfig(speed_range=(0.8, 1.4), max_turn_rate=3.0,
 #: People as above who yield to the Husky by their speed: a velocity obstacle over 1 s with
 #: 0.05 m to spare, walking on at half speed or more, else standing; they do not stop for a
 #: Husky merely ahead, only for one they would meet within the second (chosen, not fitted to
-#: data: a standing Husky in their way stops them 0.95-1.6 m from its centre).
+#: data: a standing Husky in their way stops them 0.95-1.65 m from its centre).
 PEDESTRIANS = dataclasses.replace(PEDESTRIANS_IGNORING, yield_horizon=1.0, yield_margin=0.05,
                                   yield_slowest=0.5)
 #: P3-ATs and pedestrians, half and half (the P3-ATs' clearance grid for both).
