@@ -6,15 +6,17 @@ tick before, and lasts while the touching goes on. All walls together count as o
 so scraping along a wall made of several boxes, or into a corner, is one event; each wanderer
 is an obstacle of its own.
 
-**Who closed the gap.** A contact event with a wanderer is *robot-caused* when, on the tick it
+**Who closed the gap.** A contact event with a wanderer is *agent-caused* when, on the tick it
 starts, the point of the Husky's footprint nearest the wanderer moves towards the wanderer's
-centre faster than `APPROACH_SPEED` (the Husky drove or turned into it), and *agent-caused*
-otherwise (the Husky stood still, or moved away or sideways, and the agent walked into it).
-This is the split of at-fault and not-at-fault collisions of nuPlan's
-``no_ego_at_fault_collisions`` metric (Caesar et al. 2021, *nuPlan: A closed-loop ML-based
-planning benchmark for autonomous vehicles*, arXiv:2106.11810; nuplan-devkit's
-``CollisionType``: a collision with a stopped ego, ``STOPPED_EGO_COLLISION``, is not at fault),
-made planar for a robot that turns in place. Wall contacts are all the robot's.
+centre at no more than `APPROACH_SPEED` (the Husky stood, or moved away or sideways) and
+slower than the wanderer moves towards that point (the wanderer walked into it); every other
+contact is *robot-caused* (the Husky drove or turned into the wanderer, or both stood nearly
+still and the Husky's own small motion made the touch). This is the split of at-fault and
+not-at-fault collisions of nuPlan's ``no_ego_at_fault_collisions`` metric (Caesar et al. 2021,
+*nuPlan: A closed-loop ML-based planning benchmark for autonomous vehicles*,
+arXiv:2106.11810; nuplan-devkit's ``CollisionType``: a collision with a stopped ego,
+``STOPPED_EGO_COLLISION``, is not at fault), made planar for a robot that turns in place. Wall
+contacts are all the robot's.
 
 """
 
@@ -25,7 +27,24 @@ import math
 APPROACH_SPEED = 0.05
 
 
-def approach_speed(pose, velocity, length, width, point):
+def robot_caused(pose, velocity, length, width, point, point_velocity):
+    """
+    Tell whether a contact that starts now is the Husky's doing (see the module's rule).
+
+    ``pose``, ``velocity``, ``length``, ``width`` and ``point`` as for `approach_speed`;
+    ``point_velocity`` is the wanderer's velocity ``(vx, vy)`` [m/s] over the tick.
+    """
+    robot = approach_speed(pose, velocity, length, width, point)
+    if robot > APPROACH_SPEED:
+        return True
+    # The wanderer's speed towards the Husky's centre side: its velocity against the
+    # direction from the Husky to it, as `approach_speed` measures it.
+    agent = approach_speed(pose, (0.0, 0.0), length, width, point,
+                           point_velocity=point_velocity)
+    return robot >= agent
+
+
+def approach_speed(pose, velocity, length, width, point, point_velocity=(0.0, 0.0)):
     """
     Return how fast the Husky's footprint point nearest ``point`` moves towards it [m/s].
 
@@ -39,13 +58,15 @@ def approach_speed(pose, velocity, length, width, point):
         Its footprint, a rectangle centred on the pose [m].
     point : (float, float)
         The other body's centre [m].
+    point_velocity : (float, float)
+        The other body's velocity [m/s]; its part is subtracted (default: standing).
 
     Returns
     -------
     float
-        The velocity of the footprint's nearest point projected on the unit vector from that
-        point to ``point`` (from the footprint's centre when ``point`` lies inside it);
-        positive when closing in, 0 when ``point`` is the centre.
+        The velocity of the footprint's nearest point relative to ``point``'s, projected on
+        the unit vector from that point to ``point`` (from the footprint's centre when
+        ``point`` lies inside it); positive when closing in, 0 when ``point`` is the centre.
 
     """
     x, y, yaw = pose
@@ -63,7 +84,8 @@ def approach_speed(pose, velocity, length, width, point):
         norm = math.hypot(ux, uy)
         if norm < 1e-9:
             return 0.0
-    vx, vy = v * c - omega * py, v * s + omega * px
+    vx = v * c - omega * py - point_velocity[0]
+    vy = v * s + omega * px - point_velocity[1]
     return (vx * ux + vy * uy) / norm
 
 
@@ -123,9 +145,8 @@ class ContactLog:
         touching_wanderers : iterable of int
             Indices of the wanderers it touches.
         approached : container of int, optional
-            The wanderers the Husky moves towards on this tick (faster than
-            `APPROACH_SPEED`): a new contact with one of them is robot-caused, any other
-            agent-caused. Default: all of them (every new contact robot-caused).
+            The wanderers a new contact with which is robot-caused (`robot_caused`); any
+            other new contact is agent-caused. Default: all of them.
 
         """
         touching_wanderers = frozenset(touching_wanderers)

@@ -409,7 +409,7 @@ class Wanderers:
         ux, uy = dx / dist, dy / dist
         blocker = None if self._centring[i] else self._blocker(i, ux, uy, husky_xy)
         speed = self._speeds[i]
-        if blocker is None and kind.yield_horizon > 0.0:
+        if blocker is None and kind.yield_horizon > 0.0 and not self._centring[i]:
             speed = self._yield_speed(i, ux, uy, speed, husky_xy)
             if speed <= 0.0:
                 blocker = husky_xy[0], husky_xy[1], HUSKY_RADIUS
@@ -511,6 +511,11 @@ class Wanderers:
             blocked = blocked.copy()
             for cx, cy, radius in ((husky_xy[0], husky_xy[1], HUSKY_RADIUS), blocker):
                 block_disc(blocked, self.grid.geometry, cx, cy, radius + cfg.clearance)
+            if cfg.yield_horizon > 0.0:
+                # Its own cell stays open: a yielding agent may stand nearer the Husky than
+                # the disc (it stops 0.95 m from the Husky's centre at the least) and must be
+                # able to walk away. (P3-ATs keep the rule they were published with.)
+                blocked[anchor] = False
         goal = self._pick_goal(anchor, blocked)
         path = None if goal is None else plan_path(self.grid.geometry, blocked, anchor, goal)
         if blocker is not None or path is None:

@@ -316,6 +316,21 @@ def test_approach_speed_of_the_nearest_footprint_point(velocity, point, expected
         pytest.approx(expected, abs=1e-9)
 
 
+@pytest.mark.parametrize('velocity, agent_velocity, expected', [
+    ((0.0, 0.0), (-1.0, 0.0), False),          # standing, the agent walks into it
+    ((-0.3, 0.0), (-1.0, 0.0), False),         # backing off, the agent faster
+    ((0.0, 0.0), (0.0, 0.0), True),            # both still: the Husky's own small motion
+    ((0.0, -0.04), (0.0, 0.0), True),          # a slow turn into a standing agent
+    ((0.04, 0.0), (-0.02, 0.0), True),         # creeping in faster than the agent comes
+    ((0.3, 0.0), (-1.0, 0.0), True),           # driving at it
+])
+def test_robot_caused_unless_the_agent_closed_the_gap(velocity, agent_velocity, expected):
+    from sim_bridge.contacts import robot_caused
+    # The agent's centre 0.8 m ahead of the Husky's centre, slightly to the left.
+    assert robot_caused((0.0, 0.0, 0.0), velocity, 0.99, 0.67, (0.8, 0.1),
+                        agent_velocity) == expected
+
+
 def test_the_contact_log_splits_wanderer_events_by_who_closed_the_gap():
     from sim_bridge.contacts import ContactLog
     log = ContactLog()
