@@ -8,8 +8,9 @@ robot's top speed, rounded up to whole steps: never faster than it can drive). A
 wait from step ``k`` to ``k + d`` is allowed when both its cells are free at every step from
 ``k - margin`` to ``k + d + margin`` (``margin`` steps of slack for the robot's timing), but a
 move out of the start cell at step 0 needs only its destination free (the robot stands there;
-an agent within reach of it must not pin it down), and no diagonal cuts a corner (both side cells free, walls only). ``blocked[k]`` holds the blocked
-cells at step ``k`` for ``k <= horizon``; the walls are blocked at every step.
+an agent within reach of it must not pin it down), and no diagonal cuts a corner (both side
+cells free, walls only). ``blocked[k]`` holds the blocked cells at step ``k`` for
+``k <= horizon``; the walls are blocked at every step.
 
 The cost of a plan is its arrival time in steps. A plan that has not reached the goal by the
 horizon ends there, at the cost ``horizon + to_go[cell]`` (``to_go``: the static shortest
