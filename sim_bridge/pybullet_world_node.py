@@ -38,6 +38,7 @@ from dpn_navigator.ros.parameter_declaration import (declare_setting,
 from dpn_navigator.ros.qos import COMMAND_QOS, SENSOR_PUBLISHER_QOS
 from dpn_navigator.ros.sim_clock import guard_clock
 from dpn_navigator.ros.spin import run_node
+from dpn_navigator.ros.unknown_parameters import warn_unknown_parameters
 from nav_msgs.msg import Odometry
 from rclpy.node import Node
 from rosgraph_msgs.msg import Clock
@@ -65,6 +66,8 @@ class PybulletWorldNode(Node):
                   for name, (default, spec) in world_node_settings().items()}
         params = WorldNodeParameters(**values)
         refuse_undeclared_parameters(self)
+        # Given at start but never declared (a misspelt name): warned about once, counted.
+        self.unknown_parameters = warn_unknown_parameters(self)
         scenario_name, task = params.scenario, params.task
         start = (params.start_x, params.start_y, params.start_yaw)
         wanderers, seed, gui = params.wanderers, params.seed, params.gui
@@ -184,6 +187,7 @@ class PybulletWorldNode(Node):
             'goal_x': f'{self.goal[0]:.3f}',
             'goal_y': f'{self.goal[1]:.3f}',
             'wanderers': len(world.wanderer_positions),
+            'unknown_parameters': len(self.unknown_parameters),
         }
         self.diagnostics.publish(diagnostic_status(
             self.get_fully_qualified_name(), 'sim', DiagnosticStatus.OK,

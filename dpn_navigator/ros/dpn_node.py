@@ -56,6 +56,7 @@ from .sim_clock import guard_clock
 from .spin import run_node
 from .stop_guard import StopGuard
 from .tf_pose_source import make_tf_lookup, stamp_to_nanoseconds
+from .unknown_parameters import warn_unknown_parameters
 from ..core import Navigator, NavigatorStatus
 from ..core.control.acceleration_limit import AccelerationLimiter
 from ..core.mapping.map_values import warm_up_map_values
@@ -96,6 +97,8 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         self.params = declare_parameters(self)
         self.limits = declare_safety_parameters(self)
         refuse_undeclared_parameters(self)
+        # Given at start but never declared (a misspelt name): warned about once, counted.
+        self.unknown_parameters = warn_unknown_parameters(self)
         # Compile (or load) the kernels now, so that the first scan does not wait for them.
         started = time.perf_counter()
         warm_up_navigator()
@@ -477,6 +480,8 @@ class DpnNode(ManagedNavigator, LifecycleNode):
             'rejected_goals': self.rejected['goal'],
             'rejected_clock': self.rejected['clock'],
             'scan_frame_mismatches': self.scan_frame_mismatches,
+            # Parameters given at start that the node does not declare (warned about once).
+            'unknown_parameters': len(self.unknown_parameters),
             # Where scans are placed from: 'tf' or 'odom' ('' before the first).
             'pose_source': self.placer.source or '',
             # Scans that waited for their transform or odometry, and those dropped after
