@@ -110,6 +110,7 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         self.map_changes = self.navigator.grid.change_tracker()
         self.rejected = {'scan': 0, 'odometry': 0, 'goal': 0, 'clock': 0}
         self.scan_frame_mismatches = 0
+        self.growth_refusals_logged = 0
         self.map_load_time = None
         self.watchdog = SensorWatchdog(self.params.sensor_timeout, ('scan', 'odometry'))
         self.steady_clock = Clock(clock_type=ClockType.STEADY_TIME)
@@ -215,8 +216,10 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         try:
             self.navigator.set_goal(x, y)
         except ValueError as error:
+            self.follow_map_growth()
             self.reject('goal', error)
             return str(error)
+        self.follow_map_growth()
         self.trail = [] if self.pose is None else [self.pose[:2]]
         self.get_logger().info(f'goal accepted from {via}: ({x:.2f}, {y:.2f})')
         self.publish_status()
@@ -247,6 +250,7 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         self.map_buffer = OccupancyGridBuffer(self.navigator.grid.geometry.shape,
                                               self.params.map_mobile_value)
         self.map_changes = self.navigator.grid.change_tracker()
+        self.growth_refusals_logged = 0
         self.pending_scans.clear()
         self.trail = []
         self.last_map_time = None
@@ -264,6 +268,7 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         self.map_buffer = OccupancyGridBuffer(self.navigator.grid.geometry.shape,
                                               self.params.map_mobile_value)
         self.map_changes = self.navigator.grid.change_tracker()
+        self.growth_refusals_logged = 0
         self.trail = []
         self.last_map_time = None
         if goal is not None:
@@ -408,6 +413,7 @@ class DpnNode(ManagedNavigator, LifecycleNode):
             self.reject('scan', error)
             return
         self.stop_guard.heard('scan', now, pending.arrival)
+        self.follow_map_growth()
         stamp = msg.header.stamp
         # The map first: it is ready now, and planning can take longer.
         if (self.last_map_time is None
@@ -431,6 +437,30 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         if self.markers.due(out.replanned, status_changed, now):
             self.publish_markers(stamp, now)
         self.navigator.settle()
+
+    def follow_map_growth(self):
+        """
+        Resize the published map after the navigator's map grew; log refused growths.
+
+        After a growth the next scan publishes a full map (an update cannot resize it).
+        """
+        navigator = self.navigator
+        if navigator.map_growth_refusals > self.growth_refusals_logged:
+            self.growth_refusals_logged = navigator.map_growth_refusals
+            self.get_logger().warning(
+                f'map growth refused ({navigator.map_growth_refusals} so far): '
+                f'{navigator.map_growth_refusal}', throttle_duration_sec=WARN_THROTTLE)
+            self.publish_status()
+        geometry = navigator.grid.geometry
+        if self.map_buffer.shape == geometry.shape:
+            return
+        self.map_buffer = OccupancyGridBuffer(geometry.shape, self.params.map_mobile_value)
+        self.last_map_time = None
+        self.get_logger().info(
+            f'map grew to {geometry.cols}x{geometry.rows} cells ({geometry.width:g} m x '
+            f'{geometry.height:g} m), origin ({geometry.origin[0]:.2f}, '
+            f'{geometry.origin[1]:.2f}); {navigator.map_growths} growth(s)')
+        self.publish_status()
 
     def publish_map(self, stamp):
         """Publish the labelled grid as an ``OccupancyGrid``."""
@@ -480,6 +510,9 @@ class DpnNode(ManagedNavigator, LifecycleNode):
             'rejected_goals': self.rejected['goal'],
             'rejected_clock': self.rejected['clock'],
             'scan_frame_mismatches': self.scan_frame_mismatches,
+            # The map grew (map_growth_step), or a growth it needed was refused.
+            'map_growths': self.navigator.map_growths,
+            'map_growth_refusals': self.navigator.map_growth_refusals,
             # Parameters given at start that the node does not declare (warned about once).
             'unknown_parameters': len(self.unknown_parameters),
             # Where scans are placed from: 'tf' or 'odom' ('' before the first).

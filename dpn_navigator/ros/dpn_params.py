@@ -7,9 +7,9 @@ node's own (`DpnParameters`, ``safety_params.SafetyParameters``). `PARAMETERS` l
 parameters in order, each with where its value goes; the node declares them from it, and
 ``config/dpn.yaml`` and the table of ``docs/ros_reference.md`` are written from it
 (``tools/parameter_files.py``; a test fails when either differs). The defaults are the Husky
-on back_and_forth, task 0: the core's, but for the map size, the laser mount and the goal.
-The node turns the values into the core's frozen ``NavigatorConfig`` and never passes itself
-into the core. Number parameters take integers too (``-p map_width:=25``).
+on back_and_forth, task 0: the core's, but for the map size, its growth, the laser mount and
+the goal. The node turns the values into the core's frozen ``NavigatorConfig`` and never passes
+itself into the core. Number parameters take integers too (``-p map_width:=25``).
 
 """
 
@@ -186,6 +186,9 @@ PARAMETERS = (
     *_navigator('stale_obstacle_age', 'path_trust_time', 'route_block_distance',
                 'route_switch_margin', 'mobile_wait_time', 'unknown_cell_cost',
                 'forgotten_obstacle_cost'),
+    # The map grows in blocks of 5 m (the core's default, 0, keeps it fixed as the paper).
+    _field('navigator', 'map_growth_step', default=5.0),
+    *_navigator('map_growth_margin', 'map_memory_limit'),
     _field('node', 'autostart'),
     _field('node', 'use_default_goal'),
     _part('goal_x', 2.0, 'm', 'goal x in the map frame (back_and_forth, task 0), used only with '
