@@ -105,6 +105,8 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         warm_up_map_values()
         compile_seconds = time.perf_counter() - started
         self.navigator = Navigator(self.params.navigator)
+        # The map as configured (or placed around the start pose), before any growth.
+        self.map_config = self.params.navigator
         self.map_buffer = OccupancyGridBuffer(self.navigator.grid.geometry.shape,
                                               self.params.map_mobile_value)
         self.map_changes = self.navigator.grid.change_tracker()
@@ -230,7 +232,8 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         config = self.params.navigator
         origin = (pose[0] - 0.5 * config.width, pose[1] - 0.5 * config.height)
         goal = self.navigator.goal
-        self.clear_map(replace(config, origin=origin))
+        self.map_config = replace(config, origin=origin)
+        self.clear_map(self.map_config)
         self.map_placed = True
         self.get_logger().info(f'map placed around the start pose: origin ({origin[0]:.2f}, '
                                f'{origin[1]:.2f}), {config.width} m x {config.height} m')
@@ -245,8 +248,8 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         self.publish_status()
 
     def clear_map(self, config=None):
-        """Start again with an empty map and no goal (lifecycle cleanup), or another map."""
-        self.navigator = Navigator(config or self.navigator.config)
+        """Start again with an empty map (as configured) and no goal, or another map."""
+        self.navigator = Navigator(config or self.map_config)
         self.map_buffer = OccupancyGridBuffer(self.navigator.grid.geometry.shape,
                                               self.params.map_mobile_value)
         self.map_changes = self.navigator.grid.change_tracker()
@@ -264,7 +267,8 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         mounted otherwise, or ``map -> odom`` not the identity, their walls are misplaced.
         """
         goal = self.navigator.goal
-        self.navigator = Navigator(self.navigator.config)
+        # As configured: the growth those scans asked for is dropped with them.
+        self.navigator = Navigator(self.map_config)
         self.map_buffer = OccupancyGridBuffer(self.navigator.grid.geometry.shape,
                                               self.params.map_mobile_value)
         self.map_changes = self.navigator.grid.change_tracker()
