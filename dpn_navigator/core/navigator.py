@@ -22,7 +22,7 @@ from .cell_label import blocked_mask
 from .control.path_follower import follow_path, FollowerConfig, STOP, VelocityCommand
 from .control.turn_sweep import TurnSweep
 from .mapping.label_grid import LabelGrid, LabelRule, warm_up_label_update
-from .mapping.map_growth import growth_to_cover, scan_hit_box
+from .mapping.map_growth import growth_to_cover, MAX_MAP_CELLS, scan_hit_box, scan_reach
 from .mapping.stale_obstacles import ObstacleConfirmations
 from .mapping.surface_memory import MAX_CELLS as MAX_SURFACE_CELLS
 from .planning.astar_search import warm_up_astar
@@ -522,20 +522,25 @@ class Navigator:
         margin = self.config.map_growth_margin
         x_min, x_max = pose[0] - margin, pose[0] + margin
         y_min, y_max = pose[1] - margin, pose[1] + margin
+        geometry = self.grid.geometry
+        x0, y0 = geometry.origin
+        x1 = x0 + geometry.cols * geometry.resolution
+        y1 = y0 + geometry.rows * geometry.resolution
         try:
-            hits = scan_hit_box(laser_pose, ranges, angle_min, angle_increment, range_min,
-                                range_max)
+            reach = scan_reach(ranges, range_min, range_max)
+            # The hits lie within ``reach`` of the laser: their box only when that may cross.
+            hits = (None if (laser_pose[0] - reach >= x0 and laser_pose[0] + reach < x1
+                             and laser_pose[1] - reach >= y0 and laser_pose[1] + reach < y1)
+                    else scan_hit_box(laser_pose, ranges, angle_min, angle_increment,
+                                      range_min, range_max))
         except (TypeError, ValueError):
             hits = None
-        if hits is not None:
-            geometry = self.grid.geometry
-            x0, y0 = geometry.origin
-            x1 = x0 + geometry.cols * geometry.resolution
-            y1 = y0 + geometry.rows * geometry.resolution
-            if hits[0] < x0 or hits[1] >= x1 or hits[2] < y0 or hits[3] >= y1:
-                x_min, x_max = min(x_min, hits[0] - margin), max(x_max, hits[1] + margin)
-                y_min, y_max = min(y_min, hits[2] - margin), max(y_max, hits[3] + margin)
-        self.cover(x_min, x_max, y_min, y_max)
+        if hits is not None and (hits[0] < x0 or hits[1] >= x1 or hits[2] < y0
+                                 or hits[3] >= y1):
+            x_min, x_max = min(x_min, hits[0] - margin), max(x_max, hits[1] + margin)
+            y_min, y_max = min(y_min, hits[2] - margin), max(y_max, hits[3] + margin)
+        if x_min < x0 or x_max > x1 or y_min < y0 or y_max > y1:
+            self.cover(x_min, x_max, y_min, y_max)
 
     def cover(self, x_min, x_max, y_min, y_max):
         """
@@ -586,6 +591,9 @@ class Navigator:
             return (f'growing the map to {new.cols} x {new.rows} cells ({new.width:g} m x '
                     f'{new.height:g} m) would take {need / 1e6:.0f} MB, more than '
                     f'map_memory_limit {limit:g} MB')
+        if new.rows * new.cols > MAX_MAP_CELLS:
+            return (f'growing the map to {new.cols} x {new.rows} cells ({new.width:g} m x '
+                    f'{new.height:g} m) would pass {MAX_MAP_CELLS:,} cells')
         surfaces = getattr(self.grid, 'surface_memory', None)
         if surfaces is not None and max(surfaces.cells_for(new)) > MAX_SURFACE_CELLS:
             return (f'the surface memory would have more than {MAX_SURFACE_CELLS} places a side '

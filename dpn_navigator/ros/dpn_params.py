@@ -20,11 +20,13 @@ from .parameter_declaration import declare_setting
 from .safety_params import SafetyParameters
 from ..core import FollowerConfig, GridGeometry, NavigatorConfig
 from ..core.cell_label import OCCUPANCY_MOBILE_OBSTACLE
+from ..core.mapping.map_growth import MAX_MAP_CELLS
 from ..core.settings import Setting, setting, settings_of
 
 #: Most grid cells a node may ask for (2048 x 2048): the grid and A*'s arrays stay in memory and
-#: one plan in seconds. More is a parameter error, not a MemoryError in numpy.
-MAX_GRID_CELLS = 2048 * 2048
+#: one plan in seconds. More is a parameter error, not a MemoryError in numpy; a map that grows
+#: stops there too.
+MAX_GRID_CELLS = MAX_MAP_CELLS
 #: Largest fine free-evidence grid (2 bytes a cell: 134 MB; 819 m x 819 m at 0.1 m).
 MAX_FINE_GRID_CELLS = 8192 * 8192
 

@@ -152,3 +152,15 @@ def test_a_goal_3_m_behind_a_robot_at_the_corner_of_its_map_is_reached():
         pose[1] += out.command.linear * math.sin(pose[2]) * dt
     assert out.status is NavigatorStatus.GOAL_REACHED, (navigator.status, navigator.reason, pose)
     assert math.hypot(pose[0] + 3.0, pose[1]) <= navigator.config.follower.goal_tolerance
+
+
+def test_a_map_grows_no_further_than_its_cell_limit():
+    # Without the memories (the paper's rule) the arrays are small; the cell limit still holds.
+    navigator = Navigator(NavigatorConfig(
+        width=10.0, height=8.0, resolution=0.05, map_growth_step=200.0, map_memory_limit=1e6,
+        free_evidence_radius=0.0, moving_object_size=0.0, fine_evidence_resolution=0.0,
+        fine_evidence_radius=0.0, surface_time=0.0, object_memory=0.0, track_confirm_time=0.0,
+        track_still_distance=0.0, trail_distance=0.0))
+    with pytest.raises(ValueError, match='would pass 4,194,304 cells'):
+        navigator.set_goal(-3.0, 1.0)
+    assert navigator.map_growth_refusals == 1 and navigator.map_growths == 0

@@ -13,12 +13,16 @@ memories, the navigator's masks and memories) call them in their ``grow``.
 """
 
 from dataclasses import dataclass
+import functools
 import math
 
 import numpy as np
 
 from ..grid_geometry import GridGeometry
 
+#: Most cells a map may grow to (2048 x 2048, the ``dpn`` node's limit at start): A*'s arrays
+#: stay in memory and one plan takes seconds at most.
+MAX_MAP_CELLS = 2048 * 2048
 #: A sub-grid's offset must be this close to a whole number of its cells to be kept.
 WHOLE_CELL_TOLERANCE = 1e-6
 
@@ -235,15 +239,52 @@ def scan_hit_box(laser_pose, ranges, angle_min, angle_increment, range_min, rang
     Returns
     -------
     (float, float, float, float) or None
-        None when no beam hit (or the fields do not make finite points).
+        None when no beam hit (or the fields do not make finite points). The box holds the
+        laser's position too.
 
     """
     ranges = np.asarray(ranges, dtype=np.float64).ravel()
     valid = (ranges >= range_min) & (ranges < range_max)
     if not valid.any():
         return None
-    theta = laser_pose[2] + angle_min + np.flatnonzero(valid) * angle_increment
-    x = laser_pose[0] + ranges[valid] * np.cos(theta)
-    y = laser_pose[1] + ranges[valid] * np.sin(theta)
-    box = (float(x.min()), float(x.max()), float(y.min()), float(y.max()))
+    cos_a, sin_a = beam_directions(ranges.shape[0], float(angle_min), float(angle_increment))
+    # An invalid beam reaches 0 m: its point is the laser's, which the box may hold.
+    reach = np.where(valid, ranges, 0.0)
+    cos_y, sin_y = math.cos(laser_pose[2]), math.sin(laser_pose[2])
+    along = reach * cos_a
+    across = reach * sin_a
+    x = cos_y * along - sin_y * across
+    y = sin_y * along + cos_y * across
+    box = (laser_pose[0] + float(x.min()), laser_pose[0] + float(x.max()),
+           laser_pose[1] + float(y.min()), laser_pose[1] + float(y.max()))
     return box if all(math.isfinite(v) for v in box) else None
+
+
+def scan_reach(ranges, range_min, range_max):
+    """
+    Return the longest valid range of a scan [m] (0 when none): its hits lie within it.
+
+    Parameters
+    ----------
+    ranges : (L,) array_like of float
+        Ranges [m].
+    range_min, range_max : float
+        The valid interval ``[range_min, range_max)`` [m].
+
+    Returns
+    -------
+    float
+
+    """
+    ranges = np.asarray(ranges, dtype=np.float64)
+    valid = (ranges >= range_min) & (ranges < range_max)
+    return float(np.max(ranges, where=valid, initial=0.0))
+
+
+@functools.lru_cache(maxsize=4)
+def beam_directions(beams, angle_min, angle_increment):
+    """Return the cosines and sines of a layout's beam angles in the laser frame (cached)."""
+    angles = angle_min + np.arange(beams) * angle_increment
+    cos_a, sin_a = np.cos(angles), np.sin(angles)
+    cos_a.flags.writeable = sin_a.flags.writeable = False
+    return cos_a, sin_a
