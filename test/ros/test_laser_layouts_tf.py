@@ -42,7 +42,7 @@ MOUNT_XYZ = (0.15, -0.05, 0.3)               # the laser on the base [m]
 
 
 def cast(origin_xy, directions):
-    """Return exact ranges [m] from ``origin_xy`` along ``directions`` [rad] to the room's walls."""
+    """Return exact ranges [m] from ``origin_xy`` along ``directions`` [rad] to the walls."""
     x, y = origin_xy
     dx, dy = np.cos(directions), np.sin(directions)
     low, high = WALL, ROOM - WALL
