@@ -18,6 +18,11 @@ from sensor_msgs.msg import LaserScan
 POSE = (2.0, 6.0, 0.0)
 
 
+#: A robot whose driver publishes odometry and scans but no TF: scans are placed from
+#: odometry at once (under ``pose_source: auto`` the first second would wait for TF).
+BARE_ROBOT = Parameter('pose_source', value='odom')
+
+
 def room_navigator(context, use_sim_time=True, *more_overrides):
     """
     Return a ``DpnNode`` for the 12 m x 12 m room with its goal at (10, 6) m.
@@ -27,7 +32,8 @@ def room_navigator(context, use_sim_time=True, *more_overrides):
 
     """
     from dpn_navigator.ros.dpn_node import DpnNode
-    overrides = [Parameter('map_width', value=12.0), Parameter('map_height', value=12.0),
+    overrides = [BARE_ROBOT,
+                 Parameter('map_width', value=12.0), Parameter('map_height', value=12.0),
                  Parameter('use_default_goal', value=True),
                  Parameter('goal_x', value=10.0), Parameter('goal_y', value=6.0),
                  Parameter('laser_x', value=0.0),

@@ -70,6 +70,30 @@ class PoseHistory:
         while self._poses and self._poses[0][0] < stamp - self.span:
             self._poses.popleft()
 
+    def sample_step(self, stamp):
+        """
+        Return how far apart the two kept poses around ``stamp`` [s] lie (as `pose_at` uses).
+
+        Returns
+        -------
+        (float, float, float) or None
+            ``(duration [s], distance [m], turn [rad])`` between them; zeros when a kept pose
+            lies at ``stamp``; None outside the kept poses (no interpolation there).
+
+        """
+        stamp = float(stamp)
+        if not self._poses or not self._poses[0][0] <= stamp <= self._poses[-1][0]:
+            return None
+        after_stamp, after = self._poses[-1]
+        for before_stamp, before in reversed(self._poses):
+            if before_stamp <= stamp:
+                break
+            after_stamp, after = before_stamp, before
+        if before_stamp == stamp:
+            return 0.0, 0.0, 0.0
+        return (after_stamp - before_stamp, math.dist(before[:2], after[:2]),
+                abs(wrap_angle(after[2] - before[2])))
+
     def pose_at(self, stamp):
         """
         Return the pose at ``stamp`` [s], interpolated between the two kept poses around it.

@@ -130,7 +130,9 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         self.tf = (make_tf_lookup(self) if self.params.pose_source != 'odom' else None)
         self.placer = ScanPlacer(self.params.pose_source, self.params.map_frame,
                                  self.params.base_frame, self.tf, self.pose_history,
-                                 self.params.max_laser_tilt, on_source=self.on_pose_source)
+                                 self.params.max_laser_tilt, on_source=self.on_pose_source,
+                                 auto_wait=self.params.pose_source_wait,
+                                 max_gap=self.params.max_pose_gap)
         self.velocity = (0.0, 0.0)
         self.last_map_time = None
         self.markers = NavigatorMarkers(self.params.map_frame, self.params.marker_min_period)
@@ -525,6 +527,7 @@ class DpnNode(ManagedNavigator, LifecycleNode):
             # transform_timeout (or older than the kept odometry, or from a tilted laser).
             'scans_waited_for_pose': self.scans_waited,
             'scans_skipped_no_pose': self.scans_skipped,
+            'scans_skipped_pose_gap': self.placer.gap_skips,
             'rejected_transforms': 0 if self.tf is None else self.tf.rejected,
             'sensors_stale': self.stale,
             'active': self.active,

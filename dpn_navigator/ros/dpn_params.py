@@ -80,9 +80,20 @@ class DpnParameters:
         "scan's stamp, the full 3-D mount), `odom` (the odometry pose taken as the map pose, "
         'the laser at `laser_x`/`_y`/`_yaw`), `auto` (`tf` once TF links `map_frame` to the '
         'scan frame, `odom` until then)')
+    pose_source_wait: float = setting(
+        1.0, 's', 'with `pose_source: auto`, how long (by scan stamps, from the first scan) '
+        'scans wait for TF before odometry and the `laser_*` mount are used; a scan of that '
+        'wait is dropped and counted if TF does not come within `transform_timeout`', 0.0,
+        60.0)
     transform_timeout: float = setting(
         0.2, 's', "longest wait (steady clock) for a scan's transform or bracketing odometry; "
         'then the scan is dropped and counted', 0.0, 10.0)
+    max_pose_gap: float = setting(
+        0.15, 's', "longest time between the two samples of the robot's motion (TF "
+        '`base_frame` in its parent, or two odometry messages) a scan\'s pose is interpolated '
+        'across while the robot moves; a scan beyond it is dropped and counted (lost messages '
+        'under load; a turn that starts inside the gap misplaces far hits); 0: no limit; not '
+        'checked with tf2_ros', 0.0, 10.0)
     max_laser_tilt: float = setting(
         0.05, 'rad', 'largest tilt of the laser (from TF) from level or upside down; a more '
         'tilted scan is dropped and counted', 0.0, 0.5)
@@ -218,8 +229,9 @@ PARAMETERS = (
     *(_field('node', name) for name in ('map_publish_period', 'map_updates',
                                         'marker_min_period', 'map_frame', 'laser_frame',
                                         'base_frame', 'odom_frame', 'pose_source',
-                                        'transform_timeout', 'max_laser_tilt',
-                                        'cmd_vel_stamped', 'map_mobile_value')),
+                                        'pose_source_wait', 'transform_timeout',
+                                        'max_pose_gap', 'max_laser_tilt', 'cmd_vel_stamped',
+                                        'map_mobile_value')),
 )
 
 

@@ -9,9 +9,17 @@ out of whatever runs (an import, ``rclpy.init``, the node's constructor and warm
 ``spin.run_node`` and ``node_entry`` catch; once the node spins, it only sets the flag that the
 spin loop reads between callbacks. Every later stop signal is ignored.
 
+A handler's exception can surface where Python cannot propagate it: in a ``__del__`` or in a C
+library's callback into Python (numba's LLVM object cache, while the kernels load). Python then
+prints "Exception ignored in ..." with a traceback and goes on. While starting, a
+``sys.unraisablehook`` drops exactly those `StartupInterrupted` reports (any other goes to the
+previous hook); the flag stays set, so the start-up ends at its next check and the process
+stops cleanly all the same.
+
 """
 
 import signal
+import sys
 
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
@@ -45,8 +53,19 @@ class StopRequest:
     def __init__(self, starting=False):
         self.signal_name = None
         self.starting = starting
+        self.unraisable_dropped = 0
+        self._previous_unraisablehook = sys.unraisablehook
+        if starting:
+            sys.unraisablehook = self._on_unraisable
         for signum in STOP_SIGNALS:
             signal.signal(signum, self._on_signal)
+
+    def _on_unraisable(self, report):
+        """Drop the report of a `StartupInterrupted` raised where it could not propagate."""
+        if isinstance(report.exc_value, StartupInterrupted):
+            self.unraisable_dropped += 1
+            return
+        self._previous_unraisablehook(report)
 
     def _on_signal(self, signum, frame):
         if self.signal_name is None:
@@ -63,6 +82,8 @@ class StopRequest:
     def started(self):
         """Leave the start-up: from now on a stop signal only sets the flag."""
         self.starting = False
+        if sys.unraisablehook == self._on_unraisable:
+            sys.unraisablehook = self._previous_unraisablehook
 
     @property
     def requested(self):

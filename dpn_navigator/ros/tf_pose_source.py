@@ -100,6 +100,13 @@ class FallbackTfLookup:
         except TransformError as error:
             raise TransformUnavailable(str(error)) from None
 
+    def sample_step(self, frame, stamp_ns):
+        """Return `TfBuffer.sample_step` of ``frame`` at ``stamp_ns``, None if unknown."""
+        try:
+            return self.buffer.sample_step(frame, stamp_ns)
+        except FrameLookupError:
+            return None
+
     def connected(self, target, source):
         """Return whether the buffer links ``target`` and ``source`` (at any time)."""
         try:
@@ -132,6 +139,10 @@ class Tf2RosLookup:
         tr, rot = msg.transform.translation, msg.transform.rotation
         return _matrix_and_translation(Transform3D((tr.x, tr.y, tr.z),
                                                    (rot.x, rot.y, rot.z, rot.w)))
+
+    def sample_step(self, frame, stamp_ns):
+        """Return None: tf2_ros's buffer does not tell which samples a lookup used."""
+        return None
 
     def connected(self, target, source):
         """Return whether the buffer links ``target`` and ``source`` at their latest time."""

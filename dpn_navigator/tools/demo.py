@@ -96,11 +96,12 @@ def ros_environment(domain_id):
 
 
 def start_nodes(scenario_name, task, wanderers, seed, real_time_factor, domain_id, log_dir,
-                default_goal=True):
+                default_goal=True, dpn_parameters=()):
     """
     Start ``pybullet_world`` and ``dpn`` as processes; return them.
 
     ``default_goal``: the navigator starts with the task's goal (`navigator_arguments`).
+    ``dpn_parameters``: more ``name:=value`` parameters of ``dpn``.
 
     Their output goes to ``log_dir/pybullet_world.log`` and ``log_dir/dpn.log``.
     """
@@ -116,7 +117,8 @@ def start_nodes(scenario_name, task, wanderers, seed, real_time_factor, domain_i
         'pybullet_world': [str(installed_executable('sim_bridge', 'pybullet_world'))]
         + world_args,
         'dpn': [str(installed_executable('dpn_navigator', 'dpn'))]
-        + navigator_arguments(scenario, task, default_goal),
+        + navigator_arguments(scenario, task, default_goal)
+        + [arg for parameter in dpn_parameters for arg in ('-p', parameter)],
     }
     processes = {}
     for name, command in commands.items():

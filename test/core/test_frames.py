@@ -396,3 +396,22 @@ def test_a_slightly_tilted_laser_is_taken_as_planar_and_a_steep_one_refused():
 def test_malformed_scans_are_refused(args, message):
     with pytest.raises(ValueError, match=message):
         planar_laser(Transform3D.identity(), *args)
+
+
+def test_sample_step_tells_how_far_apart_the_samples_around_a_stamp_lie():
+    buffer = TfBuffer()
+    buffer.set_transform('odom', 'base_link', 1_000_000_000, (0.0, 0.0, 0.0),
+                         quaternion_from_rpy(0.0, 0.0, 0.0))
+    buffer.set_transform('odom', 'base_link', 1_400_000_000, (0.3, 0.4, 0.0),
+                         quaternion_from_rpy(0.0, 0.0, 0.5))
+    buffer.set_transform('base_link', 'laser', 0, (0.2, 0.0, 0.1), (0.0, 0.0, 0.0, 1.0),
+                         static=True)
+    duration, distance, turn = buffer.sample_step('base_link', 1_100_000_000)
+    assert duration == pytest.approx(0.4)
+    assert distance == pytest.approx(0.5) and turn == pytest.approx(0.5)
+    assert buffer.sample_step('base_link', 1_400_000_000) == (0.0, 0.0, 0.0)
+    assert buffer.sample_step('base_link', 1_500_000_000) is None      # beyond the samples
+    assert buffer.sample_step('laser', 1_100_000_000) is None          # static
+    assert buffer.sample_step('odom', 1_100_000_000) is None           # a root
+    with pytest.raises(FrameLookupError):
+        buffer.sample_step('wheel', 1_100_000_000)

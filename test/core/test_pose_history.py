@@ -67,3 +67,15 @@ def test_old_poses_are_dropped_and_time_going_back_starts_anew():
 def test_bad_arguments_raise(kwargs, message):
     with pytest.raises(ValueError, match=message):
         PoseHistory(**kwargs)
+
+
+def test_sample_step_is_the_step_a_pose_is_interpolated_across():
+    history = PoseHistory(span=5.0)
+    history.add(1.0, (0.0, 0.0, 3.0))
+    history.add(1.5, (0.3, 0.4, -3.0))
+    duration, distance, turn = history.sample_step(1.2)
+    assert duration == pytest.approx(0.5) and distance == pytest.approx(0.5)
+    assert turn == pytest.approx(2 * math.pi - 6.0)                  # the short arc
+    assert history.sample_step(1.5) == (0.0, 0.0, 0.0)
+    assert history.sample_step(0.9) is None and history.sample_step(1.6) is None
+    assert PoseHistory().sample_step(1.0) is None

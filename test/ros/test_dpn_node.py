@@ -21,6 +21,7 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 from scan_scenes import ANGLE_INCREMENT, ANGLE_MIN, RANGE_MIN, ray_cast
 from sensor_msgs.msg import LaserScan
+from sim_stand_in import BARE_ROBOT
 from visualization_msgs.msg import MarkerArray
 
 REPO = FilePath(__file__).resolve().parents[2]
@@ -67,7 +68,8 @@ class Probe(Node):
 
 @pytest.fixture
 def nodes(ros_context):
-    overrides = [Parameter('map_width', value=12.0), Parameter('map_height', value=12.0),
+    overrides = [BARE_ROBOT,
+                 Parameter('map_width', value=12.0), Parameter('map_height', value=12.0),
                  Parameter('use_default_goal', value=True),
                  Parameter('goal_x', value=10.0), Parameter('goal_y', value=6.0),
                  Parameter('sensor_timeout', value=0.3), Parameter('laser_x', value=0.0)]
@@ -217,7 +219,7 @@ def test_plan_diagnostics_map_load_time_and_frame_checks(nodes):
 
 
 def test_stamped_commands_integer_parameters_and_mobile_value(ros_context):
-    overrides = [Parameter('map_width', value=12), Parameter('map_height', value=12),
+    overrides = [BARE_ROBOT, Parameter('map_width', value=12), Parameter('map_height', value=12),
                  Parameter('use_default_goal', value=True),
                  Parameter('goal_x', value=10), Parameter('goal_y', value=6.0),
                  Parameter('cmd_vel_stamped', value=True),
@@ -247,7 +249,8 @@ def test_stamped_commands_integer_parameters_and_mobile_value(ros_context):
 
 @pytest.mark.parametrize('updates', [True, False])
 def test_between_full_maps_the_changed_cells_go_out_as_updates(ros_context, updates):
-    overrides = [Parameter('map_width', value=12.0), Parameter('map_height', value=12.0),
+    overrides = [BARE_ROBOT,
+                 Parameter('map_width', value=12.0), Parameter('map_height', value=12.0),
                  Parameter('use_default_goal', value=True),
                  Parameter('goal_x', value=10.0), Parameter('goal_y', value=6.0),
                  Parameter('laser_x', value=0.0), Parameter('map_publish_period', value=60.0),
@@ -282,7 +285,8 @@ def test_between_full_maps_the_changed_cells_go_out_as_updates(ros_context, upda
 
 @pytest.mark.parametrize('exclusive', [True, False])
 def test_track_rules_reach_the_navigators_tracks(ros_context, exclusive):
-    overrides = [Parameter('map_width', value=12.0), Parameter('map_height', value=12.0),
+    overrides = [BARE_ROBOT,
+                 Parameter('map_width', value=12.0), Parameter('map_height', value=12.0),
                  Parameter('track_exclusive', value=exclusive),
                  Parameter('track_still_distance', value=0.05),
                  Parameter('object_min_hits', value=4),
@@ -316,7 +320,8 @@ def test_two_namespaced_navigators_do_not_hear_each_other(ros_context):
     pair = [DpnNode(context=ros_context, cli_args=[
         '--ros-args', '-r', f'__ns:=/{ns}', '--params-file', config,
         '-p', 'map_width:=12.0', '-p', 'map_height:=12.0', '-p', 'use_default_goal:=true',
-        '-p', 'goal_x:=10.0', '-p', 'goal_y:=6.0', '-p', 'laser_x:=0.0'])
+        '-p', 'goal_x:=10.0', '-p', 'goal_y:=6.0', '-p', 'laser_x:=0.0',
+        '-p', 'pose_source:=odom'])
         for ns in ('robot1', 'robot2')]
     # The /**/dpn key of the params file still applies in a namespace.
     assert all(n.params.navigator.resolution == 0.5 and n.params.map_frame == 'map'

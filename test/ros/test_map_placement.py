@@ -13,13 +13,14 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 from scan_scenes import ANGLE_INCREMENT, ANGLE_MIN, RANGE_MIN
 from sensor_msgs.msg import LaserScan
+from sim_stand_in import BARE_ROBOT
 
 START = (100.0, 50.0, 0.3)      # far from the map-frame origin [m, m, rad]
 
 
 def test_the_map_is_placed_around_the_first_pose(ros_context):
     dpn = DpnNode(context=ros_context, parameter_overrides=[
-        Parameter('map_width', value=12.0), Parameter('map_height', value=10.0),
+        BARE_ROBOT, Parameter('map_width', value=12.0), Parameter('map_height', value=10.0),
         Parameter('origin_x', value=math.nan), Parameter('origin_y', value=math.nan),
         Parameter('laser_x', value=0.0)])
     assert dpn.params.centre_on_start

@@ -23,6 +23,7 @@ from rclpy.parameter import Parameter
 from rclpy.publisher import Publisher
 from scan_scenes import (ANGLE_INCREMENT, ANGLE_MIN, free_pose, hall, moving_box_world,
                          RANGE_MAX, RANGE_MIN, ray_cast)
+from sim_stand_in import BARE_ROBOT
 
 TIMING_KEYS = {'scan_to_map_ms_median'}
 
@@ -87,7 +88,8 @@ def published(monkeypatch):
 ])
 def test_node_publishes_the_bytes_of_its_numpy_twin(ros_context, published, resolution,
                                                     mobile_value, map_period):
-    overrides = [Parameter('map_width', value=30.0), Parameter('map_height', value=30.0),
+    overrides = [BARE_ROBOT,
+                 Parameter('map_width', value=30.0), Parameter('map_height', value=30.0),
                  Parameter('resolution', value=resolution),
                  Parameter('use_default_goal', value=True),
                  Parameter('goal_x', value=27.0), Parameter('goal_y', value=3.0),

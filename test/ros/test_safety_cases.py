@@ -23,7 +23,7 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rosgraph_msgs.msg import Clock
 from scan_scenes import ANGLE_INCREMENT, ANGLE_MIN, RANGE_MIN
-from sim_stand_in import room_navigator
+from sim_stand_in import BARE_ROBOT, room_navigator
 
 DBL_MAX_ISH = 9e307
 
@@ -145,7 +145,7 @@ def test_another_cmd_vel_publisher_is_warned_about_and_counted(dpn, ros_context)
 
 def test_cmd_vel_monitor_watches_the_namespaced_command_topic(ros_context):
     node = DpnNode(context=ros_context, namespace='robot2',
-                   parameter_overrides=[Parameter('map_width', value=12.0),
+                   parameter_overrides=[BARE_ROBOT, Parameter('map_width', value=12.0),
                                         Parameter('map_height', value=12.0)])
     assert node.cmd_pub.topic_name == '/robot2/cmd_vel'
     rival = Node('rival_navigator', context=ros_context)

@@ -136,6 +136,41 @@ def test_a_stop_signal_during_start_up_ends_the_process_cleanly(ros_domain_id, t
         assert f'{signum}' in text and 'stopping' in text, (signum, delay, text[-2000:])
 
 
+class SignalledInDel:
+    """An object whose ``__del__`` receives the stop signal: Python cannot raise from there."""
+
+    def __del__(self):
+        os.kill(os.getpid(), signal.SIGTERM)
+        time.sleep(0.5)                     # the handler raises here, inside __del__
+
+
+def test_a_stop_signal_where_python_cannot_raise_it_leaves_no_traceback(capfd):
+    # As in numba's LLVM object cache callback while the kernels load (a CI-like run printed
+    # "Exception ignored on calling ctypes callback function" and a traceback).
+    import sys
+    from dpn_navigator.ros.stop_signals import StopRequest
+    saved = {signum: signal.getsignal(signum) for signum in (signal.SIGINT, signal.SIGTERM)}
+    hook = sys.unraisablehook
+    try:
+        stop = StopRequest(starting=True)
+        SignalledInDel()                    # dropped at once: __del__ runs here
+        assert stop.requested and stop.signal_name == 'SIGTERM'
+        assert stop.unraisable_dropped == 1
+        assert 'Exception ignored' not in capfd.readouterr().err
+        # Any other unraisable exception is still reported.
+        seen = []
+        previous, stop._previous_unraisablehook = stop._previous_unraisablehook, seen.append
+        sys.unraisablehook(type('Report', (), {'exc_value': RuntimeError('other')})())
+        assert len(seen) == 1
+        stop._previous_unraisablehook = previous
+        stop.started()
+        assert sys.unraisablehook is hook   # put back once started
+    finally:
+        sys.unraisablehook = hook
+        for signum, handler in saved.items():
+            signal.signal(signum, handler)
+
+
 def test_a_stop_signal_while_starting_raises_out_of_the_start_up_once():
     from dpn_navigator.ros.stop_signals import StartupInterrupted, StopRequest
     saved = {signum: signal.getsignal(signum) for signum in (signal.SIGINT, signal.SIGTERM)}

@@ -146,13 +146,40 @@ def test_the_same_robot_placed_from_odometry_and_parameters_maps_wrong(ros_conte
     assert np.count_nonzero(occupied & ~wall_cells(values.shape)) > 10
 
 
+def test_scans_wait_for_tf_at_start_so_no_map_is_ever_wrong(ros_context):
+    # The node starts before the publisher of the mount; TF comes within pose_source_wait
+    # (1 s by default): the scans before it wait and are dropped, none is placed from odometry
+    # with the laser_* parameters' mount (upright, at 0.337 m), which is wrong here.
+    dpn = DpnNode(context=ros_context, parameter_overrides=[
+        Parameter('map_width', value=12.0), Parameter('map_height', value=12.0)])
+    probe = RobotProbe(ros_context, publish_tf=False)
+    with executor_for(ros_context, dpn, probe) as executor:
+        assert spin_until(executor, lambda: probe.scan_pub.get_subscription_count() > 0
+                          and probe.odom_pub.get_subscription_count() > 0)
+        for _ in range(3):
+            probe.send()
+            spin_until(executor, lambda: False, timeout=0.1)
+        assert spin_until(executor, lambda: dpn.scans_skipped >= 3)
+        probe.start_tf()
+        spin_until(executor, lambda: False, timeout=0.3)   # /tf_static delivered
+        for _ in range(4):
+            probe.send()
+            spin_until(executor, lambda: False, timeout=0.1)
+        assert spin_until(executor, lambda: len(probe.maps) >= 2)
+        spin_until(executor, lambda: False, timeout=0.3)
+        assert dpn.placer.source == 'tf' and dpn.placer.placed_from_odometry == 0
+    walls = wall_cells((24, 24))
+    for grid in probe.maps:
+        assert not np.any((occupancy_grid_values(grid) >= 70) & ~walls)
+
+
 def test_when_tf_comes_late_the_map_of_the_scans_placed_from_odometry_is_dropped(ros_context):
-    # The node starts before the publisher of the mount: its first scans are placed from
-    # odometry with the laser_* parameters' mount (upright, at 0.337 m), which is wrong here.
+    # TF comes after the wait (none here): the first scans are placed from odometry with the
+    # laser_* parameters' mount, which is wrong here; TF's arrival drops what they mapped.
     dpn = DpnNode(context=ros_context, parameter_overrides=[
         Parameter('map_width', value=12.0), Parameter('map_height', value=12.0),
         Parameter('use_default_goal', value=True), Parameter('goal_x', value=6.0),
-        Parameter('goal_y', value=6.0)])
+        Parameter('goal_y', value=6.0), Parameter('pose_source_wait', value=0.0)])
     probe = RobotProbe(ros_context, publish_tf=False)
     with executor_for(ros_context, dpn, probe) as executor:
         assert spin_until(executor, lambda: probe.scan_pub.get_subscription_count() > 0

@@ -35,6 +35,9 @@ replaces the first (tf2 keeps both and returns the newer one at that stamp).
 """
 
 import bisect
+import math
+
+import numpy as np
 
 from .transform3d import Transform3D
 
@@ -281,6 +284,38 @@ class TfBuffer:
         if link is None or link.static:
             return None
         return link.stamps[0], link.stamps[-1]
+
+    def sample_step(self, frame, stamp_ns):
+        """
+        Return how far apart the two samples of ``frame``'s link around ``stamp_ns`` lie.
+
+        A lookup at ``stamp_ns`` interpolates between them; across a long step in which the
+        frame accelerates (a robot starting a turn), the interpolated pose is off.
+
+        Returns
+        -------
+        (float, float, float) or None
+            ``(duration [s], distance [m], turn [rad])`` between the two samples; zeros when a
+            sample lies at ``stamp_ns``; None for a static link, a root, or a stamp outside the
+            kept samples.
+
+        """
+        self._check_frame(frame, 'frame')
+        link = self._links.get(frame)
+        if link is None or link.static:
+            return None
+        stamps = link.stamps
+        stamp = int(stamp_ns)
+        if not stamps[0] <= stamp <= stamps[-1]:
+            return None
+        index = bisect.bisect_left(stamps, stamp)
+        if stamps[index] == stamp:
+            return 0.0, 0.0, 0.0
+        older, newer = link.values[index - 1], link.values[index]
+        step = older.inverse() @ newer
+        w = min(1.0, abs(float(step.rotation[3])))
+        return ((stamps[index] - stamps[index - 1]) * 1e-9,
+                float(np.linalg.norm(step.translation)), 2.0 * math.acos(w))
 
     def clear(self):
         """Forget every transform and frame."""
