@@ -90,7 +90,7 @@ class DpnParameters:
         'then the scan is dropped and counted', 0.0, 10.0)
     max_pose_gap: float = setting(
         0.15, 's', "longest time between the two samples of the robot's motion (TF "
-        '`base_frame` in its parent, or two odometry messages) a scan\'s pose is interpolated '
+        "`base_frame` in its parent, or two odometry messages) a scan's pose is interpolated "
         'across while the robot moves; a scan beyond it is dropped and counted (lost messages '
         'under load; a turn that starts inside the gap misplaces far hits); 0: no limit; not '
         'checked with tf2_ros', 0.0, 10.0)

@@ -44,7 +44,7 @@ def drive_scans(executor, probe, dpn, scans=3):
 def test_the_node_publishes_the_grown_map(ros_context):
     dpn = DpnNode(context=ros_context, parameter_overrides=[
         Parameter('map_width', value=12.0), Parameter('map_height', value=10.0),
-        Parameter('laser_x', value=0.0)])
+        Parameter('laser_x', value=0.0), Parameter('pose_source', value='odom')])
     probe = Node('growth_probe', context=ros_context)
     with executor_for(ros_context, dpn, probe) as executor:
         assert dpn.params.navigator.map_growth_step == 5.0       # on by default in the node
@@ -73,7 +73,8 @@ def test_the_node_publishes_the_grown_map(ros_context):
 def test_the_memory_limit_refuses_growth_logged_and_counted(ros_context, capfd):
     dpn = DpnNode(context=ros_context, parameter_overrides=[
         Parameter('map_width', value=12.0), Parameter('map_height', value=10.0),
-        Parameter('laser_x', value=0.0), Parameter('map_memory_limit', value=1.0),
+        Parameter('laser_x', value=0.0), Parameter('pose_source', value='odom'),
+        Parameter('map_memory_limit', value=1.0),
         Parameter('map_growth_step', value=200.0)])
     probe = Node('growth_probe', context=ros_context)
     with executor_for(ros_context, dpn, probe) as executor:
