@@ -339,8 +339,9 @@ class Navigator:
     commitment : RouteCommitment or None
         The route commitment and the wait (``route_block_distance``); None when off.
     map_growths, map_growth_refusals : int
-        How often the map grew (``map_growth_step``), and how often a growth it needed was
-        refused (``map_memory_limit``, or a map that cannot grow).
+        How often the map grew (``map_growth_step``), and how many distinct growths it needed
+        were refused (``map_memory_limit``, the cell limit, or a map that cannot grow); the
+        same growth asked for again (by every scan of a robot at the edge) counts once.
     map_growth_refusal : str
         Why the last growth was refused ('' before any).
 
@@ -372,6 +373,7 @@ class Navigator:
         self.map_growths = 0
         self.map_growth_refusals = 0
         self.map_growth_refusal = ''
+        self._refused_growth = None             # (geometry, growth) refused last
 
     def _init_not_getting_stuck(self, config):
         """Set up the parts of issue 31 that ``config`` turns on (each None when off)."""
@@ -556,7 +558,8 @@ class Navigator:
         bool
             Whether the map covers the box now; False also when growth is off
             (``map_growth_step`` 0) and it does not, or when the growth was refused
-            (counted in ``map_growth_refusals``, the reason in ``map_growth_refusal``).
+            (counted in ``map_growth_refusals`` once for each growth refused on the same map,
+            the reason in ``map_growth_refusal``).
 
         """
         geometry = self.grid.geometry
@@ -566,8 +569,11 @@ class Navigator:
             return True
         if self.config.map_growth_step == 0.0:
             return False
+        if self._refused_growth == (geometry, growth):
+            return False                        # refused already: counted once
         reason = self._growth_refused(growth)
         if reason:
+            self._refused_growth = (geometry, growth)
             self.map_growth_refusals += 1
             self.map_growth_refusal = reason
             return False

@@ -115,6 +115,12 @@ def test_the_memory_limit_refuses_growth_with_a_reason():
     assert navigator.map_growths == 0
     assert navigator.map_growth_refusals == 1
     assert 'map_memory_limit 1 MB' in navigator.map_growth_refusal
+    # The next scans ask for the same growth: refused, counted once.
+    observe(navigator, (0.5, 0.5, 0.0), (-8.0, 12.0, -6.0, 10.0), 0.1)
+    assert navigator.map_growth_refusals == 1
+    with pytest.raises(ValueError, match='may not grow.*map_memory_limit'):
+        navigator.set_goal(-3.0, 0.5)                   # another growth, refused too
+    assert navigator.map_growth_refusals == 2
     with pytest.raises(ValueError, match='may not grow'):
         navigator.set_goal(-3.0, 0.5)
     assert navigator.map_growth_refusals == 2
