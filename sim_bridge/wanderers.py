@@ -162,6 +162,9 @@ class Wanderers:
         Source of all randomness.
     config : WandererConfig
         Behaviour.
+    robot_radius : float
+        Radius of the circle around the robot's footprint [m] (the Husky's by default), which
+        polite wanderers keep clear of.
 
     Attributes
     ----------
@@ -178,7 +181,9 @@ class Wanderers:
 
     radius = P3AT_RADIUS
 
-    def __init__(self, grid, count, husky_xy, rng, config=WandererConfig()):
+    def __init__(self, grid, count, husky_xy, rng, config=WandererConfig(),
+                 robot_radius=HUSKY_RADIUS):
+        self.robot_radius = float(robot_radius)
         if isinstance(count, bool) or not isinstance(count, int) or count < 0:
             raise ValueError(f'count must be a non-negative integer, got {count!r}')
         self.radius = config.largest_radius
@@ -210,9 +215,9 @@ class Wanderers:
                            for kind, s in zip(self._kinds, self._speeds)]
         # A circle blocks while its centre is ahead by at most `reach` and beside the line of
         # travel by less than `side`: Husky first, then other wanderers [m], per agent.
-        self._husky_reach = [kind.husky_look_ahead + HUSKY_RADIUS + r
+        self._husky_reach = [kind.husky_look_ahead + self.robot_radius + r
                              for kind, r in zip(self._kinds, self.radii)]
-        self._husky_side = [HUSKY_RADIUS + r + 0.1 for r in self.radii]
+        self._husky_side = [self.robot_radius + r + 0.1 for r in self.radii]
         self._paths = [[] for _ in range(count)]
         # Last waypoint reached, a clear cell (where a new path starts if need be).
         self._anchors = [None] * count
@@ -380,7 +385,7 @@ class Wanderers:
         kind = self._kinds[i]
         if (kind.polite and 0.0 < along <= self._husky_reach[i]
                 and abs(rx * uy - ry * ux) < self._husky_side[i]):
-            return hx, hy, HUSKY_RADIUS
+            return hx, hy, self.robot_radius
         radii = self.radii
         r = radii[i]
         look = kind.wanderer_look_ahead
@@ -422,7 +427,7 @@ class Wanderers:
         blocked = self._blocked
         if blocker is not None:
             blocked = blocked.copy()
-            for cx, cy, radius in ((husky_xy[0], husky_xy[1], HUSKY_RADIUS), blocker):
+            for cx, cy, radius in ((husky_xy[0], husky_xy[1], self.robot_radius), blocker):
                 block_disc(blocked, self.grid.geometry, cx, cy, radius + cfg.clearance)
         goal = self._pick_goal(anchor, blocked)
         path = None if goal is None else plan_path(self.grid.geometry, blocked, anchor, goal)
