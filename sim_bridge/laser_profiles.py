@@ -80,6 +80,13 @@ LASER_PROFILES = {profile.name: profile for profile in (
         **_layout(-400, 399, 800), range_min=0.15, range_max=12.0, noise_fraction=0.005,
         far_range=8.0, dropout=0.01, dropout_far=0.1, max_incidence=math.radians(70.0),
         mixed_pixel_probability=0.3), 10.0, 'Slamtec RPLIDAR A2M8'),
+    # ROBOTIS LDS-01 (HLS-LFCD2, the TurtleBot3's laser) at 5 Hz (300 rpm): 360 deg in 1 deg
+    # steps from 0 (its driver's 360 readings, angle_min 0), 0.12-3.5 m; accuracy +-15 mm to
+    # 0.5 m, +-5 % to 3.5 m, taken as two standard deviations (the data sheet gives no sigma).
+    LaserProfile('lds_01', LaserConfig(
+        **_layout(0, 359, 360), range_min=0.12, range_max=3.5, noise_std=0.0075,
+        noise_fraction=0.025, dropout=0.01, max_incidence=math.radians(70.0),
+        mixed_pixel_probability=0.3), 5.0, 'ROBOTIS LDS-01'),
 )}
 
 #: The profiles' names, ``ideal`` first.

@@ -38,6 +38,7 @@ from dpn_navigator.ros.parameter_declaration import (declare_setting,
 from dpn_navigator.ros.qos import COMMAND_QOS, SENSOR_PUBLISHER_QOS
 from dpn_navigator.ros.sim_clock import guard_clock
 from dpn_navigator.ros.spin import run_node
+from dpn_navigator.ros.unknown_parameters import warn_unknown_parameters
 from nav_msgs.msg import Odometry
 from rclpy.node import Node
 from rosgraph_msgs.msg import Clock
@@ -50,7 +51,7 @@ from .robot_frames import FrameNames, RobotFramePublisher
 from .scenario import load_scenario
 from .wanderer_markers import wanderer_markers
 from .world import World, WorldConfig
-from .world_parameters import world_node_settings, WorldNodeParameters
+from .world_parameters import robot_settings, world_node_settings, WorldNodeParameters
 
 WARN_THROTTLE = 2.0     # [s]
 
@@ -65,11 +66,13 @@ class PybulletWorldNode(Node):
                   for name, (default, spec) in world_node_settings().items()}
         params = WorldNodeParameters(**values)
         refuse_undeclared_parameters(self)
+        # Given at start but never declared (a misspelt name): warned about once, counted.
+        self.unknown_parameters = warn_unknown_parameters(self)
         scenario_name, task = params.scenario, params.task
         start = (params.start_x, params.start_y, params.start_yaw)
         wanderers, seed, gui = params.wanderers, params.seed, params.gui
         self.real_time_factor = params.real_time_factor
-        physics_rate, scan_rate = params.physics_rate, params.scan_rate
+        physics_rate = params.physics_rate
         self.cmd_timeout = params.cmd_timeout
         cmd_vel_stamped = params.cmd_vel_stamped
         self.frames = FrameNames(params.map_frame, params.odom_frame, params.base_frame,
@@ -81,15 +84,17 @@ class PybulletWorldNode(Node):
                              f'task {task} does not exist')
         default_start = scenario.tasks[task].start
         start = tuple(default_start[k] if math.isnan(start[k]) else start[k] for k in range(3))
+        robot = robot_settings(params)
+        scan_rate = robot.scan_rate
         laser = laser_config(
-            params.laser_profile, noise_std=params.laser_noise, dropout=params.laser_dropout,
+            robot.laser_profile, noise_std=params.laser_noise, dropout=params.laser_dropout,
             max_incidence=params.laser_max_incidence,
             mixed_pixel_probability=params.laser_mixed_pixel_probability,
-            error_encoding=params.laser_error_encoding,
-            mount=(params.laser_x, params.laser_y, params.laser_yaw), height=params.laser_z,
-            upside_down=params.laser_upside_down)
+            error_encoding=params.laser_error_encoding, mount=robot.laser_mount,
+            height=robot.laser_height, upside_down=params.laser_upside_down)
         config = WorldConfig(physics_rate=physics_rate, scan_rate=scan_rate,
-                             n_wanderers=wanderers, seed=seed, gui=gui, laser=laser)
+                             n_wanderers=wanderers, seed=seed, gui=gui, drive=robot.drive,
+                             body=robot.body, laser=laser)
         self.odometry = DriftingOdometry(
             DriftConfig(params.odom_drift_scale, params.odom_drift_yaw_scale,
                         params.odom_drift_yaw_per_metre, params.odom_noise), start, seed)
@@ -118,7 +123,8 @@ class PybulletWorldNode(Node):
             f'ignored /clock: {error}', throttle_duration_sec=WARN_THROTTLE))
         self.get_logger().info(
             f'{scenario.name}: task {task}, start {start}, goal {self.goal}, '
-            f'{wanderers} wanderers, laser {params.laser_profile}, real-time factor '
+            f'{wanderers} wanderers, robot {params.robot_profile}, laser '
+            f'{robot.laser_profile} at {scan_rate:g} Hz, real-time factor '
             f'{self.real_time_factor}')
 
     def on_cmd_vel(self, msg):
@@ -184,6 +190,7 @@ class PybulletWorldNode(Node):
             'goal_x': f'{self.goal[0]:.3f}',
             'goal_y': f'{self.goal[1]:.3f}',
             'wanderers': len(world.wanderer_positions),
+            'unknown_parameters': len(self.unknown_parameters),
         }
         self.diagnostics.publish(diagnostic_status(
             self.get_fully_qualified_name(), 'sim', DiagnosticStatus.OK,

@@ -24,8 +24,8 @@ import sys
 import pybullet
 import pybullet_data
 
-from .husky import HUSKY_URDF
 from .ray_meshes import box_mesh, urdf_collision_mesh
+from .robot_profiles import ROBOT_PROFILES
 from .walls import build_walls, merge_cells, wall_boxes
 from .wanderers import P3AT_URDF
 
@@ -64,13 +64,15 @@ class Scene:
         The fixed time step [s], set on the engine for completeness.
     gui : bool
         Connect to the pybullet GUI instead of ``DIRECT``.
+    body : robot_profiles.RobotBody or None
+        The robot's body; None: the Husky's.
 
     Attributes
     ----------
     client : int or None
         The physics client id; None once closed.
     husky : int
-        The Husky's body id.
+        The robot's body id (the Husky's URDF, or the box of a profile without one).
     wall_bodies, wanderer_bodies : list of int
         Body ids of the walls' boxes and the wanderers' URDF models (what the Husky meets).
     wall_ray_bodies, wanderer_ray_bodies : list of int
@@ -79,8 +81,9 @@ class Scene:
     """
 
     def __init__(self, scenario, n_wanderers, wall_height, time_step, gui=False,
-                 agent_urdf=P3AT_URDF):
+                 agent_urdf=P3AT_URDF, body=None):
         self._agent_urdf = agent_urdf
+        self._body = ROBOT_PROFILES['husky'].body if body is None else body
         self.client = pybullet.connect(pybullet.GUI if gui else pybullet.DIRECT)
         if self.client < 0:
             raise RuntimeError('cannot connect to pybullet' + (' (GUI)' if gui else ''))
@@ -113,9 +116,7 @@ class Scene:
                            WALL_RAY_GROUP, gui)
             for k in range(0, len(centres), MAX_MESH_BOXES)]
         with _quiet_native_output():
-            self.husky = pybullet.loadURDF(
-                os.path.join(pybullet_data.getDataPath(), HUSKY_URDF),
-                flags=pybullet.URDF_MERGE_FIXED_LINKS, physicsClientId=client)
+            self.husky = self._robot_body(self._body)
             urdfs = self._agent_urdfs(n_wanderers)
             self.wanderer_bodies = [pybullet.loadURDF(str(urdf), physicsClientId=client)
                                     for urdf in urdfs]
@@ -226,6 +227,21 @@ class Scene:
                 wanderers.add(self._wanderer_index[other])
             depth = max(depth, -distance)
         return wall, wanderers, depth
+
+    def _robot_body(self, body):
+        """Load the robot's URDF, or make a box of its footprint standing on the ground."""
+        client = self.client
+        if body.urdf:
+            return pybullet.loadURDF(os.path.join(pybullet_data.getDataPath(), body.urdf),
+                                     flags=pybullet.URDF_MERGE_FIXED_LINKS,
+                                     physicsClientId=client)
+        half = (0.5 * body.length, 0.5 * body.width, 0.5 * body.height)
+        shape = pybullet.createCollisionShape(pybullet.GEOM_BOX, halfExtents=half,
+                                              collisionFramePosition=(0.0, 0.0, half[2]),
+                                              physicsClientId=client)
+        # A mass, so that Bullet reports its contacts with the static walls.
+        return pybullet.createMultiBody(baseMass=1.0, baseCollisionShapeIndex=shape,
+                                        physicsClientId=client)
 
     def _agent_urdfs(self, n_wanderers):
         """Return each wanderer's URDF: ``agent_urdf``, or its items one per wanderer."""

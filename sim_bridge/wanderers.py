@@ -211,6 +211,9 @@ class Wanderers:
         Source of all randomness.
     config : WandererConfig
         Behaviour.
+    robot_radius : float
+        Radius of the circle around the robot's footprint [m] (the Husky's by default), which
+        polite wanderers keep clear of.
 
     Attributes
     ----------
@@ -227,7 +230,9 @@ class Wanderers:
 
     radius = P3AT_RADIUS
 
-    def __init__(self, grid, count, husky_xy, rng, config=WandererConfig()):
+    def __init__(self, grid, count, husky_xy, rng, config=WandererConfig(),
+                 robot_radius=HUSKY_RADIUS):
+        self.robot_radius = float(robot_radius)
         if isinstance(count, bool) or not isinstance(count, int) or count < 0:
             raise ValueError(f'count must be a non-negative integer, got {count!r}')
         self.radius = config.largest_radius
@@ -259,9 +264,9 @@ class Wanderers:
                            for kind, s in zip(self._kinds, self._speeds)]
         # A circle blocks while its centre is ahead by at most `reach` and beside the line of
         # travel by less than `side`: Husky first, then other wanderers [m], per agent.
-        self._husky_reach = [kind.husky_look_ahead + HUSKY_RADIUS + r
+        self._husky_reach = [kind.husky_look_ahead + self.robot_radius + r
                              for kind, r in zip(self._kinds, self.radii)]
-        self._husky_side = [HUSKY_RADIUS + r + 0.1 for r in self.radii]
+        self._husky_side = [self.robot_radius + r + 0.1 for r in self.radii]
         # The Husky's position at the last step, for its velocity (None before the first).
         self._husky_last = None
         self._husky_velocity = (0.0, 0.0)
@@ -412,7 +417,7 @@ class Wanderers:
         if blocker is None and kind.yield_horizon > 0.0 and not self._centring[i]:
             speed = self._yield_speed(i, ux, uy, speed, husky_xy)
             if speed <= 0.0:
-                blocker = husky_xy[0], husky_xy[1], HUSKY_RADIUS
+                blocker = husky_xy[0], husky_xy[1], self.robot_radius
         accel = kind.max_accel
         if blocker is not None:
             self._stopped[i] += dt
@@ -441,7 +446,7 @@ class Wanderers:
         kind = self._kinds[i]
         if (kind.polite and 0.0 < along <= self._husky_reach[i]
                 and abs(rx * uy - ry * ux) < self._husky_side[i]):
-            return hx, hy, HUSKY_RADIUS
+            return hx, hy, self.robot_radius
         radii = self.radii
         r = radii[i]
         look = kind.wanderer_look_ahead
@@ -466,7 +471,7 @@ class Wanderers:
         x, y = self._xy[i]
         px, py = husky_xy[0] - x, husky_xy[1] - y  # the Husky, from the agent
         hvx, hvy = self._husky_velocity
-        reach = self.radii[i] + HUSKY_RADIUS + kind.yield_margin
+        reach = self.radii[i] + self.robot_radius + kind.yield_margin
         tau = kind.yield_horizon
         if math.hypot(px, py) > reach + (math.hypot(hvx, hvy) + speed) * tau:
             return speed  # too far apart to meet within the horizon
@@ -509,7 +514,7 @@ class Wanderers:
         blocked = self._blocked
         if blocker is not None:
             blocked = blocked.copy()
-            for cx, cy, radius in ((husky_xy[0], husky_xy[1], HUSKY_RADIUS), blocker):
+            for cx, cy, radius in ((husky_xy[0], husky_xy[1], self.robot_radius), blocker):
                 block_disc(blocked, self.grid.geometry, cx, cy, radius + cfg.clearance)
             if cfg.yield_horizon > 0.0:
                 # Its own cell stays open: a yielding agent may stand nearer the Husky than

@@ -38,7 +38,7 @@ import numpy as np
 
 from .contacts import ContactLog, robot_caused
 from .free_space import clearance_grid
-from .husky import clamp_command, HUSKY_LENGTH, HUSKY_WIDTH, integrate_pose, ramp
+from .husky import clamp_command, integrate_pose, ramp
 from .laser import Laser
 from .scene import agent_urdf, RAY_MASK, Scene
 from .wanderers import Wanderers
@@ -131,10 +131,12 @@ class World:
         else:
             grid = _checked_wanderer_grid(wanderer_grid, scenario, config.wanderer)
         self._wanderers = Wanderers(grid, config.n_wanderers, (x, y),
-                                    np.random.default_rng(wander_seed), config.wanderer)
+                                    np.random.default_rng(wander_seed), config.wanderer,
+                                    robot_radius=config.body.radius)
         self.scene = Scene(scenario, config.n_wanderers, config.wall_height, self._dt,
                            config.gui, agent_urdf=[agent_urdf(kind) for kind in
-                                                   config.wanderer.kinds(config.n_wanderers)])
+                                                   config.wanderer.kinds(config.n_wanderers)],
+                           body=config.body)
         for i in range(config.n_wanderers):
             self._place_wanderer(i)
         self.scene.place(self.scene.husky, self._pose)
@@ -170,8 +172,8 @@ class World:
 
     @property
     def husky_footprint(self):
-        """Return the Husky's length and width ``(l, w)`` [m]."""
-        return (HUSKY_LENGTH, HUSKY_WIDTH)
+        """Return the robot's length and width ``(l, w)`` [m] (the Husky's by default)."""
+        return (self.config.body.length, self.config.body.width)
 
     @property
     def laser_pose(self):
@@ -297,7 +299,7 @@ class World:
         new = set(touched) - self.contacts.touching_wanderers
         positions = self._wanderers.positions
         approached = {i for i in new if robot_caused(
-            proposed, (lin, ang), HUSKY_LENGTH, HUSKY_WIDTH, positions[i].tolist(),
+            proposed, (lin, ang), *self.husky_footprint, positions[i].tolist(),
             ((positions[i] - before[i]) / dt).tolist())}
         self.contacts.update(self.time, wall, touched, approached)
         if depth > self._depth:

@@ -11,6 +11,7 @@ import math
 
 from .husky import DriveLimits
 from .laser import LaserConfig
+from .robot_profiles import ROBOT_PROFILES, RobotBody
 from .wanderers import WandererConfig
 
 
@@ -32,7 +33,9 @@ class WorldConfig:
     gui : bool
         Open the pybullet GUI instead of running headless (``DIRECT``).
     drive : DriveLimits
-        The Husky's velocity and acceleration limits.
+        The robot's velocity and acceleration limits (the Husky's by default).
+    body : RobotBody
+        The robot's body (the Husky's by default; ``robot_profiles``).
     laser : LaserConfig
         The laser.
     wanderer : WandererConfig
@@ -48,6 +51,7 @@ class WorldConfig:
     seed: int = 0
     gui: bool = False
     drive: DriveLimits = DriveLimits()
+    body: RobotBody = ROBOT_PROFILES['husky'].body
     laser: LaserConfig = LaserConfig()
     wanderer: WandererConfig = WandererConfig()
     wall_height: float = 1.0

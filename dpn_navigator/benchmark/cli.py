@@ -41,7 +41,8 @@ from .report import save_success_figure, summary_markdown
 from .runner import default_workers, run_protocol
 
 #: ``--laser`` choices (``sim_bridge.laser_profiles``), kept here so --help needs no pybullet.
-LASER_PROFILE_NAMES = ('ideal', 'sick_lms1xx', 'hokuyo_utm30lx', 'hokuyo_urg04lx', 'rplidar_a2')
+LASER_PROFILE_NAMES = ('ideal', 'sick_lms1xx', 'hokuyo_utm30lx', 'hokuyo_urg04lx', 'rplidar_a2',
+                       'lds_01')
 
 
 def build_parser():

@@ -11,7 +11,7 @@ of its own, each off with its setting at 0.
 
 """
 
-from dataclasses import dataclass, field, fields, MISSING
+from dataclasses import dataclass, field, fields, MISSING, replace
 import enum
 import math
 import time
@@ -22,7 +22,9 @@ from .cell_label import blocked_mask
 from .control.path_follower import follow_path, FollowerConfig, STOP, VelocityCommand
 from .control.turn_sweep import TurnSweep
 from .mapping.label_grid import LabelGrid, LabelRule, warm_up_label_update
+from .mapping.map_growth import growth_to_cover, MAX_MAP_CELLS, scan_hit_box, scan_reach
 from .mapping.stale_obstacles import ObstacleConfirmations
+from .mapping.surface_memory import MAX_CELLS as MAX_SURFACE_CELLS
 from .planning.astar_search import warm_up_astar
 from .planning.exploration_memory import ExplorationMemory
 from .planning.planning_masks import PlanningMasks, touches_blocked  # noqa: F401 (re-exported)
@@ -239,6 +241,19 @@ class NavigatorConfig:
         20.0, 'cells', 'exploration memory: extra A\\* cost of entering a non-explored cell '
         'once an obstacle (a forgotten wall of an explored dead end), instead of '
         '`unknown_cell_cost`: passable as a last resort; 0: off (the paper)', 0.0, 1000.0)
+    map_growth_step: float = setting(
+        0.0, 'm', 'maps that grow: when the robot comes within `map_growth_margin` of an edge '
+        'of the map, a laser hit falls beyond one, or a goal lies off the map, the map grows on '
+        'that side by whole blocks of this size (rounded up to whole cells; its origin moves by '
+        'whole cells, so every cell keeps its place), up to `map_memory_limit`; 0: the map '
+        'stays as given (the paper)', 0.0, 1000.0)
+    map_growth_margin: float = setting(
+        2.0, 'm', 'maps that grow: the room the robot, and what a scan hits beyond the map, '
+        'are given from the edge when the map grows', 0.0, 100.0)
+    map_memory_limit: float = setting(
+        512.0, 'MB', 'maps that grow: the map grows no further when its per-cell arrays (the '
+        'labels and every memory kept per cell) would take more; the growth is refused, '
+        'counted and logged', 1.0, 1e6)
     follower: FollowerConfig = field(default_factory=FollowerConfig)
 
     def __post_init__(self):
@@ -246,7 +261,8 @@ class NavigatorConfig:
                      'obstacle_proximity_cost', 'forget_obstacles_after', 'turn_sweep_memory',
                      'turn_sweep_margin', 'turn_sweep_spot_distance', 'stale_obstacle_age',
                      'path_trust_time', 'route_block_distance', 'route_switch_margin',
-                     'mobile_wait_time', 'unknown_cell_cost', 'forgotten_obstacle_cost'):
+                     'mobile_wait_time', 'unknown_cell_cost', 'forgotten_obstacle_cost',
+                     'map_growth_step', 'map_growth_margin', 'map_memory_limit'):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0.0):
                 raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
@@ -322,6 +338,12 @@ class Navigator:
         the goal was set (``NavigatorConfig.stale_obstacle_age``).
     commitment : RouteCommitment or None
         The route commitment and the wait (``route_block_distance``); None when off.
+    map_growths, map_growth_refusals : int
+        How often the map grew (``map_growth_step``), and how many distinct growths it needed
+        were refused (``map_memory_limit``, the cell limit, or a map that cannot grow); the
+        same growth asked for again (by every scan of a robot at the edge) counts once.
+    map_growth_refusal : str
+        Why the last growth was refused ('' before any).
 
     """
 
@@ -348,6 +370,10 @@ class Navigator:
             config.turn_sweep_memory, config.robot_length, config.robot_width,
             config.turn_sweep_margin, spot_distance=config.turn_sweep_spot_distance)
         self._init_not_getting_stuck(config)
+        self.map_growths = 0
+        self.map_growth_refusals = 0
+        self.map_growth_refusal = ''
+        self._refused_growth = None             # (geometry, growth) refused last
 
     def _init_not_getting_stuck(self, config):
         """Set up the parts of issue 31 that ``config`` turns on (each None when off)."""
@@ -381,7 +407,12 @@ class Navigator:
         x, y, _ = check_pose((x, y, 0.0), 'goal')      # finite, within MAX_POSE_COORDINATE
         rr, cc = self.grid.geometry.world_to_cell(x, y)
         if not self.grid.geometry.contains_cell(rr, cc):
-            raise ValueError(f'goal ({x:.2f}, {y:.2f}) m is outside the map')
+            margin = self.config.map_growth_margin
+            if self.config.map_growth_step == 0.0:
+                raise ValueError(f'goal ({x:.2f}, {y:.2f}) m is outside the map')
+            if not self.cover(x - margin, x + margin, y - margin, y + margin):
+                raise ValueError(f'goal ({x:.2f}, {y:.2f}) m is outside the map, which may not '
+                                 f'grow to it: {self.map_growth_refusal}')
         self.goal = (x, y)
         self.path = None
         self._path_xy = None
@@ -467,6 +498,9 @@ class Navigator:
         pose = check_pose(pose)
         laser_pose = (compose(pose, self.config.laser_offset) if laser_pose is None
                       else check_pose(laser_pose, 'laser pose'))
+        if self.config.map_growth_step > 0.0:
+            self._grow_for_scan(pose, laser_pose, ranges, angle_min, angle_increment,
+                                range_min, range_max)
         deferring = ({'defer_evidence': True} if defer_evidence and self.grid.defers_evidence
                      else {})
         replan = self.grid.update(laser_pose, ranges, angle_min, angle_increment, range_min,
@@ -478,6 +512,114 @@ class Navigator:
         self._last_scan = (laser_pose, np.array(ranges, dtype=np.float64), angle_min,
                            angle_increment, range_min, range_max, angle_max, stamp)
         self._unswept_pose = pose if self.turn_sweep is not None else None
+
+    def _grow_for_scan(self, pose, laser_pose, ranges, angle_min, angle_increment, range_min,
+                       range_max):
+        """
+        Grow the map when the robot nears an edge or the scan hits beyond one.
+
+        The robot keeps ``map_growth_margin`` from every edge; when a hit falls off the map,
+        every hit keeps that margin too. Fields the update will refuse grow nothing.
+        """
+        margin = self.config.map_growth_margin
+        x_min, x_max = pose[0] - margin, pose[0] + margin
+        y_min, y_max = pose[1] - margin, pose[1] + margin
+        geometry = self.grid.geometry
+        x0, y0 = geometry.origin
+        x1 = x0 + geometry.cols * geometry.resolution
+        y1 = y0 + geometry.rows * geometry.resolution
+        try:
+            reach = scan_reach(ranges, range_min, range_max)
+            # The hits lie within ``reach`` of the laser: their box only when that may cross.
+            hits = (None if (laser_pose[0] - reach >= x0 and laser_pose[0] + reach < x1
+                             and laser_pose[1] - reach >= y0 and laser_pose[1] + reach < y1)
+                    else scan_hit_box(laser_pose, ranges, angle_min, angle_increment,
+                                      range_min, range_max))
+        except (TypeError, ValueError):
+            hits = None
+        if hits is not None and (hits[0] < x0 or hits[1] >= x1 or hits[2] < y0
+                                 or hits[3] >= y1):
+            x_min, x_max = min(x_min, hits[0] - margin), max(x_max, hits[1] + margin)
+            y_min, y_max = min(y_min, hits[2] - margin), max(y_max, hits[3] + margin)
+        if x_min < x0 or x_max > x1 or y_min < y0 or y_max > y1:
+            self.cover(x_min, x_max, y_min, y_max)
+
+    def cover(self, x_min, x_max, y_min, y_max):
+        """
+        Grow the map by whole blocks of ``map_growth_step`` until it covers a map-frame box.
+
+        Parameters
+        ----------
+        x_min, x_max, y_min, y_max : float
+            The box [m], finite.
+
+        Returns
+        -------
+        bool
+            Whether the map covers the box now; False also when growth is off
+            (``map_growth_step`` 0) and it does not, or when the growth was refused
+            (counted in ``map_growth_refusals`` once for each growth refused on the same map,
+            the reason in ``map_growth_refusal``).
+
+        """
+        geometry = self.grid.geometry
+        step = max(1, math.ceil(self.config.map_growth_step / geometry.resolution - 1e-9))
+        growth = growth_to_cover(geometry, x_min, x_max, y_min, y_max, step)
+        if not growth:
+            return True
+        if self.config.map_growth_step == 0.0:
+            return False
+        if self._refused_growth == (geometry, growth):
+            return False                        # refused already: counted once
+        reason = self._growth_refused(growth)
+        if reason:
+            self._refused_growth = (geometry, growth)
+            self.map_growth_refusals += 1
+            self.map_growth_refusal = reason
+            return False
+        self._grow(growth)
+        return True
+
+    def map_nbytes(self):
+        """Return the bytes the per-cell arrays of the map and the planner hold."""
+        parts = (self.grid, self._masks, self._confirmations, self._exploration)
+        return sum(getattr(part, 'nbytes', 0) for part in parts if part is not None)
+
+    def _growth_refused(self, growth):
+        """Return why ``growth`` may not happen, or '' when it may."""
+        if not hasattr(self.grid, 'grow'):
+            return f'a {type(self.grid).__name__} cannot grow'
+        old = self.grid.geometry
+        new = growth.geometry(old)
+        need = self.map_nbytes() * (new.rows * new.cols) / (old.rows * old.cols)
+        limit = self.config.map_memory_limit
+        if need > limit * 1e6:
+            return (f'growing the map to {new.cols} x {new.rows} cells ({new.width:g} m x '
+                    f'{new.height:g} m) would take {need / 1e6:.0f} MB, more than '
+                    f'map_memory_limit {limit:g} MB')
+        if new.rows * new.cols > MAX_MAP_CELLS:
+            return (f'growing the map to {new.cols} x {new.rows} cells ({new.width:g} m x '
+                    f'{new.height:g} m) would pass {MAX_MAP_CELLS:,} cells')
+        surfaces = getattr(self.grid, 'surface_memory', None)
+        if surfaces is not None and max(surfaces.cells_for(new)) > MAX_SURFACE_CELLS:
+            return (f'the surface memory would have more than {MAX_SURFACE_CELLS} places a side '
+                    f'over {new.width:g} m x {new.height:g} m (raise noise_margin)')
+        return ''
+
+    def _grow(self, growth):
+        """Grow the grid and every per-cell array kept here; cells keep their places."""
+        self.grid.grow(growth)
+        geometry = self.grid.geometry
+        self.config = replace(self.config, width=geometry.width, height=geometry.height,
+                              origin=geometry.origin)
+        self._masks.grow(growth)
+        if self._confirmations is not None:
+            self._confirmations.grow(growth, geometry.shape)
+        if self._exploration is not None:
+            self._exploration.grow(growth, geometry.shape)
+        if self.path is not None:
+            self.path = self.path + np.array([growth.below, growth.left], dtype=np.int64)
+        self.map_growths += 1
 
     def _remember_scan(self, stamp):
         """Record the latest update's hits and obstacles (stale cells, exploration memory)."""

@@ -274,6 +274,11 @@ class OccupancyGridBuffer:
         self._grid_values = np.frombuffer(self._data, dtype=np.int8).reshape(self._shape)
         self._map_values = MapValues(self._grid_values, occupancy_values(mobile_value))
 
+    @property
+    def shape(self):
+        """Return the grid's ``(rows, cols)`` the buffer holds."""
+        return self._shape
+
     def refresh(self, labels, rows, cols):
         """
         Rewrite the values of ``labels[rows, cols]``.

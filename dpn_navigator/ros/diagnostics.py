@@ -49,15 +49,22 @@ class DiagnosticsPublisher:
     status_topic : str
         Topic of the latched ``DiagnosticStatus``, relative to the node's namespace.
 
+    Attributes
+    ----------
+    last : diagnostic_msgs.msg.DiagnosticStatus or None
+        The status published last.
+
     """
 
     def __init__(self, node, status_topic='status'):
         self.clock = node.get_clock()
         self.status_pub = node.create_publisher(DiagnosticStatus, status_topic, LATCHED_QOS)
         self.array_pub = node.create_publisher(DiagnosticArray, DIAGNOSTICS_TOPIC, COMMAND_QOS)
+        self.last = None
 
     def publish(self, status):
         """Publish one ``DiagnosticStatus`` on both topics."""
+        self.last = status
         self.status_pub.publish(status)
         array = DiagnosticArray(status=[status])
         array.header.stamp = self.clock.now().to_msg()

@@ -56,6 +56,7 @@ from .sim_clock import guard_clock
 from .spin import run_node
 from .stop_guard import StopGuard
 from .tf_pose_source import make_tf_lookup, stamp_to_nanoseconds
+from .unknown_parameters import warn_unknown_parameters
 from ..core import Navigator, NavigatorStatus
 from ..core.control.acceleration_limit import AccelerationLimiter
 from ..core.mapping.map_values import warm_up_map_values
@@ -96,17 +97,22 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         self.params = declare_parameters(self)
         self.limits = declare_safety_parameters(self)
         refuse_undeclared_parameters(self)
+        # Given at start but never declared (a misspelt name): warned about once, counted.
+        self.unknown_parameters = warn_unknown_parameters(self)
         # Compile (or load) the kernels now, so that the first scan does not wait for them.
         started = time.perf_counter()
         warm_up_navigator()
         warm_up_map_values()
         compile_seconds = time.perf_counter() - started
         self.navigator = Navigator(self.params.navigator)
+        # The map as configured (or placed around the start pose), before any growth.
+        self.map_config = self.params.navigator
         self.map_buffer = OccupancyGridBuffer(self.navigator.grid.geometry.shape,
                                               self.params.map_mobile_value)
         self.map_changes = self.navigator.grid.change_tracker()
         self.rejected = {'scan': 0, 'odometry': 0, 'goal': 0, 'clock': 0}
         self.scan_frame_mismatches = 0
+        self.growth_refusals_logged = 0
         self.map_load_time = None
         self.watchdog = SensorWatchdog(self.params.sensor_timeout, ('scan', 'odometry'))
         self.steady_clock = Clock(clock_type=ClockType.STEADY_TIME)
@@ -214,8 +220,10 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         try:
             self.navigator.set_goal(x, y)
         except ValueError as error:
+            self.follow_map_growth()
             self.reject('goal', error)
             return str(error)
+        self.follow_map_growth()
         self.trail = [] if self.pose is None else [self.pose[:2]]
         self.get_logger().info(f'goal accepted from {via}: ({x:.2f}, {y:.2f})')
         self.publish_status()
@@ -226,7 +234,8 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         config = self.params.navigator
         origin = (pose[0] - 0.5 * config.width, pose[1] - 0.5 * config.height)
         goal = self.navigator.goal
-        self.clear_map(replace(config, origin=origin))
+        self.map_config = replace(config, origin=origin)
+        self.clear_map(self.map_config)
         self.map_placed = True
         self.get_logger().info(f'map placed around the start pose: origin ({origin[0]:.2f}, '
                                f'{origin[1]:.2f}), {config.width} m x {config.height} m')
@@ -241,11 +250,12 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         self.publish_status()
 
     def clear_map(self, config=None):
-        """Start again with an empty map and no goal (lifecycle cleanup), or another map."""
-        self.navigator = Navigator(config or self.navigator.config)
+        """Start again with an empty map (as configured) and no goal, or another map."""
+        self.navigator = Navigator(config or self.map_config)
         self.map_buffer = OccupancyGridBuffer(self.navigator.grid.geometry.shape,
                                               self.params.map_mobile_value)
         self.map_changes = self.navigator.grid.change_tracker()
+        self.growth_refusals_logged = 0
         self.pending_scans.clear()
         self.trail = []
         self.last_map_time = None
@@ -259,10 +269,12 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         mounted otherwise, or ``map -> odom`` not the identity, their walls are misplaced.
         """
         goal = self.navigator.goal
-        self.navigator = Navigator(self.navigator.config)
+        # As configured: the growth those scans asked for is dropped with them.
+        self.navigator = Navigator(self.map_config)
         self.map_buffer = OccupancyGridBuffer(self.navigator.grid.geometry.shape,
                                               self.params.map_mobile_value)
         self.map_changes = self.navigator.grid.change_tracker()
+        self.growth_refusals_logged = 0
         self.trail = []
         self.last_map_time = None
         if goal is not None:
@@ -407,6 +419,7 @@ class DpnNode(ManagedNavigator, LifecycleNode):
             self.reject('scan', error)
             return
         self.stop_guard.heard('scan', now, pending.arrival)
+        self.follow_map_growth()
         stamp = msg.header.stamp
         # The map first: it is ready now, and planning can take longer.
         if (self.last_map_time is None
@@ -430,6 +443,30 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         if self.markers.due(out.replanned, status_changed, now):
             self.publish_markers(stamp, now)
         self.navigator.settle()
+
+    def follow_map_growth(self):
+        """
+        Resize the published map after the navigator's map grew; log refused growths.
+
+        After a growth the next scan publishes a full map (an update cannot resize it).
+        """
+        navigator = self.navigator
+        if navigator.map_growth_refusals > self.growth_refusals_logged:
+            self.growth_refusals_logged = navigator.map_growth_refusals
+            self.get_logger().warning(
+                f'map growth refused ({navigator.map_growth_refusals} so far): '
+                f'{navigator.map_growth_refusal}', throttle_duration_sec=WARN_THROTTLE)
+            self.publish_status()
+        geometry = navigator.grid.geometry
+        if self.map_buffer.shape == geometry.shape:
+            return
+        self.map_buffer = OccupancyGridBuffer(geometry.shape, self.params.map_mobile_value)
+        self.last_map_time = None
+        self.get_logger().info(
+            f'map grew to {geometry.cols}x{geometry.rows} cells ({geometry.width:g} m x '
+            f'{geometry.height:g} m), origin ({geometry.origin[0]:.2f}, '
+            f'{geometry.origin[1]:.2f}); {navigator.map_growths} growth(s)')
+        self.publish_status()
 
     def publish_map(self, stamp):
         """Publish the labelled grid as an ``OccupancyGrid``."""
@@ -479,6 +516,11 @@ class DpnNode(ManagedNavigator, LifecycleNode):
             'rejected_goals': self.rejected['goal'],
             'rejected_clock': self.rejected['clock'],
             'scan_frame_mismatches': self.scan_frame_mismatches,
+            # The map grew (map_growth_step), or a growth it needed was refused.
+            'map_growths': self.navigator.map_growths,
+            'map_growth_refusals': self.navigator.map_growth_refusals,
+            # Parameters given at start that the node does not declare (warned about once).
+            'unknown_parameters': len(self.unknown_parameters),
             # Where scans are placed from: 'tf' or 'odom' ('' before the first).
             'pose_source': self.placer.source or '',
             # Scans that waited for their transform or odometry, and those dropped after

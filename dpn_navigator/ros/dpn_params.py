@@ -7,9 +7,9 @@ node's own (`DpnParameters`, ``safety_params.SafetyParameters``). `PARAMETERS` l
 parameters in order, each with where its value goes; the node declares them from it, and
 ``config/dpn.yaml`` and the table of ``docs/ros_reference.md`` are written from it
 (``tools/parameter_files.py``; a test fails when either differs). The defaults are the Husky
-on back_and_forth, task 0: the core's, but for the map size, the laser mount and the goal.
-The node turns the values into the core's frozen ``NavigatorConfig`` and never passes itself
-into the core. Number parameters take integers too (``-p map_width:=25``).
+on back_and_forth, task 0: the core's, but for the map size, its growth, the laser mount and
+the goal. The node turns the values into the core's frozen ``NavigatorConfig`` and never passes
+itself into the core. Number parameters take integers too (``-p map_width:=25``).
 
 """
 
@@ -20,11 +20,13 @@ from .parameter_declaration import declare_setting
 from .safety_params import SafetyParameters
 from ..core import FollowerConfig, GridGeometry, NavigatorConfig
 from ..core.cell_label import OCCUPANCY_MOBILE_OBSTACLE
+from ..core.mapping.map_growth import MAX_MAP_CELLS
 from ..core.settings import Setting, setting, settings_of
 
 #: Most grid cells a node may ask for (2048 x 2048): the grid and A*'s arrays stay in memory and
-#: one plan in seconds. More is a parameter error, not a MemoryError in numpy.
-MAX_GRID_CELLS = 2048 * 2048
+#: one plan in seconds. More is a parameter error, not a MemoryError in numpy; a map that grows
+#: stops there too.
+MAX_GRID_CELLS = MAX_MAP_CELLS
 #: Largest fine free-evidence grid (2 bytes a cell: 134 MB; 819 m x 819 m at 0.1 m).
 MAX_FINE_GRID_CELLS = 8192 * 8192
 
@@ -88,7 +90,7 @@ class DpnParameters:
         'then the scan is dropped and counted', 0.0, 10.0)
     max_pose_gap: float = setting(
         0.15, 's', "longest time between the two samples of the robot's motion (TF "
-        '`base_frame` in its parent, or two odometry messages) a scan\'s pose is interpolated '
+        "`base_frame` in its parent, or two odometry messages) a scan's pose is interpolated "
         'across while the robot moves; a scan beyond it is dropped and counted (lost messages '
         'under load; a turn that starts inside the gap misplaces far hits); 0: no limit; not '
         'checked with tf2_ros', 0.0, 10.0)
@@ -197,6 +199,9 @@ PARAMETERS = (
     *_navigator('stale_obstacle_age', 'path_trust_time', 'route_block_distance',
                 'route_switch_margin', 'mobile_wait_time', 'unknown_cell_cost',
                 'forgotten_obstacle_cost'),
+    # The map grows in blocks of 5 m (the core's default, 0, keeps it fixed as the paper).
+    _field('navigator', 'map_growth_step', default=5.0),
+    *_navigator('map_growth_margin', 'map_memory_limit'),
     _field('node', 'autostart'),
     _field('node', 'use_default_goal'),
     _part('goal_x', 2.0, 'm', 'goal x in the map frame (back_and_forth, task 0), used only with '

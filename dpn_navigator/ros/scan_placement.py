@@ -216,7 +216,7 @@ class ScanPlacer:
         duration, distance, turn = step
         if duration > self.max_gap and (distance > STEP_DISTANCE or turn > STEP_TURN):
             self.gap_skips += 1
-            raise ScanNotPlaced(f'its pose lies between two samples of the robot\'s motion '
+            raise ScanNotPlaced(f"its pose lies between two samples of the robot's motion "
                                 f'{duration:.3f} s apart (max_pose_gap {self.max_gap:g} s) in '
                                 f'which it moved {distance:.3f} m and turned {turn:.3f} rad')
 

@@ -76,6 +76,8 @@ def navigator_arguments(scenario, task, default_goal=True):
         'origin_x': scenario.origin[0], 'origin_y': scenario.origin[1],
         'goal_x': goal[0], 'goal_y': goal[1],
         'laser_x': LASER_MOUNT[0], 'laser_y': LASER_MOUNT[1], 'laser_yaw': LASER_MOUNT[2],
+        # The map is known, as the paper's robot knows it: it need not grow.
+        'map_growth_step': 0.0,
     }
     args = ['--ros-args', '-p', 'use_sim_time:=true',
             '-p', f'use_default_goal:={str(bool(default_goal)).lower()}']

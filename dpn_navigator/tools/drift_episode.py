@@ -80,7 +80,9 @@ def run_drift_episode(context, scenario='back_and_forth', task=0, wanderers=0, s
                   'origin_x': loaded.origin[0], 'origin_y': loaded.origin[1],
                   'use_default_goal': True, 'goal_x': goal[0], 'goal_y': goal[1],
                   'laser_x': LASER_MOUNT[0], 'laser_y': LASER_MOUNT[1],
-                  'laser_yaw': LASER_MOUNT[2], 'use_sim_time': True, **(dpn_parameters or {})}
+                  'laser_yaw': LASER_MOUNT[2], 'use_sim_time': True,
+                  # The map is known and measured cell by cell against the truth: fixed.
+                  'map_growth_step': 0.0, **(dpn_parameters or {})}
     world = PybulletWorldNode(context=context, parameter_overrides=[
         Parameter(k, value=v) for k, v in world_values.items()])
     dpn = DpnNode(context=context, parameter_overrides=[

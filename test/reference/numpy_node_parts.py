@@ -92,6 +92,9 @@ def eager_observe(self, pose, ranges, angle_min, angle_increment, range_min, ran
     pose = check_pose(pose)
     laser_pose = (compose(pose, self.config.laser_offset) if laser_pose is None
                   else check_pose(laser_pose))
+    if self.config.map_growth_step > 0.0:       # issue 29: the map grows as the node's does
+        self._grow_for_scan(pose, laser_pose, ranges, angle_min, angle_increment, range_min,
+                            range_max)
     replan = self.grid.update(laser_pose, ranges, angle_min, angle_increment, range_min,
                               range_max, self.config.safety_radius, path=self.path,
                               angle_max=angle_max, stamp=stamp)

@@ -94,7 +94,9 @@ def test_node_publishes_the_bytes_of_its_numpy_twin(ros_context, published, reso
                  Parameter('use_default_goal', value=True),
                  Parameter('goal_x', value=27.0), Parameter('goal_y', value=3.0),
                  Parameter('map_publish_period', value=map_period),
-                 Parameter('map_mobile_value', value=mobile_value)]
+                 Parameter('map_mobile_value', value=mobile_value),
+                 # The hall fills the map: a growing map would swap the twin's map buffer.
+                 Parameter('map_growth_step', value=0.0)]
     nodes = [DpnNode(context=ros_context, namespace=name, parameter_overrides=overrides)
              for name in ('fast', 'twin')]
     numpy_node(nodes[1])

@@ -26,7 +26,8 @@ REPO = Path(__file__).resolve().parents[2]
 CONFIGS = {'navigator': NavigatorConfig, 'follower': FollowerConfig, 'node': DpnParameters,
            'safety': SafetyParameters}
 #: ROS defaults that are not the core's: the Husky on back_and_forth.
-SCENARIO_DEFAULTS = {'map_width', 'map_height'}
+# The node's own defaults: the scenario's map size, and a map that grows (the core's is fixed).
+SCENARIO_DEFAULTS = {'map_width', 'map_height', 'map_growth_step'}
 
 
 def test_the_files_are_written_from_the_settings():

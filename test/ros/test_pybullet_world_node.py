@@ -187,3 +187,25 @@ def test_drifting_odometry_a_localiser_and_an_upside_down_laser_in_tf(ros_contex
     _, laser_rotation = probe.frames.lookup('base_link', 'laser', stamp)
     assert laser_rotation == pytest.approx([1.0, 0.0, 0.0, 0.0], abs=1e-9)
     assert probe.frames.static['laser'][0][0] == pytest.approx(0.2)
+
+
+def test_a_turtlebot3_burger_with_its_lds_01(ros_context):
+    node = PybulletWorldNode(context=ros_context, parameter_overrides=[
+        Parameter('wanderers', value=0), Parameter('real_time_factor', value=5.0),
+        Parameter('robot_profile', value='turtlebot3_burger')])
+    probe = Probe(ros_context)
+    velocity = velocity_to_twist(1.0, 0.0)            # more than the Burger can
+    with executor_for(ros_context, node, probe) as executor:
+        spin_for(executor, node, 2.0, publish=lambda: probe.cmd_pub.publish(velocity))
+    # The LDS-01: 360 beams of 1 degree from 0, 0.12-3.5 m, 5 Hz.
+    scan = probe.scans[-1]
+    assert len(scan.ranges) == 360 and scan.angle_min == 0.0
+    assert math.degrees(scan.angle_increment) == pytest.approx(1.0)
+    assert (scan.range_min, scan.range_max) == pytest.approx((0.12, 3.5))
+    assert scan.scan_time == pytest.approx(0.2)
+    assert 8 <= len(probe.scans) <= 12
+    # Mounted as on the Burger's URDF, 0.182 m above the ground.
+    assert probe.frames.static['laser'][0] == pytest.approx((-0.032, 0.0, 0.182))
+    # Commands are clamped to its 0.22 m/s.
+    assert node.world.husky_velocity[0] == pytest.approx(0.22)
+    assert node.world.husky_footprint == (0.138, 0.178)

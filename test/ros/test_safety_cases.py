@@ -192,7 +192,8 @@ def test_fine_evidence_grid_too_large_is_a_parameter_error(ros_context):
 
 def test_node_plans_again_after_sim_time_goes_backwards(dpn):
     dpn._time_source.clock_callback(Clock(clock=Time(sec=500)))
-    dpn.on_odom(odometry((-3.0, 6.0, 0.0)))                   # off the map: no path
+    # Off the map, farther than it may grow (map_memory_limit): no path.
+    dpn.on_odom(odometry((-1e5, 6.0, 0.0)))
     dpn.on_scan(room_scan())
     assert dpn.navigator.status is NavigatorStatus.NO_PATH
     dpn._time_source.clock_callback(Clock(clock=Time(sec=2)))  # the simulator restarted

@@ -293,6 +293,7 @@ DATA_SHEET_LAYOUTS = {
     'hokuyo_utm30lx': (1081, -135.0, 135.0, 0.25, 0.1, 30.0),
     'hokuyo_urg04lx': (682, -340 * 360 / 1024, 341 * 360 / 1024, 360 / 1024, 0.02, 5.6),
     'rplidar_a2': (800, -180.0, 179.55, 0.45, 0.15, 12.0),
+    'lds_01': (360, 0.0, 359.0, 1.0, 0.12, 3.5),
 }
 
 
@@ -306,7 +307,7 @@ def test_profiles_have_their_data_sheet_layout(name):
     assert math.degrees(laser.angle_increment) == pytest.approx(step)
     assert (laser.range_min, laser.range_max) == (near, far)
     assert laser.mount == LASER_MOUNT
-    assert laser.full_turn == (name == 'rplidar_a2')
+    assert laser.full_turn == (name in ('rplidar_a2', 'lds_01'))
 
 
 def test_every_profile_is_tested():

@@ -27,6 +27,7 @@ of a SLAM map hides between them and its next hit looks like motion.
 import numpy as np
 
 from .label_update import surely_free_update
+from .map_growth import embed_at, subgrid_offset
 from .._kernels import fine_evidence as fine_kernels
 from ..grid_geometry import GridGeometry
 
@@ -59,6 +60,25 @@ class FineEvidence:
         self.geometry = GridGeometry(geometry.width, geometry.height, resolution,
                                      origin=tuple(geometry.origin))
         self._seen_free = np.zeros(self.geometry.shape, dtype=bool)
+
+    def grow(self, geometry):
+        """
+        Cover the grown label grid's ``geometry``; fine cells keep their places.
+
+        When the label grid's origin moved by a fraction of a fine cell (its resolution not a
+        whole multiple of the fine one), the fine evidence starts again empty.
+        """
+        new = GridGeometry(geometry.width, geometry.height, self.geometry.resolution,
+                           origin=tuple(geometry.origin))
+        offset = subgrid_offset(self.geometry, new)
+        self._seen_free = (np.zeros(new.shape, dtype=bool) if offset is None
+                           else embed_at(self._seen_free, new.shape, *offset, False))
+        self.geometry = new
+
+    @property
+    def nbytes(self):
+        """Bytes held by the fine grid."""
+        return self._seen_free.nbytes
 
     @property
     def seen_free(self):

@@ -405,6 +405,11 @@ class ChangeTracker:
         """Mark every cell changed."""
         self._box = [0, self._shape[0], 0, self._shape[1]]
 
+    def resize(self, shape):
+        """Follow the grid to a new ``shape`` (it grew): every cell changed."""
+        self._shape = tuple(shape)
+        self.widen_all()
+
     def take(self):
         """
         Return the changed box and start a new one, empty.
@@ -870,6 +875,62 @@ class LabelGrid(PlanningMap):
         self._mobile_cells[:self._mobile_count] = cells
         self._earliest_hit = (float(self.last_hit.ravel()[cells].min()) if cells.shape[0]
                               else math.inf)
+
+    def grow(self, growth):
+        """
+        Add cells on the grid's sides; every cell and what is known of it keeps its place.
+
+        The labels, the free evidence, the hit times, the ghost expiry's list, the trails'
+        cells, the object memory, the fine free evidence and the surface memory move with
+        their cells (a finer grid whose origin would move by a fraction of its cell starts
+        again empty); the added cells are as a new grid's. Every `ChangeTracker` then holds
+        the whole grid.
+
+        Parameters
+        ----------
+        growth : map_growth.GridGrowth
+            The rows and columns added on each side.
+
+        """
+        if not growth:
+            return
+        self.settle()
+        old = self.geometry
+        new = growth.geometry(old)
+        shape = new.shape
+        self.labels = growth.embed(self.labels, shape, CellLabel.NON_EXPLORED)
+        if self.seen_free is not None:
+            self.seen_free = growth.embed(self.seen_free, shape, False)
+        if self.last_hit is not None:
+            self.last_hit = growth.embed(self.last_hit, shape, -math.inf)
+            self._listed = growth.embed(self._listed, shape, False)
+        count = self._mobile_count
+        self._mobile_cells[:count] = growth.remap(self._mobile_cells[:count], old.cols,
+                                                  new.cols)
+        if self.cell_track is not None:
+            self.cell_track = growth.embed(self.cell_track, shape, -1)
+        self._marked = growth.remap(self._marked, old.cols, new.cols)
+        rows, cols, cell_input = self.last_window
+        self.last_window = (*growth.shift_window(rows, cols), cell_input)
+        self.geometry = new
+        if self.object_memory is not None:
+            self.object_memory.grow(growth, new)
+        if self.fine_evidence is not None:
+            self.fine_evidence.grow(new)
+        if self.surface_memory is not None:
+            self.surface_memory.grow(new)
+        for tracker in self._trackers:
+            tracker.resize(shape)
+
+    @property
+    def nbytes(self):
+        """Bytes held by the per-cell arrays (the memories' finer grids too)."""
+        arrays = [self.labels, self.seen_free, self.last_hit, self._listed, self.cell_track]
+        total = sum(array.nbytes for array in arrays if array is not None)
+        for part in (self.object_memory, self.fine_evidence, self.surface_memory):
+            if part is not None:
+                total += part.nbytes
+        return total
 
     def reset(self):
         """Forget everything: every cell back to ``NON_EXPLORED``, no evidence kept."""

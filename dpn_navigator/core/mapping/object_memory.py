@@ -89,6 +89,31 @@ class ObjectMemory:
         self._count = 0
         self.forgotten = 0
 
+    def grow(self, growth, geometry):
+        """
+        Follow the label grid as it grows (``LabelGrid.grow``, after its ``settle``).
+
+        Parameters
+        ----------
+        growth : map_growth.GridGrowth
+            The rows and columns added on each side.
+        geometry : GridGeometry
+            The grown grid's.
+
+        """
+        self.settle()
+        old_cols = self.geometry.cols
+        self.anchored = growth.embed(self.anchored, geometry.shape, False)
+        self._listed = growth.embed(self._listed, geometry.shape, False)
+        self._cells[:self._count] = growth.remap(self._cells[:self._count], old_cols,
+                                                 geometry.cols)
+        self.geometry = geometry
+
+    @property
+    def nbytes(self):
+        """Bytes held by the per-cell arrays."""
+        return self.anchored.nbytes + self._listed.nbytes
+
     @property
     def provisional(self):
         """(N,) ndarray of int64: flat indices of the listed cells (some may be stale)."""

@@ -48,6 +48,16 @@ class ObstacleConfirmations:
         self.dropped = 0
         self._last_stamp = -math.inf
 
+    def grow(self, growth, shape):
+        """Follow the grid as it grows (``map_growth.GridGrowth``) to ``shape``."""
+        self.confirmed = growth.embed(self.confirmed, shape, -math.inf)
+        self.hits = growth.embed(self.hits, shape, 0)
+
+    @property
+    def nbytes(self):
+        """Bytes held by the per-cell arrays."""
+        return self.confirmed.nbytes + self.hits.nbytes
+
     def reset(self):
         """Forget every confirmation (a new goal keeps them: they describe the map)."""
         self.confirmed.fill(-math.inf)

@@ -24,6 +24,7 @@ computes the same floats one hit at a time.
 
 import numpy as np
 
+from .map_growth import embed_at, subgrid_offset
 from .._kernels import surface_memory as surface_kernels
 from ..grid_geometry import GridGeometry
 
@@ -68,6 +69,44 @@ class SurfaceMemory:
         self.hit_time = np.zeros(self.geometry.shape)        # [s], at `stamp`
         self.filled = np.full(self.geometry.shape, -np.inf)  # when last filled [s]
         self._last_scan = None
+
+    def grow(self, geometry):
+        """
+        Cover the grown label grid's ``geometry``; places keep their hit time.
+
+        When the label grid's origin moved by a fraction of a place, the memory starts again
+        empty.
+
+        Raises
+        ------
+        ValueError
+            When the grown memory would exceed ``MAX_CELLS`` a side (``Navigator`` checks
+            first, with `cells_for`).
+
+        """
+        new = GridGeometry(geometry.width, geometry.height, self.geometry.resolution,
+                           origin=tuple(geometry.origin))
+        if max(new.shape) > MAX_CELLS:
+            raise ValueError(f'the surface memory would have {new.rows} x {new.cols} cells '
+                             f'(at most {MAX_CELLS} a side)')
+        offset = subgrid_offset(self.geometry, new)
+        if offset is None:
+            self.hit_time = np.zeros(new.shape)
+            self.filled = np.full(new.shape, -np.inf)
+        else:
+            self.hit_time = embed_at(self.hit_time, new.shape, *offset, 0.0)
+            self.filled = embed_at(self.filled, new.shape, *offset, -np.inf)
+        self.geometry = new
+
+    def cells_for(self, geometry):
+        """Return the ``(rows, cols)`` this memory would have over ``geometry``."""
+        return GridGeometry(geometry.width, geometry.height, self.geometry.resolution,
+                            origin=tuple(geometry.origin)).shape
+
+    @property
+    def nbytes(self):
+        """Bytes held by the per-place arrays."""
+        return self.hit_time.nbytes + self.filled.nbytes
 
     def on_surface(self, hits_x, hits_y, stamp):
         """

@@ -45,6 +45,15 @@ class ExplorationMemory:
         self.unknown_cost = float(unknown_cost)
         self.forgotten_cost = float(forgotten_cost)
 
+    def grow(self, growth, shape):
+        """Follow the grid as it grows (``map_growth.GridGrowth``) to ``shape``."""
+        self.once_blocked = growth.embed(self.once_blocked, shape, False)
+
+    @property
+    def nbytes(self):
+        """Bytes held by the per-cell array."""
+        return self.once_blocked.nbytes
+
     def observe(self, labels, window):
         """
         Record the obstacles of one update's window.

@@ -191,6 +191,23 @@ class PlanningMasks:
         # is proximity_cost when there is one, else 0.
         self._costly = 0
 
+    def grow(self, growth):
+        """
+        Follow the grid as it grew (``map_growth.GridGrowth``): the added cells free, no cost.
+
+        The grid's ``grow`` made this tracker hold the whole grid, so the next `refresh`
+        brings the masks up to date everywhere.
+        """
+        shape = self._grid.geometry.shape
+        self.blocked = growth.embed(self.blocked, shape, False)
+        if self.cost is not None:
+            self.cost = growth.embed(self.cost, shape, 0.0)
+
+    @property
+    def nbytes(self):
+        """Bytes held by the masks."""
+        return self.blocked.nbytes + (0 if self.cost is None else self.cost.nbytes)
+
     def refresh(self):
         """Bring the masks up to date with the grid's labels, inside the changed box only."""
         rows, cols, _ = self._changes.take()
