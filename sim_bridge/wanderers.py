@@ -40,6 +40,7 @@ wanderers' spawn points, speeds, goals and therefore trajectories.
 
 """
 
+from collections import deque
 import copy
 import dataclasses
 from dataclasses import dataclass
@@ -521,6 +522,11 @@ class Wanderers:
                 # the disc (it stops 0.95 m from the Husky's centre at the least) and must be
                 # able to walk away. (P3-ATs keep the rule they were published with.)
                 blocked[anchor] = False
+        if blocker is not None and cfg.yield_horizon > 0.0:
+            # A yielding agent stopped by the Husky turns back rather than wait for a way past
+            # it: its goal is drawn among the cells it can reach around the Husky, so that a
+            # corridor the two meet in is freed.
+            blocked = blocked | ~_reachable(blocked, anchor)
         goal = self._pick_goal(anchor, blocked)
         path = None if goal is None else plan_path(self.grid.geometry, blocked, anchor, goal)
         if blocker is not None or path is None:
@@ -582,3 +588,25 @@ def _keeps_apart(px, py, wx, wy, reach, horizon):
         return True  # moving apart (or not at all): the distance only grows
     t = min(-closing / ww, horizon)
     return math.hypot(px + wx * t, py + wy * t) >= reach
+
+
+def _reachable(blocked, start):
+    """
+    Return the cells 8-connected to ``start`` through unblocked cells, (H, W) bool.
+
+    ``blocked`` is (H, W) bool; ``start`` a cell ``(row, col)`` (reachable even if blocked).
+    """
+    rows, cols = blocked.shape
+    seen = np.zeros_like(blocked, dtype=bool)
+    seen[start] = True
+    queue = deque([start])
+    while queue:
+        r, c = queue.popleft()
+        for dr in (-1, 0, 1):
+            for dc in (-1, 0, 1):
+                nr, nc = r + dr, c + dc
+                if 0 <= nr < rows and 0 <= nc < cols and not seen[nr, nc] \
+                        and not blocked[nr, nc]:
+                    seen[nr, nc] = True
+                    queue.append((nr, nc))
+    return seen

@@ -167,3 +167,25 @@ def test_keeps_apart_matches_sampling_the_horizon(pw, reach, horizon):
         if abs(distance.min() - reach) < 1e-3:
             return
     assert _keeps_apart(px, py, wx, wy, reach, horizon) == expected
+
+
+@pytest.mark.parametrize('seed', range(4))
+def test_a_yielding_pedestrian_turns_back_from_a_husky_blocking_its_corridor(seed):
+    """In a corridor the Husky closes, a stopped pedestrian takes a goal behind it."""
+    outer = ((0.0, 0.0, 0.1, 12.0), (11.9, 0.0, 12.0, 12.0), (0.0, 0.0, 12.0, 0.1),
+             (0.0, 11.9, 12.0, 12.0))
+    scenario = room(walls=outer + ((0.0, 0.0, 12.0, 4.9), (0.0, 7.1, 12.0, 12.0)))
+    grid = clearance_grid(scenario.free, scenario.geometry, PEDESTRIANS.clearance)
+    wanderers = Wanderers(grid, 1, (6.0, 6.0), np.random.default_rng(seed), PEDESTRIANS)
+    wanderers.positions[0] = 2.5, 6.0
+    wanderers.yaws[0] = 0.0
+    wanderers._paths[0] = [(10.0, 6.0)]
+    wanderers._centring[0] = False
+    wanderers._patience[0] = 2.0
+    husky = (6.0, 6.0)                               # standing across the corridor
+    nearest = math.inf
+    for _ in range(500):                             # 10 s
+        wanderers.step(0.02, husky)
+        nearest = min(nearest, math.dist(wanderers.positions[0], husky))
+    assert nearest > 0.3 + HUSKY_RADIUS
+    assert wanderers.positions[0][0] < 4.0           # it walked back west, away from the Husky
