@@ -14,9 +14,25 @@ blocks it, so none is stuck for long.
 **Agent models.** The same walker moves other agents: `WandererConfig` sets their body
 (``body``: the P3-AT's URDF, or an upright cylinder of ``radius``, a pedestrian), their speed
 range, their acceleration (``max_accel``: 0 changes speed at once, as a P3-AT here does) and
-their politeness (``polite``: whether they stop for the Husky ahead; pedestrians of the
-``PEDESTRIANS`` preset do not). `AGENT_MODELS` names the presets (``--agents`` of the
-benchmark).
+their politeness (``polite``: whether they stop for the Husky ahead; pedestrians do not) and
+their reaction to it (``yield_horizon``, below). `AGENT_MODELS` names the presets (``--agents``
+of the benchmark).
+
+**Yielding: a velocity obstacle along the path.** An agent with ``yield_horizon`` ``tau`` > 0
+walks at the largest speed along its path, at most its walking speed, whose velocity lies
+outside the Husky's velocity obstacle truncated at ``tau`` (Fiorini and Shiller 1998, *Motion
+planning in dynamic environments using velocity obstacles*, IJRR 17(7); truncated by a time
+horizon as in ORCA, van den Berg, Guy, Lin and Manocha 2011, *Reciprocal n-body collision
+avoidance*, ISRR): its disc and the Husky's circumscribed disc, ``yield_margin`` apart, do not
+meet within ``tau`` if both keep their velocities (the Husky's from its last two positions).
+The agent takes the whole avoidance on itself, as towards a robot that does not reciprocate,
+but only by its speed (it slows down and stops, it does not step aside: off its path it could
+meet a wall); stopped so, it waits out its patience and plans around the Husky, as a stopped
+P3-AT does. It does not yield where no speed helps (the Husky drives at it while it stands):
+such a contact is the Husky's (``sim_bridge.contacts``). Speeds are searched from the walking
+speed down in ``YIELD_SPEED_STEPS`` even steps to ``yield_slowest`` of it; when none of them
+yields the agent stands (a person stops rather than creeps: a truncated velocity obstacle alone
+lets a walker creep up to a standing obstacle ever slower, never stopping).
 
 Everything here is plain Python + numpy, with no pybullet; the world copies the poses into
 the physics engine. All randomness comes from the generator passed in, so a seed fixes the
@@ -24,7 +40,9 @@ wanderers' spawn points, speeds, goals and therefore trajectories.
 
 """
 
+from collections import deque
 import copy
+import dataclasses
 from dataclasses import dataclass
 import math
 from pathlib import Path
@@ -76,6 +94,15 @@ class WandererConfig:
         leaves avoiding it to the Husky.
     max_accel : float
         Largest change of walking speed [m/s^2]; 0: at once (starts and stops instantly).
+    yield_horizon : float
+        Time horizon of the velocity obstacle an agent keeps out of by slowing down [s]; 0:
+        no yielding (the agent walks at its speed whatever the Husky does).
+    yield_margin : float
+        Gap kept between the agent's circle and the Husky's circumscribed circle when
+        yielding [m].
+    yield_slowest : float
+        Slowest speed a yielding agent walks at, as a share of its walking speed, in (0, 1];
+        when no speed from its walking speed down to this one yields, it stands.
     others : WandererConfig or None
         A second kind of agent in the same crowd: the last ``round(others_share * count)``
         agents behave by it (body, speeds, acceleration, politeness, turning, patience); the
@@ -99,6 +126,9 @@ class WandererConfig:
     radius: float = P3AT_RADIUS
     polite: bool = True
     max_accel: float = 0.0
+    yield_horizon: float = 0.0
+    yield_margin: float = 0.05
+    yield_slowest: float = 0.5
     others: object = None
     others_share: float = 0.0
 
@@ -113,6 +143,12 @@ class WandererConfig:
             raise ValueError(f'radius must lie in [0.05, 2] m, got {self.radius!r}')
         if not (math.isfinite(self.max_accel) and self.max_accel >= 0.0):
             raise ValueError(f'max_accel must be finite and >= 0, got {self.max_accel!r}')
+        if not (math.isfinite(self.yield_horizon) and 0.0 <= self.yield_horizon <= 10.0):
+            raise ValueError(f'yield_horizon must lie in [0, 10] s, got {self.yield_horizon!r}')
+        if not (math.isfinite(self.yield_margin) and 0.0 <= self.yield_margin <= 1.0):
+            raise ValueError(f'yield_margin must lie in [0, 1] m, got {self.yield_margin!r}')
+        if not (math.isfinite(self.yield_slowest) and 0.0 < self.yield_slowest <= 1.0):
+            raise ValueError(f'yield_slowest must lie in (0, 1], got {self.yield_slowest!r}')
         low, high = self.speed_range
         if not (0.0 <= low <= high):
             raise ValueError(f'speed_range must be 0 <= low <= high, got {self.speed_range!r}')
@@ -135,15 +171,29 @@ class WandererConfig:
         return max(self.body_radius, self.others.body_radius)
 
 
-#: People: 0.3 m radius (0.25-0.35 m shoulder half-widths), 0.8-1.4 m/s (adults' walking
-#: speeds), 1 m/s^2, not stopping for the Husky (they pass it, a 0.1 m margin from walls).
-PEDESTRIANS = WandererConfig(speed_range=(0.8, 1.4), max_turn_rate=3.0, clearance=0.4,
-                             husky_look_ahead=0.0, wanderer_look_ahead=0.3, body='cylinder',
-                             radius=0.3, polite=False, max_accel=1.0)
+#: Speeds tried by a yielding agent: its walking speed times k / YIELD_SPEED_STEPS, k from
+#: YIELD_SPEED_STEPS down to 0.
+YIELD_SPEED_STEPS = 10
+
+#: People who ignore the Husky: 0.3 m radius (0.25-0.35 m shoulder half-widths), 0.8-1.4 m/s
+#: (adults' walking speeds), 1 m/s^2, neither stopping for the Husky nor yielding to it (they
+#: walk into it when it stands in their way; a 0.1 m margin from walls).
+PEDESTRIANS_IGNORING = WandererConfig(speed_range=(0.8, 1.4), max_turn_rate=3.0,
+                                      clearance=0.4, husky_look_ahead=0.0,
+                                      wanderer_look_ahead=0.3, body='cylinder', radius=0.3,
+                                      polite=False, max_accel=1.0)
+#: People as above who yield to the Husky by their speed: a velocity obstacle over 1 s with
+#: 0.05 m to spare, walking on at half speed or more, else standing; they do not stop for a
+#: Husky merely ahead, only for one they would meet within the second (chosen, not fitted to
+#: data: a standing Husky in their way stops them 0.95-1.65 m from its centre).
+PEDESTRIANS = dataclasses.replace(PEDESTRIANS_IGNORING, yield_horizon=1.0, yield_margin=0.05,
+                                  yield_slowest=0.5)
 #: P3-ATs and pedestrians, half and half (the P3-ATs' clearance grid for both).
 MIXED = WandererConfig(others=PEDESTRIANS, others_share=0.5)
-#: ``--agents`` presets: the wandering P3-ATs (default), pedestrians, and both.
-AGENT_MODELS = {'p3at': WandererConfig(), 'pedestrians': PEDESTRIANS, 'mixed': MIXED}
+#: ``--agents`` presets: the wandering P3-ATs (default), pedestrians who yield, pedestrians
+#: who ignore the Husky, and P3-ATs with yielding pedestrians.
+AGENT_MODELS = {'p3at': WandererConfig(), 'pedestrians': PEDESTRIANS,
+                'pedestrians-ignoring': PEDESTRIANS_IGNORING, 'mixed': MIXED}
 
 
 class Wanderers:
@@ -218,6 +268,9 @@ class Wanderers:
         self._husky_reach = [kind.husky_look_ahead + self.robot_radius + r
                              for kind, r in zip(self._kinds, self.radii)]
         self._husky_side = [self.robot_radius + r + 0.1 for r in self.radii]
+        # The Husky's position at the last step, for its velocity (None before the first).
+        self._husky_last = None
+        self._husky_velocity = (0.0, 0.0)
         self._paths = [[] for _ in range(count)]
         # Last waypoint reached, a clear cell (where a new path starts if need be).
         self._anchors = [None] * count
@@ -268,6 +321,11 @@ class Wanderers:
 
         """
         moved = []
+        hx, hy = float(husky_xy[0]), float(husky_xy[1])
+        if self._husky_last is not None:
+            self._husky_velocity = ((hx - self._husky_last[0]) / dt,
+                                    (hy - self._husky_last[1]) / dt)
+        self._husky_last = (hx, hy)
         self._xy = self.positions.tolist()
         self._yaw = self.yaws.tolist()
         for i in range(len(self._yaw)):
@@ -356,6 +414,11 @@ class Wanderers:
             return turn != 0.0
         ux, uy = dx / dist, dy / dist
         blocker = None if self._centring[i] else self._blocker(i, ux, uy, husky_xy)
+        speed = self._speeds[i]
+        if blocker is None and kind.yield_horizon > 0.0 and not self._centring[i]:
+            speed = self._yield_speed(i, ux, uy, speed, husky_xy)
+            if speed <= 0.0:
+                blocker = husky_xy[0], husky_xy[1], self.robot_radius
         accel = kind.max_accel
         if blocker is not None:
             self._stopped[i] += dt
@@ -365,7 +428,6 @@ class Wanderers:
                 self._new_goal(i, husky_xy, blocker)
             return turn != 0.0
         self._stopped[i] = 0.0
-        speed = self._speeds[i]
         if accel > 0.0:
             speed = self._speed_now[i] = min(speed, self._speed_now[i] + accel * dt)
         step = min(speed * dt, dist)
@@ -396,6 +458,32 @@ class Wanderers:
                     and j != i):
                 return ox, oy, radii[j]
         return None
+
+    def _yield_speed(self, i, ux, uy, speed, husky_xy):
+        """
+        Return the largest speed along ``(ux, uy)``, at most ``speed``, that yields.
+
+        A speed yields when agent ``i`` moving at it and the Husky at its velocity keep their
+        circles (plus ``yield_margin``) apart for ``yield_horizon`` seconds, or, when they
+        overlap already, do not close in. 0 when none of the speeds tried (down to
+        ``yield_slowest`` of ``speed``) does [m/s].
+        """
+        kind = self._kinds[i]
+        x, y = self._xy[i]
+        px, py = husky_xy[0] - x, husky_xy[1] - y  # the Husky, from the agent
+        hvx, hvy = self._husky_velocity
+        reach = self.radii[i] + self.robot_radius + kind.yield_margin
+        tau = kind.yield_horizon
+        if math.hypot(px, py) > reach + (math.hypot(hvx, hvy) + speed) * tau:
+            return speed  # too far apart to meet within the horizon
+        slowest = kind.yield_slowest * speed - 1e-12
+        for k in range(YIELD_SPEED_STEPS, 0, -1):
+            s = speed * k / YIELD_SPEED_STEPS
+            if s < slowest:
+                break
+            if _keeps_apart(px, py, hvx - s * ux, hvy - s * uy, reach, tau):
+                return s
+        return 0.0
 
     def _reach_waypoint(self, i):
         tx, ty = self._paths[i].pop(0)
@@ -429,6 +517,16 @@ class Wanderers:
             blocked = blocked.copy()
             for cx, cy, radius in ((husky_xy[0], husky_xy[1], self.robot_radius), blocker):
                 block_disc(blocked, self.grid.geometry, cx, cy, radius + cfg.clearance)
+            if cfg.yield_horizon > 0.0:
+                # Its own cell stays open: a yielding agent may stand nearer the Husky than
+                # the disc (it stops 0.95 m from the Husky's centre at the least) and must be
+                # able to walk away. (P3-ATs keep the rule they were published with.)
+                blocked[anchor] = False
+        if blocker is not None and cfg.yield_horizon > 0.0:
+            # A yielding agent stopped by the Husky turns back rather than wait for a way past
+            # it: its goal is drawn among the cells it can reach around the Husky, so that a
+            # corridor the two meet in is freed.
+            blocked = blocked | ~_reachable(blocked, anchor)
         goal = self._pick_goal(anchor, blocked)
         path = None if goal is None else plan_path(self.grid.geometry, blocked, anchor, goal)
         if blocker is not None or path is None:
@@ -473,3 +571,42 @@ class Wanderers:
             return None
         k = int(pool[self.rng.integers(len(pool))])
         return int(rr[k]), int(cc[k])
+
+
+def _keeps_apart(px, py, wx, wy, reach, horizon):
+    """
+    Tell whether ``p + w t`` stays at least ``reach`` from the origin for t in [0, horizon].
+
+    ``p`` is the relative position [m] and ``w`` the relative velocity [m/s]; when
+    ``|p| < reach`` already, whether the two do not close in (``p . w >= 0``).
+    """
+    closing = px * wx + py * wy
+    if px * px + py * py < reach * reach:
+        return closing >= 0.0
+    ww = wx * wx + wy * wy
+    if closing >= 0.0 or ww == 0.0:
+        return True  # moving apart (or not at all): the distance only grows
+    t = min(-closing / ww, horizon)
+    return math.hypot(px + wx * t, py + wy * t) >= reach
+
+
+def _reachable(blocked, start):
+    """
+    Return the cells 8-connected to ``start`` through unblocked cells, (H, W) bool.
+
+    ``blocked`` is (H, W) bool; ``start`` a cell ``(row, col)`` (reachable even if blocked).
+    """
+    rows, cols = blocked.shape
+    seen = np.zeros_like(blocked, dtype=bool)
+    seen[start] = True
+    queue = deque([start])
+    while queue:
+        r, c = queue.popleft()
+        for dr in (-1, 0, 1):
+            for dc in (-1, 0, 1):
+                nr, nc = r + dr, c + dc
+                if 0 <= nr < rows and 0 <= nc < cols and not seen[nr, nc] \
+                        and not blocked[nr, nc]:
+                    seen[nr, nc] = True
+                    queue.append((nr, nc))
+    return seen

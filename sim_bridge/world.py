@@ -36,7 +36,7 @@ import math
 from dpn_navigator.core.pose2d import compose, wrap_angle
 import numpy as np
 
-from .contacts import ContactLog
+from .contacts import ContactLog, robot_caused
 from .free_space import clearance_grid
 from .husky import clamp_command, integrate_pose, ramp
 from .laser import Laser
@@ -144,7 +144,7 @@ class World:
         if wall:
             self.close()
             raise ValueError(f'the Husky collides with a wall at its start pose {self._pose}')
-        self.contacts.update(0.0, wall, touched)
+        self.contacts.update(0.0, wall, touched, approached=())  # the Husky stands at its start
         self._laser = Laser(self.scene.client, config.laser, RAY_MASK,
                             np.random.default_rng(noise_seed))
 
@@ -290,12 +290,18 @@ class World:
         lin = ramp(self._velocity[0], self._command[0], limits.max_linear_accel, dt)
         ang = ramp(self._velocity[1], self._command[1], limits.max_angular_accel, dt)
         proposed = integrate_pose(self._pose, lin, ang, dt)
+        before = self._wanderers.positions.copy()
         self._place_moved_wanderers(self._wanderers.step(dt, self._pose[:2]))
         self.scene.place(self.scene.husky, proposed)
         wall, touched, depth = self.scene.husky_contacts()
         self._tick += 1
         self._scan = None
-        self.contacts.update(self.time, wall, touched)
+        new = set(touched) - self.contacts.touching_wanderers
+        positions = self._wanderers.positions
+        approached = {i for i in new if robot_caused(
+            proposed, (lin, ang), *self.husky_footprint, positions[i].tolist(),
+            ((positions[i] - before[i]) / dt).tolist())}
+        self.contacts.update(self.time, wall, touched, approached)
         if depth > self._depth:
             # Deeper than at the last accepted pose; but a wanderer may have moved into the
             # Husky since, so compare with the penetration where the Husky stands now.

@@ -132,7 +132,10 @@ def add_world_options(parser):
     parser.add_argument('--agents', choices=sorted(AGENT_MODELS), default='p3at',
                         help='the moving agents: p3at, the wandering Pioneer 3-ATs that stop '
                              'for the Husky; pedestrians, people of 0.3 m radius at 0.8-1.4 '
-                             'm/s who do not; mixed, half and half (docs/benchmark.md) '
+                             'm/s who do not stop for it but slow down or stand where they '
+                             'would meet it within 1 s (a velocity obstacle); '
+                             'pedestrians-ignoring, the same people blind to the Husky; mixed, '
+                             'P3-ATs and pedestrians half and half (docs/benchmark.md) '
                              '(default: %(default)s)')
     parser.add_argument('--pose-noise', nargs=2, type=float, metavar=('SIGMA_XY', 'SIGMA_YAW'),
                         help='Gaussian noise on the pose the navigator is given [m, rad], per '

@@ -82,6 +82,10 @@ class EpisodeResult:
         (``NavigatorConfig.forget_obstacles_after``).
     wall_contacts, wanderer_contacts : int
         Contact events of the Husky (``ContactLog``).
+    robot_caused_contacts, agent_caused_contacts : int
+        The wanderer contact events split by who closed the gap (``sim_bridge.contacts``):
+        the Husky moving towards the agent, or the agent walking into a Husky that stood or
+        moved away.
     walls_labelled_mobile : int
         Cells labelled mobile obstacle at the end within a wall's f1 belt (the paper's
         classification errors; see ``map_quality``).
@@ -111,6 +115,8 @@ class EpisodeResult:
     forgets: int
     wall_contacts: int
     wanderer_contacts: int
+    robot_caused_contacts: int
+    agent_caused_contacts: int
     walls_labelled_mobile: int
     ghost_obstacles: int
     detection: object = None
@@ -477,6 +483,8 @@ def run_episode(scenario, task_index, wanderers, seed, navigator_config=None,
         shortest_path=round(shortest, 3), replans=navigator.replans,
         forgets=navigator.forgets,
         wall_contacts=contacts.wall_events, wanderer_contacts=contacts.wanderer_events,
+        robot_caused_contacts=contacts.robot_caused_events,
+        agent_caused_contacts=contacts.agent_caused_events,
         walls_labelled_mobile=walls_mobile, ghost_obstacles=ghosts,
         detection=None if meter is None else meter.result(), metrics=metrics,
         detection_wall_time=None if meter is None else round(detection_time, 3))

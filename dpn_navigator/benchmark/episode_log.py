@@ -32,11 +32,14 @@ Columns (`COLUMNS`), per episode:
   ``personal_space_time``, ``jerk_rms``, ``angular_jerk_rms``, ``still_time``;
 - ``wall_time``: wall-clock seconds the episode took in its worker, and
   ``detection_wall_time``: the part of it spent on the detection measures (the two columns that
-  differ between two runs of the same episode).
+  differ between two runs of the same episode);
+- `CONTACT_KIND_COLUMNS` (version 3): ``robot_caused_contacts`` and ``agent_caused_contacts``,
+  the wanderer contact events split by who closed the gap (``sim_bridge.contacts``).
 
 A log of version 1 (`LEGACY_COLUMNS`: before the metric and the added detection columns,
 success as the navigator reported it) still reads, its new columns None; it is not resumed
-(`EpisodeLog` refuses it: the rules changed).
+(`EpisodeLog` refuses it: the rules changed). A log of version 2 (`VERSION2_COLUMNS`: before
+the contact kinds) reads with those None, and is not resumed either (its rows are shorter).
 
 """
 
@@ -60,9 +63,13 @@ _EPISODE_COLUMNS = ('map', 'number', 'family', 'task', 'wanderers', 'repetition'
                     'success', 'failure', 'time', 'time_limit', 'path_length', 'shortest_path',
                     'replans', 'forgets', 'wall_contacts', 'wanderer_contacts',
                     'walls_labelled_mobile', 'ghost_obstacles')
-#: The log's columns, in file order (version 2).
-COLUMNS = (_EPISODE_COLUMNS + METRIC_COLUMNS + DETECTION_COLUMNS
-           + ('wall_time', 'detection_wall_time'))
+#: The wanderer contacts by who closed the gap (version 3).
+CONTACT_KIND_COLUMNS = ('robot_caused_contacts', 'agent_caused_contacts')
+#: The columns of a version-2 log, which `read_log` still reads.
+VERSION2_COLUMNS = (_EPISODE_COLUMNS + METRIC_COLUMNS + DETECTION_COLUMNS
+                    + ('wall_time', 'detection_wall_time'))
+#: The log's columns, in file order (version 3).
+COLUMNS = VERSION2_COLUMNS + CONTACT_KIND_COLUMNS
 #: The columns of a version-1 log, which `read_log` still reads.
 LEGACY_COLUMNS = (_EPISODE_COLUMNS + _LEGACY_DETECTION_COLUMNS
                   + ('wall_time', 'detection_wall_time'))
@@ -129,8 +136,8 @@ def read_log(path):
     Raises
     ------
     ValueError
-        If the header is neither `COLUMNS` nor `LEGACY_COLUMNS` (a log of another version or
-        another tool) or a complete row does not parse.
+        If the header is not `COLUMNS`, `VERSION2_COLUMNS` or `LEGACY_COLUMNS` (a log of
+        another version or another tool) or a complete row does not parse.
 
     """
     try:
@@ -143,7 +150,7 @@ def read_log(path):
     complete = text[:text.rfind('\n') + 1]
     reader = csv.reader(io.StringIO(complete))
     header = tuple(next(reader, None) or ())
-    if header != COLUMNS and header != LEGACY_COLUMNS:
+    if header not in (COLUMNS, VERSION2_COLUMNS, LEGACY_COLUMNS):
         raise ValueError(f'{os.fspath(path)!r} is not an episode log of this version: its '
                          f'header is {list(header)!r}, expected {list(COLUMNS)}; use another '
                          '--out')
@@ -170,8 +177,13 @@ def read_log(path):
 
 def _is_legacy(path):
     """Tell whether the log at ``path`` has the version-1 header."""
+    return _header(path) == LEGACY_COLUMNS
+
+
+def _header(path):
+    """Return the header of the log at ``path`` (empty for an empty file)."""
     with open(path, newline='', encoding='utf-8') as stream:
-        return tuple(next(csv.reader(stream), ())) == LEGACY_COLUMNS
+        return tuple(next(csv.reader(stream), ()))
 
 
 def _csv_records(reader, path):
@@ -207,6 +219,8 @@ def _parse_row(row, legacy=False):
             row[column] = int(text)
         else:
             row[column] = float(text)
+    for column in CONTACT_KIND_COLUMNS:
+        row[column] = int(row[column]) if row[column] else None
     for column in METRIC_COLUMNS:
         text = row[column]
         if column in _METRIC_TEXT_COLUMNS:
@@ -262,6 +276,10 @@ class EpisodeLog:
                     f'{os.fspath(path)!r} is a version-1 episode log (success as the navigator '
                     'reported it, the time limit from its own speed): it reads, but a run with '
                     'the current rules needs another --out')
+            if _header(path) == VERSION2_COLUMNS:
+                raise ValueError(
+                    f'{os.fspath(path)!r} is a version-2 episode log (before the contacts by '
+                    'who closed the gap): it reads, but a run needs another --out')
             with open(path, 'rb') as stream:
                 data = stream.read()
             keep = data.rfind(b'\n') + 1

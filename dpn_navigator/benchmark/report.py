@@ -34,6 +34,9 @@ class CellStats:
         Mean paths planned per episode.
     wall_contacts, wanderer_contacts : int
         Episodes with at least one contact of each kind.
+    robot_caused_contacts, agent_caused_contacts : int or None
+        Wanderer contact events the Husky caused (it moved towards the agent) and the agents
+        caused (the Husky stood or moved away), summed; None for a log before version 3.
     mean_walls_labelled_mobile, mean_ghost_obstacles : float
         Mean map-quality counts per episode [cells].
 
@@ -48,6 +51,8 @@ class CellStats:
     mean_replans: float
     wall_contacts: int
     wanderer_contacts: int
+    robot_caused_contacts: object
+    agent_caused_contacts: object
     mean_walls_labelled_mobile: float
     mean_ghost_obstacles: float
 
@@ -79,8 +84,23 @@ def cell_stats(rows):
         mean_replans=float(np.mean([row['replans'] for row in rows])),
         wall_contacts=sum(row['wall_contacts'] > 0 for row in rows),
         wanderer_contacts=sum(row['wanderer_contacts'] > 0 for row in rows),
+        robot_caused_contacts=_total(rows, 'robot_caused_contacts'),
+        agent_caused_contacts=_total(rows, 'agent_caused_contacts'),
         mean_walls_labelled_mobile=float(np.mean([row['walls_labelled_mobile'] for row in rows])),
         mean_ghost_obstacles=float(np.mean([row['ghost_obstacles'] for row in rows])))
+
+
+def _total(rows, column):
+    """Return the sum of a count column, or None when a row lacks it (an older log)."""
+    values = [row.get(column) for row in rows]
+    return None if any(value is None for value in values) else sum(values)
+
+
+def _kinds_text(stats):
+    """Return the wanderer contact events as ``robot / agent`` ('-' for an older log)."""
+    if stats.robot_caused_contacts is None or stats.agent_caused_contacts is None:
+        return '-'
+    return f'{stats.robot_caused_contacts} / {stats.agent_caused_contacts}'
 
 
 def map_order(rows):
@@ -140,7 +160,8 @@ def summary_markdown(rows, title='dpn benchmark', navigator='dpn'):
         return '\n'.join(lines + ['No episodes yet.', ''])
     lines += [f'{overall.episodes} episodes on {len(maps)} maps; success '
               f'{100.0 * overall.success_rate:.1f} %, timeouts {overall.timeouts}, no path '
-              f'{overall.no_paths}, collisions {overall.collisions}.', '',
+              f'{overall.no_paths}, collisions {overall.collisions}; wanderer contact events '
+              f'robot-caused / agent-caused {_kinds_text(overall)}.', '',
               '## Success rate [%] per map and number of wandering robots', '',
               '| map | ' + ' | '.join(f'{count}' for count in counts) + ' | all |',
               '|---|' + '---:|' * (len(counts) + 1)]
@@ -159,10 +180,13 @@ def summary_markdown(rows, title='dpn benchmark', navigator='dpn'):
     lines += ['', '## Details per map and number of wandering robots', '',
               'time: mean simulated time of the successful episodes; contacts: episodes with '
               'a wall / wanderer contact; label errors: mean cells per episode of wall cells '
-              'labelled mobile / ghost obstacles at the end.', '',
+              'labelled mobile / ghost obstacles at the end; wanderer events robot / agent: '
+              'contact events with agents that the Husky caused (it moved towards the agent) '
+              '/ that the agent caused (the Husky stood or moved away).', '',
               '| map | wanderers | episodes | success % | timeout | no path | collision | '
-              'time [s] | replans | contacts wall / wanderer | label errors |',
-              '|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|']
+              'time [s] | replans | contacts wall / wanderer | wanderer events robot / agent '
+              '| label errors |',
+              '|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|']
     for name, _, label in maps:
         for count in counts:
             group = groups.get((name, count))
@@ -174,7 +198,8 @@ def summary_markdown(rows, title='dpn benchmark', navigator='dpn'):
                 f'| {label} | {count} | {stats.episodes} | {100.0 * stats.success_rate:.0f} | '
                 f'{stats.timeouts} | {stats.no_paths} | {stats.collisions} | {time_text} | '
                 f'{stats.mean_replans:.1f} | {stats.wall_contacts} / '
-                f'{stats.wanderer_contacts} | {stats.mean_walls_labelled_mobile:.1f} / '
+                f'{stats.wanderer_contacts} | {_kinds_text(stats)} | '
+                f'{stats.mean_walls_labelled_mobile:.1f} / '
                 f'{stats.mean_ghost_obstacles:.1f} |')
     from .metrics_report import (detection_distribution_markdown, per_map_markdown,
                                  standard_metrics_markdown)

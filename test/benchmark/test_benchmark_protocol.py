@@ -221,13 +221,14 @@ def test_maps_are_ordered_by_number_and_bare_maps_last():
 
 def test_summary_table(tmp_path):
     text = summary_markdown(report_rows())
-    assert '6 episodes on 3 maps; success 50.0 %, timeouts 1, no path 1, collisions 1.' in text
+    assert ('6 episodes on 3 maps; success 50.0 %, timeouts 1, no path 1, collisions 1; '
+            'wanderer contact events robot-caused / agent-caused 0 / 0.') in text
     assert '| 3 back_and_forth | 100 | 100 | 100 |' in text
     assert '| 15 maze | 50 | 0 | 33 |' in text
     assert '| own |  | 0 | 0 |' in text
     assert '| **all** | 67 | 33 | 50 |' in text
-    assert '| 3 back_and_forth | 5 | 1 | 100 | 0 | 0 | 0 | 40.0 | 3.0 | 0 / 0 | 6.0 / 2.0 |' \
-        in text
+    assert ('| 3 back_and_forth | 5 | 1 | 100 | 0 | 0 | 0 | 40.0 | 3.0 | 0 / 0 | 0 / 0 | '
+            '6.0 / 2.0 |') in text
     assert 'No episodes yet.' in summary_markdown([])
     save_success_figure(tmp_path / 'success.png', report_rows())
     assert (tmp_path / 'success.png').read_bytes()[:8] == b'\x89PNG\r\n\x1a\n'

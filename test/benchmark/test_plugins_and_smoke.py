@@ -111,3 +111,21 @@ def test_unknown_episode_options_are_refused():
         episode_keywords({'agents': 'robots'})
     with pytest.raises(ValueError, match='unknown episode options'):
         episode_keywords({'speed': 2})
+
+
+@pytest.mark.parametrize('agents', ['pedestrians-ignoring', 'pedestrians'])
+def test_pedestrians_walk_into_a_standing_robot_only_when_blind(agents):
+    """A robot that never moves: each contact is the agent's; yielding people make none."""
+    tunnel = load_scenario('tunnel')
+    config = AGENT_MODELS[agents]
+    setup = task_setup(tunnel, 0, wanderer_clearance_grid(tunnel, config))
+    result = run_episode(tunnel, 0, 10, seed=1, time_limit=60.0, setup=setup,
+                         navigator_class=tiny_navigator.StandStill,
+                         **episode_keywords({'agents': agents}))
+    row = result.as_row()
+    assert row['robot_caused_contacts'] == 0
+    assert row['agent_caused_contacts'] == row['wanderer_contacts']
+    if agents == 'pedestrians':
+        assert row['wanderer_contacts'] == 0 and result.success is False
+    else:
+        assert row['wanderer_contacts'] >= 1        # blind people walk into it (6 here)

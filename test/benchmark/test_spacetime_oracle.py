@@ -174,3 +174,30 @@ def test_the_worlds_forecast_is_its_future_and_changes_nothing(agents):
         assert_array_equal(world.wanderer_positions, twin.wanderer_positions)
     with pytest.raises(ValueError, match='non-decreasing'):
         World(scenario, config).forecast_wanderers([1.0, 0.5], lambda t: (0.0, 0.0))
+
+
+@pytest.mark.parametrize('agents', ['pedestrians', 'mixed'])
+def test_the_forecast_of_yielding_agents_around_a_moving_husky_is_their_future(agents):
+    """Yielding pedestrians answer the Husky's motion: given its path, the forecast is exact."""
+    from sim_bridge.scenario import load_scenario
+    from sim_bridge.wanderers import AGENT_MODELS
+    from sim_bridge.world import World, WorldConfig
+    scenario = load_scenario('maze')
+    config = WorldConfig(n_wanderers=10, seed=7, wanderer=AGENT_MODELS[agents])
+    command = (0.6, 0.3)
+    ticks = 6 * 50
+    with World(scenario, config) as world, World(scenario, config) as scout:
+        for _ in range(10):
+            world.advance(*command)
+            scout.advance(*command)
+        husky_at = []                               # the Husky's path ahead, driven by a scout
+        for _ in range(ticks + 1):
+            husky_at.append(scout.husky_pose[:2])
+            scout.step(*command)
+        forecast = world.forecast_wanderers(np.arange(ticks + 1) / 50.0,
+                                            lambda t: husky_at[round(t * 50)])
+        seen = [world.wanderer_positions]
+        for _ in range(ticks):
+            world.step(*command)
+            seen.append(world.wanderer_positions)
+        assert_array_equal(forecast, np.array(seen))

@@ -102,3 +102,17 @@ def test_horizon_end_is_priced_by_the_time_left():
     plan, cost = spacetime_plan(walls, np.zeros((4, 1, 8), dtype=bool), (0, 0), (0, 7), to_go,
                                 1, 2)
     assert plan[-1] == (0, 3, 3) and cost == 7
+
+
+def test_an_agent_beside_the_robot_does_not_pin_it_to_its_cell():
+    """The start cell is blocked from step 1 on (an agent stands within reach): it leaves."""
+    walls = np.zeros((1, 5), dtype=bool)
+    blocked = np.zeros((9, 1, 5), dtype=bool)
+    blocked[:, 0, 0] = True                      # the agent's reach covers the robot's cell
+    to_go = static_time_to_goal(walls, (0, 4), 1, 2)
+    plan, cost = spacetime_plan(walls, blocked, (0, 0), (0, 4), to_go, 1, 2, margin=1)
+    assert cost == 4 and plan[0] == (0, 0, 0) and plan[1] == (0, 1, 1)
+    # Waiting in the blocked start cell is still no plan: with the way out blocked too, none.
+    blocked[:, 0, 1] = True
+    plan, cost = spacetime_plan(walls, blocked, (0, 0), (0, 4), to_go, 1, 2, margin=1)
+    assert plan is None and math.isinf(cost)

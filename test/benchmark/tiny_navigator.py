@@ -29,3 +29,18 @@ class NoStep:
 
     def set_goal(self, x, y):
         """Take the goal."""
+
+
+class StandStill:
+    """Stands where it starts: whatever touches it walked into it."""
+
+    def __init__(self, config):
+        self.goal = None
+
+    def set_goal(self, x, y):
+        """Take the goal (and never go there)."""
+        self.goal = (x, y)
+
+    def step(self, stamp, pose, ranges, angle_min, angle_increment, range_min, range_max):
+        """Return ``(0, 0)``."""
+        return 0.0, 0.0

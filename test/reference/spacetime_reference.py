@@ -9,7 +9,8 @@ static time left); `plan_cost` checks a plan move by move against the rules and 
 The rules, as the search's docstring states them: a wait lasts one step, a move to an
 orthogonal (diagonal) neighbour ``straight`` (``diagonal``) steps; no diagonal past a wall; a
 wait or a move from step ``k`` to ``k + d`` needs both its cells free from ``k - margin`` to
-``k + d + margin`` (clipped to ``0 .. T``); the start cell is free at step 0.
+``k + d + margin`` (clipped to ``0 .. T``); the start cell is free at step 0, and a move out
+of it at step 0 needs only its destination free.
 
 """
 
@@ -81,7 +82,8 @@ def reference_best_cost(walls, blocked, start, goal, straight, diagonal, margin)
             options = [(r, c, 1)] + list(_legal_moves(walls, r, c, straight, diagonal))
             for nr, nc, d in options:
                 nk = min(k + d, horizon)
-                if not (_free_during(walls, blocked, start, r, c, k, nk, margin)
+                leaving = k == 0 and (r, c) == tuple(start) and (nr, nc) != (r, c)
+                if not ((leaving or _free_during(walls, blocked, start, r, c, k, nk, margin))
                         and _free_during(walls, blocked, start, nr, nc, k, nk, margin)):
                     continue
                 if (nr, nc) == tuple(goal) or nk == horizon:
@@ -111,7 +113,8 @@ def plan_cost(walls, blocked, plan, start, goal, straight, diagonal, margin):
             assert (nr, nc) in moves, f'illegal move {(r, c)} -> {(nr, nc)}'
             d = moves[(nr, nc)]
         assert nk == min(k + d, horizon), 'a move lasts its duration'
-        assert _free_during(walls, blocked, start, r, c, k, nk, margin)
+        if not (k == 0 and (r, c) == tuple(start) and (nr, nc) != (r, c)):
+            assert _free_during(walls, blocked, start, r, c, k, nk, margin)
         assert _free_during(walls, blocked, start, nr, nc, k, nk, margin)
         arrival = k + d
     r, c, k = plan[-1]

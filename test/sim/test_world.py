@@ -268,6 +268,76 @@ def test_driving_into_a_wanderer_is_counted():
         assert (world.contacts.wanderer_events, world.contacts.wall_events) == (1, 0)
         assert world.contacts.touching_wanderers == {0}
         assert math.dist(world.husky_pose[:2], target) > HUSKY_RADIUS * 0.5
+        # The Husky drove into a standing wanderer: its own doing.
+        assert (world.contacts.robot_caused_events, world.contacts.agent_caused_events) == (1, 0)
+
+
+@pytest.mark.parametrize('command, robot_caused', [((0.0, 0.0), False), ((-0.3, 0.0), False),
+                                                   ((0.3, 0.0), True)])
+def test_a_pedestrian_walking_into_the_husky_is_its_own_contact(command, robot_caused):
+    from sim_bridge.wanderers import PEDESTRIANS_IGNORING
+    scenario = room()
+    config = WorldConfig(drive=NO_RAMP, n_wanderers=1, seed=2, wanderer=PEDESTRIANS_IGNORING)
+    with World(scenario, config, start=(6.0, 6.0, math.pi)) as world:
+        walker = world._wanderers               # one pedestrian at (2, 6) walking east at 1 m/s
+        walker.positions[0] = 2.0, 6.0
+        walker.yaws[0] = 0.0
+        walker.speeds[0] = walker._speeds[0] = walker._speed_now[0] = 1.0
+        walker._paths[0] = [(10.0, 6.0)]
+        walker._centring[0] = False
+        world._place_wanderer(0)
+        for _ in range(300):                    # the Husky faces it: stands, backs off, meets it
+            world.step(*command)
+        contacts = world.contacts
+        assert contacts.wanderer_events >= 1
+        assert contacts.robot_caused_events + contacts.agent_caused_events == \
+            contacts.wanderer_events
+        assert (contacts.robot_caused_events >= 1) == robot_caused
+        assert (contacts.agent_caused_events >= 1) == (not robot_caused)
+
+
+@pytest.mark.parametrize('velocity, point, expected', [
+    ((1.0, 0.0), (3.0, 0.0), 1.0),             # driving straight at it
+    ((1.0, 0.0), (-3.0, 0.0), -1.0),           # driving away
+    ((0.0, 0.0), (0.6, 0.2), 0.0),             # standing
+    ((1.0, 0.0), (0.0, 2.0), 0.0),             # passing beside it
+    ((0.0, 1.0), (0.495, 1.0), 0.495),         # turning: the front corner sweeps towards it
+    ((0.0, 1.0), (0.0, 0.0), 0.0),             # a point at the centre
+])
+def test_approach_speed_of_the_nearest_footprint_point(velocity, point, expected):
+    from sim_bridge.contacts import approach_speed
+    assert approach_speed((0.0, 0.0, 0.0), velocity, 0.99, 0.67, point) == \
+        pytest.approx(expected, abs=1e-9)
+    # The same in a moved and turned frame.
+    yaw = 0.7
+    c, s = math.cos(yaw), math.sin(yaw)
+    moved = (1.0 + c * point[0] - s * point[1], -2.0 + s * point[0] + c * point[1])
+    assert approach_speed((1.0, -2.0, yaw), velocity, 0.99, 0.67, moved) == \
+        pytest.approx(expected, abs=1e-9)
+
+
+@pytest.mark.parametrize('velocity, agent_velocity, expected', [
+    ((0.0, 0.0), (-1.0, 0.0), False),          # standing, the agent walks into it
+    ((-0.3, 0.0), (-1.0, 0.0), False),         # backing off, the agent faster
+    ((0.0, 0.0), (0.0, 0.0), True),            # both still: the Husky's own small motion
+    ((0.0, -0.04), (0.0, 0.0), True),          # a slow turn into a standing agent
+    ((0.04, 0.0), (-0.02, 0.0), True),         # creeping in faster than the agent comes
+    ((0.3, 0.0), (-1.0, 0.0), True),           # driving at it
+])
+def test_robot_caused_unless_the_agent_closed_the_gap(velocity, agent_velocity, expected):
+    from sim_bridge.contacts import robot_caused
+    # The agent's centre 0.8 m ahead of the Husky's centre, slightly to the left.
+    assert robot_caused((0.0, 0.0, 0.0), velocity, 0.99, 0.67, (0.8, 0.1),
+                        agent_velocity) == expected
+
+
+def test_the_contact_log_splits_wanderer_events_by_who_closed_the_gap():
+    from sim_bridge.contacts import ContactLog
+    log = ContactLog()
+    log.update(0.0, False, {0, 1}, approached={1})
+    log.update(0.1, False, {0, 1})               # still touching: no new event
+    log.update(0.2, False, {2})                  # default: the Husky's doing
+    assert (log.wanderer_events, log.robot_caused_events, log.agent_caused_events) == (3, 2, 1)
 
 
 # -- wanderers ----------------------------------------------------------------------------

@@ -6,9 +6,11 @@ robot waits one step (to ``(cell, k + 1)``) or moves to one of its eight neighbo
 ``straight_steps`` steps along a row or column and ``diagonal_steps`` along a diagonal (the
 robot's top speed, rounded up to whole steps: never faster than it can drive). A move or a
 wait from step ``k`` to ``k + d`` is allowed when both its cells are free at every step from
-``k - margin`` to ``k + d + margin`` (``margin`` steps of slack for the robot's timing), and
-no diagonal cuts a corner (both side cells free, walls only). ``blocked[k]`` holds the blocked
-cells at step ``k`` for ``k <= horizon``; the walls are blocked at every step.
+``k - margin`` to ``k + d + margin`` (``margin`` steps of slack for the robot's timing), but a
+move out of the start cell at step 0 needs only its destination free (the robot stands there;
+an agent within reach of it must not pin it down), and no diagonal cuts a corner (both side
+cells free, walls only). ``blocked[k]`` holds the blocked cells at step ``k`` for
+``k <= horizon``; the walls are blocked at every step.
 
 The cost of a plan is its arrival time in steps. A plan that has not reached the goal by the
 horizon ends there, at the cost ``horizon + to_go[cell]`` (``to_go``: the static shortest
@@ -95,7 +97,9 @@ def spacetime_plan(walls, blocked, start, goal, to_go, straight_steps, diagonal_
     blocked : (T + 1, H, W) ndarray of bool
         Cells blocked at steps ``0 .. T`` (the horizon ``T``), walls included or not.
     start, goal : (int, int)
-        Cells ``(row, col)``; the start cell counts as free at step 0 (the robot stands there).
+        Cells ``(row, col)``; the start cell counts as free at step 0 (the robot stands there),
+        and a move out of it at step 0 needs only its destination free (an agent that comes
+        within reach of the robot's cell does not keep the robot from leaving it).
     to_go : (H, W) ndarray of float
         ``static_time_to_goal`` of these walls and goal.
     straight_steps, diagonal_steps : int
@@ -158,7 +162,8 @@ def spacetime_plan(walls, blocked, start, goal, to_go, straight_steps, diagonal_
             nxt = (nr, nc, nk)
             if nxt in closed or not np.isfinite(to_go[nr, nc]):
                 continue
-            if not (free_during(r, c, k, nk) and free_during(nr, nc, k, nk)):
+            leaving = k == 0 and (r, c) == start and (nr, nc) != start
+            if not ((leaving or free_during(r, c, k, nk)) and free_during(nr, nc, k, nk)):
                 continue
             # Cost: the arrival time; a state at the horizon adds what is left at least.
             cost = float(k + duration + to_go[nr, nc])
