@@ -46,7 +46,7 @@ from .dpn_params import declare_parameters, PARAMETERS
 from .lifecycle import ManagedNavigator
 from .names import DEFAULT_NAMESPACE
 from .navigate_action import load_action_type, NavigateToPoseServer
-from .navigator_markers import extend_trail, NavigatorMarkers
+from .navigator_markers import ExecutedTrail, NavigatorMarkers
 from .parameter_declaration import refuse_undeclared_parameters
 from .qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS
 from .safety_params import declare_safety_parameters
@@ -131,7 +131,8 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         self.scan_to_map_ms = deque(maxlen=LATENCY_WINDOW)
         self.stale = False
         self.last_status = None
-        self.trail = []
+        # The executed path, every point of it allocated now (memory flat from the start).
+        self.trail = ExecutedTrail()
         self.map_pub = self.create_publisher(OccupancyGrid, 'map', LATCHED_QOS)
         # Between full maps, the changed cells (the `<map>_updates` convention of Nav2's
         # costmaps and RViz's Map display); volatile: a late subscriber starts from a full map.
@@ -214,7 +215,7 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         except ValueError as error:
             self.reject('goal', error)
             return str(error)
-        self.trail = [] if self.pose is None else [self.pose[:2]]
+        self.trail.reset(None if self.pose is None else self.pose[:2])
         self.get_logger().info(f'goal accepted from {via}: ({x:.2f}, {y:.2f})')
         self.publish_status()
         return None
@@ -245,7 +246,7 @@ class DpnNode(ManagedNavigator, LifecycleNode):
                                               self.params.map_mobile_value)
         self.map_changes = self.navigator.grid.change_tracker()
         self.pending_scans.clear()
-        self.trail = []
+        self.trail.reset()
         self.last_map_time = None
         self.publish_status()
 
@@ -261,7 +262,7 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         self.map_buffer = OccupancyGridBuffer(self.navigator.grid.geometry.shape,
                                               self.params.map_mobile_value)
         self.map_changes = self.navigator.grid.change_tracker()
-        self.trail = []
+        self.trail.reset()
         self.last_map_time = None
         if goal is not None:
             self.navigator.set_goal(*goal)
@@ -322,7 +323,7 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         self.pose_history.add(stamp_to_seconds(msg.header.stamp), pose, self.velocity)
         self.stop_guard.heard('odometry', self.now_seconds(), self.arrival_seconds(info))
         if self.navigator.goal is not None and self.placer.source != 'tf':
-            extend_trail(self.trail, pose[:2])
+            self.trail.extend(pose[:2])
         if self.pending_scans:
             self.place_pending_scans()
 
@@ -396,7 +397,7 @@ class DpnNode(ManagedNavigator, LifecycleNode):
             pose = self.placer.robot_pose(None) or placement.base_pose
             self.pose = pose
             if self.navigator.goal is not None:
-                extend_trail(self.trail, pose[:2])
+                self.trail.extend(pose[:2])
         try:
             # The free evidence waits until the map and the command are out (`settle`).
             self.navigator.observe(placement.base_pose, **placement.fields, stamp=now,
