@@ -60,6 +60,7 @@ from ..core import Navigator, NavigatorStatus
 from ..core.control.acceleration_limit import AccelerationLimiter
 from ..core.mapping.map_values import warm_up_map_values
 from ..core.navigator import warm_up_navigator
+from ..core.numpy_cache import fill_numpy_cache
 from ..core.pose_history import PoseHistory
 from ..core.scan_polygon import check_scan
 
@@ -101,6 +102,8 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         warm_up_navigator()
         warm_up_map_values()
         compile_seconds = time.perf_counter() - started
+        # numpy's cache of small freed buffers, full now rather than over the first minutes.
+        fill_numpy_cache()
         self.navigator = Navigator(self.params.navigator)
         self.map_buffer = OccupancyGridBuffer(self.navigator.grid.geometry.shape,
                                               self.params.map_mobile_value)
