@@ -51,10 +51,10 @@ class ExecutedTrail:
 
     The same rule as `extend_trail` (a point every ``TRAIL_STEP``, the newest ``capacity``
     kept), but every ``geometry_msgs/Point`` it will ever hold is made at construction and
-    reused: a full trail moves its oldest point to the front, a reset takes them all back. A
-    list of tuples plus a marker point per position grew by about 250 B per 5 cm driven, about
-    5 MB an hour of the node's resident memory at 0.3 m/s until the bound (1 km); this keeps
-    it flat from the start (issue 32: the soak's growth).
+    reused: a full trail moves its oldest point to the end, a reset takes them all back. A
+    list of tuples plus a marker point per position grew by about 230 B per 5 cm driven, 5 to
+    7 MB an hour of the node's resident memory at 0.3-0.45 m/s until the bound (1 km); this
+    keeps it flat from the start (issue 32: the soak's growth).
 
     Parameters
     ----------
