@@ -15,6 +15,10 @@ import math
 
 from .pose2d import wrap_angle
 
+#: At most this many poses are kept, whatever their stamps (1 s at 2 kHz): odometry whose
+#: stamps barely advance (a stuck clock, a flood) would otherwise fill the span without end.
+MAX_KEPT_POSES = 2000
+
 
 class PoseHistory:
     """
@@ -42,7 +46,7 @@ class PoseHistory:
         self.span = float(span)
         self.tolerance = float(tolerance)
         self.extrapolation = float(extrapolation)
-        self._poses = deque()
+        self._poses = deque(maxlen=MAX_KEPT_POSES)
         self._velocity = (0.0, 0.0)
 
     def __len__(self):
@@ -60,11 +64,15 @@ class PoseHistory:
         Both taken at ``stamp`` [s].
 
         A stamp older than the newest kept one (time went back: a restarted simulation)
-        starts the history anew.
+        starts the history anew; one equal to it replaces that pose (the latest word on that
+        instant). At most `MAX_KEPT_POSES` are kept, the oldest dropped first.
         """
         stamp = float(stamp)
-        if self._poses and stamp < self._poses[-1][0]:
-            self._poses.clear()
+        if self._poses and stamp <= self._poses[-1][0]:
+            if stamp == self._poses[-1][0]:
+                self._poses.pop()
+            else:
+                self._poses.clear()
         self._poses.append((stamp, tuple(pose)))
         self._velocity = tuple(velocity)
         while self._poses and self._poses[0][0] < stamp - self.span:

@@ -46,7 +46,7 @@ from .dpn_params import declare_parameters, PARAMETERS
 from .lifecycle import ManagedNavigator
 from .names import DEFAULT_NAMESPACE
 from .navigate_action import load_action_type, NavigateToPoseServer
-from .navigator_markers import extend_trail, NavigatorMarkers
+from .navigator_markers import ExecutedTrail, NavigatorMarkers
 from .parameter_declaration import refuse_undeclared_parameters
 from .qos import COMMAND_QOS, LATCHED_QOS, SENSOR_QOS
 from .safety_params import declare_safety_parameters
@@ -61,6 +61,7 @@ from ..core import Navigator, NavigatorStatus
 from ..core.control.acceleration_limit import AccelerationLimiter
 from ..core.mapping.map_values import warm_up_map_values
 from ..core.navigator import warm_up_navigator
+from ..core.numpy_cache import fill_numpy_cache
 from ..core.pose_history import PoseHistory
 from ..core.scan_polygon import check_scan
 
@@ -104,6 +105,8 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         warm_up_navigator()
         warm_up_map_values()
         compile_seconds = time.perf_counter() - started
+        # numpy's cache of small freed buffers, full now rather than over the first minutes.
+        fill_numpy_cache()
         self.navigator = Navigator(self.params.navigator)
         # The map as configured (or placed around the start pose), before any growth.
         self.map_config = self.params.navigator
@@ -139,7 +142,8 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         self.scan_to_map_ms = deque(maxlen=LATENCY_WINDOW)
         self.stale = False
         self.last_status = None
-        self.trail = []
+        # The executed path, every point of it allocated now (memory flat from the start).
+        self.trail = ExecutedTrail()
         self.map_pub = self.create_publisher(OccupancyGrid, 'map', LATCHED_QOS)
         # Between full maps, the changed cells (the `<map>_updates` convention of Nav2's
         # costmaps and RViz's Map display); volatile: a late subscriber starts from a full map.
@@ -224,7 +228,7 @@ class DpnNode(ManagedNavigator, LifecycleNode):
             self.reject('goal', error)
             return str(error)
         self.follow_map_growth()
-        self.trail = [] if self.pose is None else [self.pose[:2]]
+        self.trail.reset(None if self.pose is None else self.pose[:2])
         self.get_logger().info(f'goal accepted from {via}: ({x:.2f}, {y:.2f})')
         self.publish_status()
         return None
@@ -257,7 +261,7 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         self.map_changes = self.navigator.grid.change_tracker()
         self.growth_refusals_logged = 0
         self.pending_scans.clear()
-        self.trail = []
+        self.trail.reset()
         self.last_map_time = None
         self.publish_status()
 
@@ -275,7 +279,7 @@ class DpnNode(ManagedNavigator, LifecycleNode):
                                               self.params.map_mobile_value)
         self.map_changes = self.navigator.grid.change_tracker()
         self.growth_refusals_logged = 0
-        self.trail = []
+        self.trail.reset()
         self.last_map_time = None
         if goal is not None:
             self.navigator.set_goal(*goal)
@@ -336,7 +340,7 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         self.pose_history.add(stamp_to_seconds(msg.header.stamp), pose, self.velocity)
         self.stop_guard.heard('odometry', self.now_seconds(), self.arrival_seconds(info))
         if self.navigator.goal is not None and self.placer.source != 'tf':
-            extend_trail(self.trail, pose[:2])
+            self.trail.extend(pose[:2])
         if self.pending_scans:
             self.place_pending_scans()
 
@@ -410,7 +414,7 @@ class DpnNode(ManagedNavigator, LifecycleNode):
             pose = self.placer.robot_pose(None) or placement.base_pose
             self.pose = pose
             if self.navigator.goal is not None:
-                extend_trail(self.trail, pose[:2])
+                self.trail.extend(pose[:2])
         try:
             # The free evidence waits until the map and the command are out (`settle`).
             self.navigator.observe(placement.base_pose, **placement.fields, stamp=now,

@@ -60,12 +60,25 @@ def compile_kernels(directory=jit.SHIPPED_CACHE):
     """
     os.makedirs(directory, exist_ok=True)
     env = dict(os.environ, NUMBA_CACHE_DIR=str(directory))
-    package_root = str(Path(__file__).resolve().parents[1])
-    code = (f'import sys; sys.path.insert(0, {package_root!r}); '
-            f'from {__name__} import warm_up_all; print(warm_up_all())')
+    code = this_copy_program(f'from {__name__} import warm_up_all; print(warm_up_all())')
     result = subprocess.run([sys.executable, '-c', code], env=env, check=True,
                             capture_output=True, text=True)
     return float(result.stdout.split()[-1])
+
+
+def this_copy_program(statements):
+    """
+    Return a ``python -c`` program that runs ``statements`` with this copy of the package.
+
+    numba keys each cached kernel on its source file's path: the kernels must be compiled
+    from the copy the nodes import (the installed one), not from a ``dpn_navigator`` that
+    the working directory or ``PYTHONPATH`` holds too (``make build`` runs this in the source
+    tree, and ``python -c`` looks in the working directory first). So the directory that
+    holds this package goes first on ``sys.path``.
+
+    """
+    package_parent = str(Path(__file__).resolve().parents[2])
+    return f'import sys; sys.path.insert(0, {package_parent!r}); {statements}'
 
 
 def main(args=None):

@@ -160,6 +160,30 @@ def test_seed_cache_copies_what_the_cache_lacks_or_holds_older(tmp_path):
     assert jit.seed_cache(tmp_path / 'shipped', not_a_dir) == 0     # unwritable: numba's turn
 
 
+def test_seed_cache_never_leaves_a_partial_file(tmp_path, monkeypatch):
+    # Two nodes started at once both seed the cache: a reader must find a file whole or
+    # not at all. A copy that fails half way leaves the old file and no stray temporary.
+    shipped = tmp_path / 'shipped' / 'core_0123'
+    shipped.mkdir(parents=True)
+    (shipped / 'k.nbi').write_text('index')
+    target = tmp_path / 'cache'
+    (target / 'core_0123').mkdir(parents=True)
+    (target / 'core_0123' / 'k.nbi').write_text('old')
+    os.utime(target / 'core_0123' / 'k.nbi', (0, 0))
+    written = []
+
+    def copy_half_then_fail(source, destination):
+        Path(destination).write_text(Path(source).read_text()[:2])
+        written.append(Path(destination))
+        raise OSError('disk full')
+
+    monkeypatch.setattr(jit.shutil, 'copy2', copy_half_then_fail)
+    assert jit.seed_cache(tmp_path / 'shipped', target) == 0
+    assert (target / 'core_0123' / 'k.nbi').read_text() == 'old'
+    assert written and written[0] != target / 'core_0123' / 'k.nbi'
+    assert sorted(p.name for p in (target / 'core_0123').iterdir()) == ['k.nbi']
+
+
 def copy_package(tmp_path):
     """Copy the dpn_navigator sources (no caches) to ``tmp_path/tree``; return the leaf."""
     package = Path(jit.__file__).resolve().parents[2]
@@ -213,3 +237,16 @@ def test_an_edited_callee_recompiles_its_callers_in_other_files(tmp_path):
     assert second_dir != first_dir
     assert Path(second_dir).name == jit.sources_digest(leaf)
     assert after == flipped * len(before)
+
+
+def test_compile_kernels_compiles_the_copy_it_belongs_to(tmp_path):
+    # numba keys a cached kernel on its source's path: compile_kernels' child must import
+    # this copy, not a dpn_navigator of its working directory (make build runs it in the
+    # source tree, and python -c looks there first), else the installed nodes compile again.
+    from dpn_navigator.tools.compile_kernels import this_copy_program
+    (tmp_path / 'dpn_navigator').mkdir()
+    (tmp_path / 'dpn_navigator' / '__init__.py').write_text('raise ImportError("decoy")\n')
+    code = this_copy_program('from dpn_navigator.core._kernels import jit; print(jit.__file__)')
+    result = subprocess.run([sys.executable, '-c', code], cwd=tmp_path, check=True,
+                            capture_output=True, text=True, env=dict(os.environ))
+    assert Path(result.stdout.strip()) == Path(jit.__file__).resolve()

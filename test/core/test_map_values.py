@@ -81,3 +81,21 @@ def test_bad_labels_raise():
         map_values.refresh(np.zeros((2, 3), dtype=np.uint8), slice(0, 1), slice(0, 1))
     with pytest.raises(ValueError, match='label 7 has no map value'):
         map_values.refresh(np.full((2, 2), 7, dtype=np.uint8), slice(0, 2), slice(0, 2))
+
+
+def test_a_read_only_table_needs_no_kernel_beyond_the_warm_up():
+    # The node's table is read-only (OCCUPANCY_VALUE and copies of it may be): after
+    # warm_up_map_values its first map must load no second specialisation of the kernel
+    # (each one loaded after start is native memory the node's RSS shows growing).
+    from dpn_navigator.core._kernels import map_values as kernels
+    from dpn_navigator.core.mapping.map_values import warm_up_map_values
+    warm_up_map_values()
+    signatures = list(kernels.refresh_values.signatures)
+    table = MOBILE_100.copy()
+    table.setflags(write=False)
+    values = np.zeros((3, 4), dtype=np.int8)
+    map_values = MapValues(values, table)
+    labels = np.full((3, 4), CellLabel.EXPLORED, dtype=np.uint8)
+    assert map_values.refresh(labels, slice(0, 3), slice(0, 4)) == (slice(0, 3), slice(0, 4))
+    assert_array_equal(values, np.zeros((3, 4), dtype=np.int8))
+    assert list(kernels.refresh_values.signatures) == signatures

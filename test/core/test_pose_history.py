@@ -79,3 +79,20 @@ def test_sample_step_is_the_step_a_pose_is_interpolated_across():
     assert history.sample_step(1.5) == (0.0, 0.0, 0.0)
     assert history.sample_step(0.9) is None and history.sample_step(1.6) is None
     assert PoseHistory().sample_step(1.0) is None
+
+
+def test_odometry_whose_stamps_do_not_advance_keeps_memory_bounded():
+    # A stuck clock: every pose at one stamp replaces the last; stamps 1 us apart fill the
+    # 1 s span with a million poses unless the count is bounded too.
+    from dpn_navigator.core.pose_history import MAX_KEPT_POSES
+    history = PoseHistory()
+    for k in range(5000):
+        history.add(7.0, (float(k), 0.0, 0.0))
+    assert len(history) == 1
+    assert history.pose_at(7.0) == (4999.0, 0.0, 0.0)
+    for k in range(3 * MAX_KEPT_POSES):
+        history.add(8.0 + 1e-6 * k, (float(k), 0.0, 0.0))
+    assert len(history) == MAX_KEPT_POSES
+    newest = 8.0 + 1e-6 * (3 * MAX_KEPT_POSES - 1)
+    assert history.newest_stamp == newest
+    assert history.pose_at(newest) == (3.0 * MAX_KEPT_POSES - 1.0, 0.0, 0.0)

@@ -33,6 +33,7 @@ another copy of the sources or another machine are just compiled again.
 
 """
 
+import contextlib
 import hashlib
 import os
 from pathlib import Path
@@ -158,6 +159,14 @@ def seed_cache(source, target):
     copied : int
         Files copied (0 as well when ``target`` cannot be written: numba then compiles).
 
+    Notes
+    -----
+    Each file is written under a temporary name in its directory and renamed into place
+    (``os.replace``, atomic): ``make soak`` and ``make demo`` start both nodes at once, and
+    both seed the cache. With a plain copy one process could read an index the other was
+    still writing, take it for a miss and compile every kernel in the node (measured: ``dpn``
+    ready after 75-98 s instead of 0.8 s, with 250 MB more resident memory).
+
     """
     source = Path(source)
     if not source.is_dir() or source.resolve() == Path(target).resolve():
@@ -170,11 +179,24 @@ def seed_cache(source, target):
                     and destination.stat().st_mtime >= file.stat().st_mtime):
                 continue
             destination.parent.mkdir(parents=True, exist_ok=True)
-            shutil.copy2(file, destination)           # with its time: copied once
+            _copy_atomically(file, destination)
         except OSError:
             return copied
         copied += 1
     return copied
+
+
+def _copy_atomically(file, destination):
+    """Copy ``file`` with its time to ``destination``: whole or not at all, for any reader."""
+    handle, partial = tempfile.mkstemp(dir=destination.parent, prefix='.seeding-')
+    os.close(handle)
+    try:
+        shutil.copy2(file, partial)                   # with its time: copied once
+        os.replace(partial, destination)
+    except OSError:
+        with contextlib.suppress(OSError):
+            os.unlink(partial)
+        raise
 
 
 # Before numba is imported: it reads NUMBA_CACHE_DIR once, at import.

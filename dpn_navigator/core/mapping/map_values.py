@@ -45,7 +45,10 @@ class MapValues:
         if table.ndim != 1 or table.dtype != np.int8 or table.shape[0] <= CellLabel.NON_EXPLORED:
             raise ValueError('table must be a 1-D int8 array with a value per label')
         self.values = values
-        self.table = table
+        # A private, writable copy: numba compiles a kernel per array flag, so a read-only
+        # table (a constant such as ``OCCUPANCY_VALUE``) would load a second specialisation
+        # at the node's first map, after `warm_up_map_values`, with its native memory.
+        self.table = table.copy()
         self._made_from = np.full(values.shape, CellLabel.NON_EXPLORED, dtype=LABEL_DTYPE)
         values[...] = table[CellLabel.NON_EXPLORED]
 
