@@ -8,8 +8,8 @@ size (``numpy/_core/src/multiarray/alloc.c``: ``NBUCKETS`` 1024, ``NCACHE`` 7; n
 for minutes (hits, segments, tracks, paths, boxes of every length), so that cache fills slowly,
 and the process's resident memory grows by those 3.6 MB over its first minutes before it
 levels off: the soak of issue 32 measured the dpn node's resident memory growing about
-3.7 MB (its main heap 2.7 MB) over its first 4 minutes, flat after. `fill_numpy_cache` fills it at start: the same memory, held
-from the first scan, and nothing that grows after.
+3.7 MB (its main heap 2.7 MB) over its first 4 minutes, flat after. `fill_numpy_cache` fills
+it at start: the same memory, held from the first scan, and nothing that grows after.
 
 """
 

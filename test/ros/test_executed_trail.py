@@ -90,9 +90,11 @@ def test_executed_trail_memory_stays_flat_while_driving():
                           lambda step: reference_markers.messages(None, reference, goal,
                                                                   Time(sec=step), float(step)),
                           np.random.default_rng(1), 6000)
-    assert grown > 80 * capacity, grown                 # about 110 B a point kept
+    # About 110 B a point kept alone, 56 B after the rest of the suite (allocators' free
+    # lists warm): the measure still sees it.
+    assert grown > 40 * capacity, grown
     # The points list and the spares' list: 8 B a point each at most, over-allocation aside.
-    assert flat < 24 * capacity, (flat, grown)
+    assert flat < 24 * capacity and flat < grown / 2, (flat, grown)
 
 
 def test_the_node_drives_its_trail_with_the_points_it_made_at_start(ros_context):
