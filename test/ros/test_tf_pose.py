@@ -107,6 +107,19 @@ def wall_cells(shape):
     return walls
 
 
+def send_scans(executor, probe, count):
+    """Send ``count`` scans with their odometry (and TF when on), 0.1 s apart."""
+    for _ in range(count):
+        probe.send()
+        spin_until(executor, lambda: False, timeout=0.1)
+
+
+def start_tf(executor, probe):
+    """Start TF and let ``/tf_static`` be delivered."""
+    probe.start_tf()
+    spin_until(executor, lambda: False, timeout=0.3)
+
+
 def run_robot(ros_context, pose_source, scans=8):
     dpn = DpnNode(context=ros_context, parameter_overrides=[
         Parameter('map_width', value=12.0), Parameter('map_height', value=12.0),
@@ -116,9 +129,7 @@ def run_robot(ros_context, pose_source, scans=8):
         assert spin_until(executor, lambda: probe.scan_pub.get_subscription_count() > 0
                           and probe.odom_pub.get_subscription_count() > 0)
         spin_until(executor, lambda: False, timeout=0.3)       # /tf_static delivered
-        for _ in range(scans):
-            probe.send()
-            spin_until(executor, lambda: False, timeout=0.1)
+        send_scans(executor, probe, scans)
         assert spin_until(executor, lambda: len(probe.maps) >= scans - 2)
         spin_until(executor, lambda: False, timeout=0.3)
         values = occupancy_grid_values(probe.maps[-1])
@@ -156,15 +167,10 @@ def test_scans_wait_for_tf_at_start_so_no_map_is_ever_wrong(ros_context):
     with executor_for(ros_context, dpn, probe) as executor:
         assert spin_until(executor, lambda: probe.scan_pub.get_subscription_count() > 0
                           and probe.odom_pub.get_subscription_count() > 0)
-        for _ in range(3):
-            probe.send()
-            spin_until(executor, lambda: False, timeout=0.1)
+        send_scans(executor, probe, 3)
         assert spin_until(executor, lambda: dpn.scans_skipped >= 3)
-        probe.start_tf()
-        spin_until(executor, lambda: False, timeout=0.3)   # /tf_static delivered
-        for _ in range(4):
-            probe.send()
-            spin_until(executor, lambda: False, timeout=0.1)
+        start_tf(executor, probe)
+        send_scans(executor, probe, 4)
         assert spin_until(executor, lambda: len(probe.maps) >= 2)
         spin_until(executor, lambda: False, timeout=0.3)
         assert dpn.placer.source == 'tf' and dpn.placer.placed_from_odometry == 0
@@ -184,18 +190,13 @@ def test_when_tf_comes_late_the_map_of_the_scans_placed_from_odometry_is_dropped
     with executor_for(ros_context, dpn, probe) as executor:
         assert spin_until(executor, lambda: probe.scan_pub.get_subscription_count() > 0
                           and probe.odom_pub.get_subscription_count() > 0)
-        for _ in range(4):
-            probe.send()
-            spin_until(executor, lambda: False, timeout=0.1)
+        send_scans(executor, probe, 4)
         assert spin_until(executor, lambda: dpn.placer.placed_from_odometry >= 3)
         wrong = np.count_nonzero((occupancy_grid_values(probe.maps[-1]) >= 70)
                                  & ~wall_cells(dpn.navigator.grid.geometry.shape))
         assert wrong > 10                                  # the wrong mount did map wrong
-        probe.start_tf()
-        spin_until(executor, lambda: False, timeout=0.3)   # /tf_static delivered
-        for _ in range(4):
-            probe.send()
-            spin_until(executor, lambda: False, timeout=0.1)
+        start_tf(executor, probe)
+        send_scans(executor, probe, 4)
         assert spin_until(executor, lambda: probe.status
                           and probe.status_value('pose_source') == 'tf')
         spin_until(executor, lambda: False, timeout=0.3)
