@@ -21,6 +21,7 @@ import math
 import time
 
 import numpy as np
+import yaml
 
 
 @dataclass
@@ -150,7 +151,16 @@ def main(args=None):
     parser.add_argument('--pose-source', default='auto', choices=('auto', 'tf', 'odom'))
     parser.add_argument('--time-limit', type=float, default=150.0)
     parser.add_argument('--real-time-factor', type=float, default=3.0)
+    parser.add_argument('--dpn-param', action='append', default=[], metavar='NAME:=VALUE',
+                        help='a parameter of the dpn node, as on a ros2 command line '
+                             '(e.g. goal_approach_margin:=0.0); may repeat')
     options = parser.parse_args(args)
+    dpn_parameters = {'pose_source': options.pose_source}
+    for assignment in options.dpn_param:
+        name, separator, text = assignment.partition(':=')
+        if not separator or not name:
+            parser.error(f'--dpn-param wants NAME:=VALUE, got {assignment!r}')
+        dpn_parameters[name] = yaml.safe_load(text)
     os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
     context = Context()
     rclpy.init(context=context)
@@ -162,7 +172,7 @@ def main(args=None):
                               'odom_drift_yaw_per_metre': options.drift[2],
                               'localiser_error_xy': options.localiser_error[0],
                               'localiser_error_yaw': options.localiser_error[1]},
-            dpn_parameters={'pose_source': options.pose_source},
+            dpn_parameters=dpn_parameters,
             time_limit=options.time_limit, real_time_factor=options.real_time_factor)
     finally:
         rclpy.try_shutdown(context=context)

@@ -11,6 +11,7 @@ from dpn_navigator.benchmark.report import (cell_stats, map_order, save_success_
                                             success_matrix, summary_markdown)
 from dpn_navigator.benchmark.snapshots import EpisodeRecorder, pick_snapshots, Snapshot
 from dpn_navigator.core import NavigatorConfig
+from dpn_navigator.core.control.path_follower import FollowerConfig
 from dpn_navigator.core.mapping.label_grid import PAPER_RULE
 import numpy as np
 import pytest
@@ -82,6 +83,10 @@ def test_navigator_variants_are_valid_configs():
 def test_the_nodes_paper_params_file_is_the_benchmarks_paper_navigator():
     config = Path(__file__).resolve().parents[2] / 'config'
     paper = yaml.safe_load((config / 'dpn_paper.yaml').read_text())['/**/dpn']['ros__parameters']
+    # The follower's goal approach margin is on in the node only (the benchmark's robots know
+    # their true pose, so the benchmark keeps the core's default, 0); the paper file turns it
+    # off as well.
+    assert paper.pop('goal_approach_margin') == FollowerConfig().goal_approach_margin == 0.0
     assert paper == NAVIGATORS['paper']
     shipped = yaml.safe_load((config / 'dpn.yaml').read_text())['/**/dpn']['ros__parameters']
     assert set(paper) <= set(shipped)

@@ -17,6 +17,33 @@ def test_inside_goal_tolerance_stops_and_reports_reached():
     assert (command.linear, command.angular) == (0.0, 0.0)
 
 
+def test_the_goal_approach_margin_drives_on_inside_the_tolerance():
+    margin = FollowerConfig(goal_approach_margin=0.1)
+    path = np.array([[0.0, 0.0], [5.0, 0.0]])
+    # 0.25 m from the goal: reached at the edge (the paper), not yet 0.1 m inside it.
+    assert follow_path((4.75, 0.0, 0.0), path, CONFIG).goal_reached
+    inside = follow_path((4.75, 0.0, 0.0), path, margin)
+    assert not inside.goal_reached and inside.linear > 0.0
+    assert follow_path((4.81, 0.0, 0.0), path, margin).goal_reached
+
+
+def test_with_a_margin_a_localisation_error_still_ends_inside_the_true_tolerance():
+    # The robot drives toward the goal on its estimate, which is 5 cm ahead of the true pose
+    # (a localiser's error, which the robot cannot see).
+    path = np.array([[0.0, 0.0], [5.0, 0.0]])
+    for config, inside in ((CONFIG, False), (FollowerConfig(goal_approach_margin=0.1), True)):
+        estimate = np.array([0.0, 0.0, 0.0])
+        error = np.array([0.05, 0.0])       # true pose = estimate - error
+        while True:
+            command = follow_path(tuple(estimate), path, config)
+            if command.goal_reached:
+                break
+            estimate[0] += command.linear * 0.05
+            estimate[2] += command.angular * 0.05
+        true_distance = math.dist(estimate[:2] - error, path[-1])
+        assert (true_distance <= config.goal_tolerance) is inside
+
+
 def test_straight_ahead_drives_at_full_speed():
     path = np.array([[float(x), 0.0] for x in range(11)])
     command = follow_path((0.0, 0.0, 0.0), path, CONFIG)
@@ -80,6 +107,9 @@ def test_bad_input_raises(path, pose, message):
     ({'max_angular_speed': -1.0}, 'max_angular_speed must be positive'),
     ({'goal_tolerance': math.nan}, 'goal_tolerance must be positive'),
     ({'turn_in_place_angle': 4.0}, 'at most pi'),
+    ({'goal_approach_margin': -0.1}, 'goal_approach_margin must be in'),
+    ({'goal_approach_margin': 0.3}, 'goal_approach_margin must be in'),
+    ({'goal_approach_margin': math.inf}, 'goal_approach_margin must be in'),
 ])
 def test_bad_config_raises(kwargs, message):
     with pytest.raises(ValueError, match=message):

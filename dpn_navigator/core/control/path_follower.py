@@ -9,7 +9,8 @@ corner and turns there, on the path, instead of cutting inside it, which in a co
 narrow as the robot's turning circle would bring its corners to the wall. The angular
 speed is proportional to the heading error; the robot turns in place when the error is larger
 than ``turn_in_place_angle``, slows down as the error grows and as the goal nears, and stops
-inside ``goal_tolerance``.
+inside ``goal_tolerance`` less ``goal_approach_margin`` (0 by default, the paper's rule: it stops
+at the tolerance's edge).
 
 """
 
@@ -42,6 +43,10 @@ class FollowerConfig:
         A turn of the path's heading larger than this is a corner the look-ahead point does
         not pass [rad]; larger than 45 degrees, so that the steps of an 8-connected grid path
         are not corners.
+    goal_approach_margin : float
+        The robot drives on until it is this far inside ``goal_tolerance`` by its own pose
+        estimate [m], so that a localisation error up to this size still leaves it inside the
+        tolerance of the true goal; 0 stops at the tolerance's edge (the paper).
 
     """
 
@@ -62,6 +67,10 @@ class FollowerConfig:
     corner_angle: float = setting(
         1.0, 'rad', "a turn of the path's heading larger than this is a corner the look-ahead "
         'point does not pass (above 45 degrees, the steps of a grid path)', 0.8, math.pi)
+    goal_approach_margin: float = setting(
+        0.0, 'm', 'the robot drives on until it is this far inside the goal tolerance, so that '
+        'a localisation error up to this size still ends inside the tolerance of the true goal '
+        '(0: stop at the edge, the paper)', 0.0, 5.0)
 
     def __post_init__(self):
         for name in ('max_linear_speed', 'max_angular_speed', 'lookahead_distance',
@@ -70,6 +79,10 @@ class FollowerConfig:
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0.0):
                 raise ValueError(f'{name} must be positive and finite, got {value!r}')
+        margin = self.goal_approach_margin
+        if not (math.isfinite(margin) and 0.0 <= margin < self.goal_tolerance):
+            raise ValueError(f'goal_approach_margin must be in [0, goal_tolerance '
+                             f'{self.goal_tolerance!r}), got {margin!r}')
         if self.turn_in_place_angle > math.pi:
             raise ValueError(
                 f'turn_in_place_angle must be at most pi, got {self.turn_in_place_angle!r}')
@@ -135,7 +148,7 @@ def follow_path(pose, path_xy, config):
         raise ValueError(f'pose must be finite, got {pose!r}')
     goal_x, goal_y = path_xy[-1]
     to_goal = math.hypot(goal_x - x, goal_y - y)
-    if to_goal <= config.goal_tolerance:
+    if to_goal <= config.goal_tolerance - config.goal_approach_margin:
         return VelocityCommand(0.0, 0.0, goal_reached=True)
     distance = np.hypot(path_xy[:, 0] - x, path_xy[:, 1] - y)
     closest = int(np.argmin(distance))

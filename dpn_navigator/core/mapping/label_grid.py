@@ -19,7 +19,8 @@ import math
 import numpy as np
 
 from .fine_evidence import FineEvidence
-from .label_update import expire_listed, mark_free_window, scan_hits, scan_update, squared_bound
+from .label_update import (expire_listed, mark_free_window, scan_hits, scan_update,
+                           squared_bound, surely_free_update)
 from .motion_tracks import MotionTracks, TrackConfig
 from .object_memory import ObjectMemory
 from .scan_reading import no_return_as_reading, read_no_echo, shorten_no_returns
@@ -174,6 +175,15 @@ class LabelRule:
         Fine cells are marked surely free only within this distance of the laser [m] (beyond
         it the beams are too far apart for the fine cells: a thin thing hides between them).
         Read with the fine free evidence on; > 0.
+    free_evidence_renewal : float
+        Free evidence (``seen_free`` and the fine evidence) that the laser's own travel has
+        made unsafe is dropped [m of travel]: the evidence is kept in two generations, a new
+        one started each time the laser has travelled half this far, so that what is looked
+        up was seen free within the last half to whole of this travel. A pose whose heading
+        is off by a fixed angle (a localiser's error) places what was seen from two poses
+        ``d`` metres apart that angle times ``d`` apart; older evidence under a wall seen
+        again from farther on would show the wall moving. 0 keeps the evidence for good (as
+        before 27 November). Read with the conservative free space on.
     mobile_expiry : float
         Ghost expiry [s]. A mobile obstacle cell that no hit has been within the safety radius
         of for this long, and that the latest scan does not see (f1 = f2 = 0), goes back to
@@ -254,6 +264,7 @@ class LabelRule:
     fine_evidence_resolution: float = 0.0
     fine_evidence_radius: float = 0.0
     fine_evidence_range: float = 20.0
+    free_evidence_renewal: float = 0.0
     mobile_expiry: float = 0.0
     track_confirm_time: float = 0.0
     track_still_distance: float = 0.0
@@ -270,7 +281,7 @@ class LabelRule:
     def __post_init__(self):
         for name in ('free_evidence_radius', 'moving_object_size', 'evidence_margin',
                      'fine_evidence_resolution', 'fine_evidence_radius',
-                     'fine_evidence_range', 'mobile_expiry',
+                     'fine_evidence_range', 'free_evidence_renewal', 'mobile_expiry',
                      'track_confirm_time', 'track_still_distance', 'trail_distance',
                      'object_memory'):
             value = getattr(self, name)
@@ -558,6 +569,13 @@ class LabelGrid(PlanningMap):
         self.labels = np.full(self.geometry.shape, CellLabel.NON_EXPLORED, dtype=LABEL_DTYPE)
         self.seen_free = (np.zeros(self.geometry.shape, dtype=bool)
                           if rule.free_evidence_radius > 0.0 else None)
+        # The free evidence's renewal: the cells marked since the current generation began,
+        # and the laser's travel since then from its position at the latest update [m].
+        self._fresh_free = (np.zeros(self.geometry.shape, dtype=bool)
+                            if self.seen_free is not None and rule.free_evidence_renewal > 0.0
+                            else None)
+        self._renewal_travel = 0.0
+        self._renewal_xy = None
         self.last_hit = (np.full(self.geometry.shape, -math.inf)
                          if rule.mobile_expiry > 0.0 else None)
         self._kernel_rule = rule.kernel_arguments()
@@ -583,7 +601,8 @@ class LabelGrid(PlanningMap):
         self.object_memory = (ObjectMemory(self.geometry, rule.object_memory)
                               if rule.object_memory > 0.0 else None)
         self.fine_evidence = (FineEvidence(self.geometry, rule.fine_evidence_resolution,
-                                           rule.fine_evidence_radius, rule.fine_evidence_range)
+                                           rule.fine_evidence_radius, rule.fine_evidence_range,
+                                           rule.free_evidence_renewal)
                               if rule.fine_evidence_radius > 0.0 else None)
         # Free evidence an update left for `settle`: (free window, fine scan), or None.
         self._deferred = None
@@ -644,6 +663,8 @@ class LabelGrid(PlanningMap):
         if expiring:
             self._restart_clocks_if_time_went_back(stamp)
         ranges = read_no_echo(ranges, range_min, self.rule.no_echo_below_range_min)
+        if self._fresh_free is not None:
+            self._renew_free_evidence(pose)
         followed = points = None
         if (self.rule.track_confirm_time > 0.0 or self.fine_evidence is not None
                 or self.surface_memory is not None or self.rule.no_return_reach < 1.0):
@@ -668,6 +689,13 @@ class LabelGrid(PlanningMap):
             defer_free=defer_evidence)
         if free_scan is not None or fine_scan is not None:
             self._deferred = (free_scan, fine_scan)
+        if self._fresh_free is not None:
+            # This generation's marks, at least as conservative as the kernel's (a safety
+            # radius above the free one keeps more cells out): `seen_free` at the next renewal.
+            surely_free_update(self._fresh_free, self.geometry, pose, no_return_as_reading(
+                ranges, range_min, range_max, self.rule.no_return_reach), angle_min,
+                angle_increment, range_min, range_max,
+                max(self.rule.free_evidence_radius, safety_radius))
         self._widen_trackers(self.last_window[0], self.last_window[1])
         if expiring:
             self._list_mobile(new_mobile, stamp)
@@ -677,6 +705,22 @@ class LabelGrid(PlanningMap):
         if self.object_memory is not None:
             self._forget_objects(safety_radius, stamp, defer_evidence)
         return replan
+
+    def _renew_free_evidence(self, pose):
+        """
+        Add the laser's travel to ``pose``; after half the renewal, begin a new generation.
+
+        ``seen_free`` becomes the marks of the generation that ends, which the next scans add
+        to; the older ones are dropped.
+        """
+        xy = (float(pose[0]), float(pose[1]))
+        if self._renewal_xy is not None:
+            self._renewal_travel += math.dist(self._renewal_xy, xy)
+        self._renewal_xy = xy
+        if self._renewal_travel >= 0.5 * self.rule.free_evidence_renewal:
+            np.copyto(self.seen_free, self._fresh_free)
+            self._fresh_free.fill(False)
+            self._renewal_travel = 0.0
 
     def settle(self):
         """
@@ -901,6 +945,8 @@ class LabelGrid(PlanningMap):
         self.labels = growth.embed(self.labels, shape, CellLabel.NON_EXPLORED)
         if self.seen_free is not None:
             self.seen_free = growth.embed(self.seen_free, shape, False)
+        if self._fresh_free is not None:
+            self._fresh_free = growth.embed(self._fresh_free, shape, False)
         if self.last_hit is not None:
             self.last_hit = growth.embed(self.last_hit, shape, -math.inf)
             self._listed = growth.embed(self._listed, shape, False)
@@ -925,7 +971,8 @@ class LabelGrid(PlanningMap):
     @property
     def nbytes(self):
         """Bytes held by the per-cell arrays (the memories' finer grids too)."""
-        arrays = [self.labels, self.seen_free, self.last_hit, self._listed, self.cell_track]
+        arrays = [self.labels, self.seen_free, self.last_hit, self._listed, self.cell_track,
+                  self._fresh_free]
         total = sum(array.nbytes for array in arrays if array is not None)
         for part in (self.object_memory, self.fine_evidence, self.surface_memory):
             if part is not None:
@@ -938,6 +985,10 @@ class LabelGrid(PlanningMap):
         self.labels.fill(CellLabel.NON_EXPLORED)
         if self.seen_free is not None:
             self.seen_free.fill(False)
+        if self._fresh_free is not None:
+            self._fresh_free.fill(False)
+        self._renewal_travel = 0.0
+        self._renewal_xy = None
         if self.last_hit is not None:
             self.last_hit.fill(-math.inf)
             self._listed.fill(False)
