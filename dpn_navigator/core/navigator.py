@@ -143,10 +143,11 @@ class NavigatorConfig:
         'distance of the laser (640 beams over 180 degrees are 9.8 cm apart at 20 m, under a '
         'fine cell; farther, a thin thing hides between two beams)', 0.01, 1000.0)
     free_evidence_renewal: float = setting(
-        0.0, 'm', 'fine free evidence older than this much travel of the laser is dropped (two '
-        'generations, renewed every half of it), so that the heading error of a localiser, which '
-        'shifts what two poses d metres apart see by that angle times d, does not show walls '
-        'moving; 0: kept for good (the benchmark, whose pose is exact)', 0.0, 1000.0)
+        0.0, 'm', 'free evidence (conservative and fine) older than this much travel of the '
+        'laser is dropped (two generations, one begun every half of it), so that the heading '
+        'error of a localiser, which shifts what two poses d metres apart see by that angle '
+        'times d, shows no wall moving; 0: kept for good (the core and the benchmark, whose '
+        'pose is exact)', 0.0, 1000.0)
     mobile_expiry: float = setting(
         3.0, 's', 'mobile cells that no hit confirmed for this long and that are out of view '
         'go back to explored; 0: never (the paper)', 0.0, 3600.0)
