@@ -298,7 +298,8 @@ class EpisodeMonitor(Node):
 
 def run_episode(scenario_name='back_and_forth', task=0, wanderers=3, seed=0,
                 real_time_factor=10.0, time_limit=300.0, wall_limit=600.0, domain_id=None,
-                log_dir='out/demo', stop=True, record=None, via_action=True):
+                log_dir='out/demo', stop=True, record=None, via_action=True,
+                dpn_parameters=()):
     """
     Start both nodes and watch until the goal is reached or a limit passes.
 
@@ -328,6 +329,8 @@ def run_episode(scenario_name='back_and_forth', task=0, wanderers=3, seed=0,
         Send the task's goal through the ``navigate_to_pose`` action once the navigator serves
         it (``episode.action_status`` ends as its result); False: the navigator starts with
         the goal (``use_default_goal``).
+    dpn_parameters : sequence of str
+        More ``name:=value`` parameters of ``dpn``, after the scenario's (which they override).
 
     Returns
     -------
@@ -365,7 +368,8 @@ def run_episode(scenario_name='back_and_forth', task=0, wanderers=3, seed=0,
     try:
         scenario, processes = start_nodes(scenario_name, task, wanderers, seed,
                                           real_time_factor, domain_id, log_dir,
-                                          default_goal=not via_action)
+                                          default_goal=not via_action,
+                                          dpn_parameters=dpn_parameters)
     except BaseException:
         if bag is not None:
             bag.close()
@@ -415,13 +419,21 @@ def main(argv=None):
     parser.add_argument('--record', metavar='DIR',
                         help='record every topic of both nodes into the rosbag2 MCAP bag DIR '
                              '(a new folder; see docs/recording.md)')
+    parser.add_argument('--dpn-param', action='append', default=[], metavar='NAME:=VALUE',
+                        help='a parameter of the dpn node, as on a ros2 command line, after '
+                             "the scenario's (e.g. map_growth_step:=5.0); may repeat")
     args = parser.parse_args(argv)
+    for assignment in args.dpn_param:
+        name, separator, _ = assignment.partition(':=')
+        if not separator or not name:
+            parser.error(f'--dpn-param wants NAME:=VALUE, got {assignment!r}')
     from .figures import save_map_figure
     started = time.monotonic()
     try:
         scenario, episode, context, _ = run_episode(
             args.scenario, args.task, args.wanderers, args.seed, args.real_time_factor,
-            args.time_limit, log_dir=args.out, record=args.record)
+            args.time_limit, log_dir=args.out, record=args.record,
+            dpn_parameters=tuple(args.dpn_param))
     except BagPathError as error:
         parser.exit(2, f'{parser.prog}: error: --record: {error}\n')
     rclpy.try_shutdown(context=context)
