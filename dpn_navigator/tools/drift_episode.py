@@ -154,25 +154,30 @@ def main(args=None):
     parser.add_argument('--dpn-param', action='append', default=[], metavar='NAME:=VALUE',
                         help='a parameter of the dpn node, as on a ros2 command line '
                              '(e.g. goal_approach_margin:=0.0); may repeat')
+    parser.add_argument('--world-param', action='append', default=[], metavar='NAME:=VALUE',
+                        help='a parameter of the world node (e.g. laser_profile:=rplidar_a2, '
+                             'laser_upside_down:=true); may repeat')
     options = parser.parse_args(args)
     dpn_parameters = {'pose_source': options.pose_source}
-    for assignment in options.dpn_param:
-        name, separator, text = assignment.partition(':=')
-        if not separator or not name:
-            parser.error(f'--dpn-param wants NAME:=VALUE, got {assignment!r}')
-        dpn_parameters[name] = yaml.safe_load(text)
+    world_parameters = {'odom_drift_scale': options.drift[0],
+                        'odom_drift_yaw_scale': options.drift[1],
+                        'odom_drift_yaw_per_metre': options.drift[2],
+                        'localiser_error_xy': options.localiser_error[0],
+                        'localiser_error_yaw': options.localiser_error[1]}
+    for option, values, target in (('--dpn-param', options.dpn_param, dpn_parameters),
+                                   ('--world-param', options.world_param, world_parameters)):
+        for assignment in values:
+            name, separator, text = assignment.partition(':=')
+            if not separator or not name:
+                parser.error(f'{option} wants NAME:=VALUE, got {assignment!r}')
+            target[name] = yaml.safe_load(text)
     os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
     context = Context()
     rclpy.init(context=context)
     try:
         result = run_drift_episode(
             context, options.scenario, options.task, options.wanderers, options.seed,
-            world_parameters={'odom_drift_scale': options.drift[0],
-                              'odom_drift_yaw_scale': options.drift[1],
-                              'odom_drift_yaw_per_metre': options.drift[2],
-                              'localiser_error_xy': options.localiser_error[0],
-                              'localiser_error_yaw': options.localiser_error[1]},
-            dpn_parameters=dpn_parameters,
+            world_parameters=world_parameters, dpn_parameters=dpn_parameters,
             time_limit=options.time_limit, real_time_factor=options.real_time_factor)
     finally:
         rclpy.try_shutdown(context=context)

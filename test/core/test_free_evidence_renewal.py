@@ -13,6 +13,7 @@ from dpn_navigator.core.grid_geometry import GridGeometry
 from dpn_navigator.core.mapping.fine_evidence import FineEvidence
 from dpn_navigator.core.mapping.label_grid import LabelGrid, LabelRule
 from dpn_navigator.core.mapping.map_growth import GridGrowth
+from dpn_navigator.core.mapping.travel_generations import TravelGenerations
 from dpn_navigator.core.navigator import NavigatorConfig
 import numpy as np
 import pytest
@@ -175,3 +176,14 @@ def test_a_bad_renewal_is_refused(renewal):
         LabelRule(free_evidence_renewal=renewal)
     with pytest.raises(ValueError, match='renewal must be finite'):
         FineEvidence(GridGeometry(4.0, 4.0, 0.5), 0.1, 0.2, 20.0, renewal=renewal)
+
+
+def test_a_generation_ends_after_its_travel_and_the_count_starts_again():
+    generations = TravelGenerations(3.0)
+    ends = [generations.step((x, 0.0, 0.0)) for x in (0.0, 1.0, 2.9, 3.1, 5.0, 6.2)]
+    assert ends == [False, False, False, True, False, True]
+    assert generations.step((6.2, 0.0)) is False        # standing still: no travel
+    generations.reset()
+    assert generations.step((100.0, 0.0)) is False       # no travel counted across a reset
+    with pytest.raises(ValueError, match='period must be finite and > 0'):
+        TravelGenerations(0.0)

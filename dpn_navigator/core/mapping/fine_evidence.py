@@ -38,6 +38,7 @@ import numpy as np
 
 from .label_update import surely_free_update
 from .map_growth import embed_at, subgrid_offset
+from .travel_generations import TravelGenerations
 from .._kernels import fine_evidence as fine_kernels
 from .._kernels.motion_evidence import moving_hits
 from ..grid_geometry import GridGeometry
@@ -77,12 +78,11 @@ class FineEvidence:
         self.geometry = GridGeometry(geometry.width, geometry.height, resolution,
                                      origin=tuple(geometry.origin))
         self._seen_free = np.zeros(self.geometry.shape, dtype=bool)
-        # With renewal: the older generation, and the travel since the current one began [m]
-        # from the laser position of the latest update.
+        # With renewal: the older generation, and the travel that ends the current one.
         self._older = (np.zeros(self.geometry.shape, dtype=bool) if self.renewal > 0.0
                        else None)
-        self._travel = 0.0
-        self._last_xy = None
+        self._generations = (TravelGenerations(0.5 * self.renewal) if self.renewal > 0.0
+                             else None)
 
     def grow(self, geometry):
         """
@@ -202,8 +202,9 @@ class FineEvidence:
         renewal, the laser's travel since the latest update (``pose``'s x and y) counts toward
         the next generation, which begins before this scan is marked.
         """
-        if self._older is not None:
-            self._renew(pose)
+        if self._generations is not None and self._generations.step(pose):
+            self._older, self._seen_free = self._seen_free, self._older
+            self._seen_free[...] = False
         surely_free_update(self._seen_free, self.geometry, pose, ranges, angle_min,
                            angle_increment, range_min, self.capped_range_max(range_min, range_max),
                            self.radius)
@@ -212,21 +213,9 @@ class FineEvidence:
         """Return the scan's ``range_max`` [m] as the fine evidence takes it: at most max_range."""
         return min(range_max, max(self.max_range, range_min))
 
-    def _renew(self, pose):
-        """Add the laser's travel to ``pose``; begin a new generation after renewal / 2."""
-        xy = (float(pose[0]), float(pose[1]))
-        if self._last_xy is not None:
-            self._travel += math.dist(self._last_xy, xy)
-        self._last_xy = xy
-        if self._travel >= 0.5 * self.renewal:
-            self._older, self._seen_free = self._seen_free, self._older
-            self._seen_free[...] = False
-            self._travel = 0.0
-
     def reset(self):
         """Forget all evidence (and the travel)."""
         self._seen_free[...] = False
         if self._older is not None:
             self._older[...] = False
-        self._travel = 0.0
-        self._last_xy = None
+            self._generations.reset()

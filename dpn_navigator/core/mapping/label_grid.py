@@ -26,6 +26,7 @@ from .object_memory import ObjectMemory
 from .scan_reading import no_return_as_reading, read_no_echo, shorten_no_returns
 from .surface_memory import SurfaceMemory
 from .trail_marks import update_trails
+from .travel_generations import TravelGenerations
 from .._kernels import motion_evidence
 from ..cell_label import blocked_mask, CellLabel, LABEL_DTYPE
 from ..grid_geometry import GridGeometry
@@ -570,12 +571,11 @@ class LabelGrid(PlanningMap):
         self.seen_free = (np.zeros(self.geometry.shape, dtype=bool)
                           if rule.free_evidence_radius > 0.0 else None)
         # The free evidence's renewal: the cells marked since the current generation began,
-        # and the laser's travel since then from its position at the latest update [m].
-        self._fresh_free = (np.zeros(self.geometry.shape, dtype=bool)
-                            if self.seen_free is not None and rule.free_evidence_renewal > 0.0
-                            else None)
-        self._renewal_travel = 0.0
-        self._renewal_xy = None
+        # and the travel that ends it.
+        renewing = self.seen_free is not None and rule.free_evidence_renewal > 0.0
+        self._fresh_free = np.zeros(self.geometry.shape, dtype=bool) if renewing else None
+        self._generations = (TravelGenerations(0.5 * rule.free_evidence_renewal) if renewing
+                             else None)
         self.last_hit = (np.full(self.geometry.shape, -math.inf)
                          if rule.mobile_expiry > 0.0 else None)
         self._kernel_rule = rule.kernel_arguments()
@@ -663,8 +663,10 @@ class LabelGrid(PlanningMap):
         if expiring:
             self._restart_clocks_if_time_went_back(stamp)
         ranges = read_no_echo(ranges, range_min, self.rule.no_echo_below_range_min)
-        if self._fresh_free is not None:
-            self._renew_free_evidence(pose)
+        if self._generations is not None and self._generations.step(pose):
+            # A new generation: the one that ends is kept, the older ones are dropped.
+            np.copyto(self.seen_free, self._fresh_free)
+            self._fresh_free.fill(False)
         followed = points = None
         if (self.rule.track_confirm_time > 0.0 or self.fine_evidence is not None
                 or self.surface_memory is not None or self.rule.no_return_reach < 1.0):
@@ -705,22 +707,6 @@ class LabelGrid(PlanningMap):
         if self.object_memory is not None:
             self._forget_objects(safety_radius, stamp, defer_evidence)
         return replan
-
-    def _renew_free_evidence(self, pose):
-        """
-        Add the laser's travel to ``pose``; after half the renewal, begin a new generation.
-
-        ``seen_free`` becomes the marks of the generation that ends, which the next scans add
-        to; the older ones are dropped.
-        """
-        xy = (float(pose[0]), float(pose[1]))
-        if self._renewal_xy is not None:
-            self._renewal_travel += math.dist(self._renewal_xy, xy)
-        self._renewal_xy = xy
-        if self._renewal_travel >= 0.5 * self.rule.free_evidence_renewal:
-            np.copyto(self.seen_free, self._fresh_free)
-            self._fresh_free.fill(False)
-            self._renewal_travel = 0.0
 
     def settle(self):
         """
@@ -987,8 +973,7 @@ class LabelGrid(PlanningMap):
             self.seen_free.fill(False)
         if self._fresh_free is not None:
             self._fresh_free.fill(False)
-        self._renewal_travel = 0.0
-        self._renewal_xy = None
+            self._generations.reset()
         if self.last_hit is not None:
             self.last_hit.fill(-math.inf)
             self._listed.fill(False)
