@@ -142,12 +142,6 @@ class NavigatorConfig:
         20.0, 'm', 'fine free evidence: fine cells are marked surely free only within this '
         'distance of the laser (640 beams over 180 degrees are 9.8 cm apart at 20 m, under a '
         'fine cell; farther, a thin thing hides between two beams)', 0.01, 1000.0)
-    fine_evidence_beam_spacing: float = setting(
-        0.1, 'm', 'fine free evidence: fine cells are marked surely free only where neighbouring '
-        'beams are at most this far apart (within this over the angle increment of the laser: '
-        '20.3 m for 640 beams over 180 degrees, 5.7 m for a 1-degree laser), since a thing '
-        'narrower than the gap hides between two beams; 0: only `fine_evidence_range`',
-        0.0, 10.0)
     free_evidence_renewal: float = setting(
         0.0, 'm', 'free evidence (conservative and fine) older than this much travel of the '
         'laser is dropped (two generations, one begun every half of it), so that the heading '

@@ -288,11 +288,6 @@ RULES = {
     'fine': LabelRule(free_evidence_radius=0.5, moving_object_size=0.7, segment_gap=0.6,
                       object_min_hits=2, fine_evidence_resolution=0.25,
                       fine_evidence_radius=0.3, fine_evidence_range=2.5),
-    # The fine evidence no farther than where the beams lie 5 cm apart.
-    'fine_spacing': LabelRule(free_evidence_radius=0.5, moving_object_size=0.7, segment_gap=0.6,
-                              object_min_hits=2, fine_evidence_resolution=0.25,
-                              fine_evidence_radius=0.3, fine_evidence_range=2.5,
-                              fine_evidence_beam_spacing=0.05),
     'expiry': LabelRule(mobile_expiry=1.0),
     'all': LabelRule(free_evidence_radius=0.75, moving_object_size=1.0, segment_gap=1.1,
                      object_min_hits=2, mobile_expiry=0.5),
@@ -468,7 +463,6 @@ def test_unconfirmed_mobile_cells_out_of_view_expire():
     ({'fine_evidence_resolution': 0.1, 'fine_evidence_radius': 0.2},
      'fine_evidence_radius needs moving_object_size'),
     ({'fine_evidence_range': -1.0}, 'fine_evidence_range must be finite'),
-    ({'fine_evidence_beam_spacing': math.nan}, 'fine_evidence_beam_spacing must be finite'),
 ])
 def test_bad_rule_raises(kwargs, message):
     with pytest.raises(ValueError, match=message):

@@ -171,39 +171,3 @@ def test_the_paper_keeps_every_real_sensor_rule_off():
     assert paper == LabelRule()
     assert not paper.no_echo_below_range_min and paper.no_return_reach == 1.0
     assert paper.surface_time == 0.0
-
-
-@pytest.mark.parametrize(('increment_deg', 'reach'), [
-    (180.0 / 639, 20.0),                    # the paper's laser: 20.3 m, so fine_evidence_range
-    (0.5, 0.1 / math.radians(0.5)),          # SICK LMS1xx: 11.5 m
-    (1.0, 0.1 / math.radians(1.0)),          # RPLIDAR A2, LDS-01: 5.7 m
-])
-def test_the_fine_evidence_reaches_only_where_the_beams_are_a_fine_cell_apart(
-        increment_deg, reach):
-    config = NavigatorConfig(width=10.0, height=10.0)
-    fine = LabelGrid(10.0, 10.0, 0.5, (0.0, 0.0), config.label_rule()).fine_evidence
-    assert fine.beam_spacing == 0.1
-    assert fine.capped_range_max(0.1, 30.0, math.radians(increment_deg)) == pytest.approx(reach)
-    assert fine.capped_range_max(0.1, 4.0, math.radians(increment_deg)) == 4.0
-    # 0 turns it off: only fine_evidence_range.
-    off = LabelGrid(10.0, 10.0, 0.5, (0.0, 0.0),
-                    NavigatorConfig(width=10.0, height=10.0,
-                                    fine_evidence_beam_spacing=0.0).label_rule()).fine_evidence
-    assert off.capped_range_max(0.1, 30.0, math.radians(increment_deg)) == 20.0
-
-
-def test_a_1_degree_laser_marks_no_fine_cell_beyond_its_beam_spacing():
-    # A 360-beam, 360-degree laser in a 40 m hall: with the beam spacing rule no fine cell
-    # farther than 5.7 m from it is surely free; without, they are out to 20 m.
-    ranges = np.full(360, 18.0)
-    marked = {}
-    for spacing in (0.1, 0.0):
-        config = NavigatorConfig(width=40.0, height=40.0, fine_evidence_beam_spacing=spacing)
-        grid = LabelGrid(40.0, 40.0, 0.5, (-20.0, -20.0), config.label_rule())
-        grid.update((0.0, 0.0, 0.0), ranges, -math.pi, math.radians(1.0), 0.1, 30.0, 0.6,
-                    stamp=0.0)
-        rows, cols = np.nonzero(grid.fine_evidence.seen_free)
-        x, y = grid.fine_evidence.geometry.cell_to_world(rows, cols)
-        marked[spacing] = float(np.hypot(x, y).max())
-    assert marked[0.1] <= 0.1 / math.radians(1.0)
-    assert marked[0.0] > 15.0

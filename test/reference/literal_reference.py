@@ -320,14 +320,11 @@ def literal_update_with_rule(labels, seen_free, last_hit, origin, resolution, po
     if rule.fine_evidence_radius > 0.0:
         fine = rule.fine_evidence_resolution
         radius = rule.fine_evidence_radius
-        # The scan as the fine grid takes it: no farther than fine_evidence_range, nor than
-        # where the beams lie fine_evidence_beam_spacing apart.
-        reach = rule.fine_evidence_range
-        if rule.fine_evidence_beam_spacing > 0.0 and angle_increment != 0.0:
-            reach = min(reach, rule.fine_evidence_beam_spacing / abs(angle_increment))
+        # The scan as the fine grid takes it: no farther than fine_evidence_range.
         vertices, hits = literal_scan_points(
             pose, literal_fine_ranges(ranges, range_min, range_max, rule.no_return_reach),
-            angle_min, angle_increment, range_min, min(range_max, max(reach, range_min)))
+            angle_min, angle_increment, range_min,
+            min(range_max, max(rule.fine_evidence_range, range_min)))
         for i in range(fine_seen_free.shape[0]):
             for j in range(fine_seen_free.shape[1]):
                 if literal_surely_free(x0 + (j + 0.5) * fine, y0 + (i + 0.5) * fine, vertices,

@@ -90,8 +90,7 @@ class NumpyFineEvidence(FineEvidence):
     def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max):
         """Update the whole fine grid, labels and all."""
         self.grid.update(pose, ranges, angle_min, angle_increment, range_min,
-                         self.capped_range_max(range_min, range_max, angle_increment),
-                         self.radius)
+                         self.capped_range_max(range_min, range_max), self.radius)
 
     def reset(self):
         """Forget all evidence."""
@@ -116,9 +115,7 @@ class NumpyExtrasLabelGrid(LabelGrid):
             self.fine_evidence = NumpyFineEvidence(self.geometry,
                                                    self.rule.fine_evidence_resolution,
                                                    self.rule.fine_evidence_radius,
-                                                   self.rule.fine_evidence_range,
-                                                   beam_spacing=(
-                                                       self.rule.fine_evidence_beam_spacing))
+                                                   self.rule.fine_evidence_range)
 
     def _follow(self, *args):
         """

@@ -62,22 +62,15 @@ class FineEvidence:
     renewal : float
         Evidence is dropped after this much travel of the laser [m], in two generations; 0:
         never.
-    beam_spacing : float
-        Only space where neighbouring beams lie at most this far apart is marked [m]: the
-        scan's ``range_max`` is capped at ``beam_spacing / angle_increment`` too; 0: only
-        ``max_range``.
 
     """
 
-    def __init__(self, geometry, resolution, radius, max_range, renewal=0.0, beam_spacing=0.0):
+    def __init__(self, geometry, resolution, radius, max_range, renewal=0.0):
         self.radius = float(radius)
         self.max_range = float(max_range)
         self.renewal = float(renewal)
-        self.beam_spacing = float(beam_spacing)
         if not (math.isfinite(self.renewal) and self.renewal >= 0.0):
             raise ValueError(f'renewal must be finite and >= 0, got {renewal!r} m')
-        if not (math.isfinite(self.beam_spacing) and self.beam_spacing >= 0.0):
-            raise ValueError(f'beam_spacing must be finite and >= 0, got {beam_spacing!r} m')
         if not self.radius > 0.0:
             raise ValueError(f'radius must be > 0, got {radius!r} m')
         if not self.max_range > 0.0:
@@ -213,22 +206,12 @@ class FineEvidence:
             self._older, self._seen_free = self._seen_free, self._older
             self._seen_free[...] = False
         surely_free_update(self._seen_free, self.geometry, pose, ranges, angle_min,
-                           angle_increment, range_min,
-                           self.capped_range_max(range_min, range_max, angle_increment),
+                           angle_increment, range_min, self.capped_range_max(range_min, range_max),
                            self.radius)
 
-    def capped_range_max(self, range_min, range_max, angle_increment=0.0):
-        """
-        Return the scan's ``range_max`` [m] as the fine evidence takes it.
-
-        At most ``max_range``, and with ``beam_spacing`` at most the range where neighbouring
-        beams ``angle_increment`` [rad] apart are ``beam_spacing`` apart; never below
-        ``range_min``.
-        """
-        reach = self.max_range
-        if self.beam_spacing > 0.0 and angle_increment != 0.0:
-            reach = min(reach, self.beam_spacing / abs(angle_increment))
-        return min(range_max, max(reach, range_min))
+    def capped_range_max(self, range_min, range_max):
+        """Return the scan's ``range_max`` [m] as the fine evidence takes it: at most max_range."""
+        return min(range_max, max(self.max_range, range_min))
 
     def reset(self):
         """Forget all evidence (and the travel)."""

@@ -176,13 +176,6 @@ class LabelRule:
         Fine cells are marked surely free only within this distance of the laser [m] (beyond
         it the beams are too far apart for the fine cells: a thin thing hides between them).
         Read with the fine free evidence on; > 0.
-    fine_evidence_beam_spacing : float
-        Fine cells are marked surely free only where neighbouring beams lie at most this far
-        apart [m], within ``fine_evidence_beam_spacing / angle_increment`` of the laser: a
-        thing narrower than the gap between two beams hides there, and its next hit looks like
-        motion. A 640-beam 180-degree laser's beams are 0.1 m apart at 20.3 m, a 1-degree
-        laser's (RPLIDAR, LDS-01) at 5.7 m. 0: only ``fine_evidence_range`` (the fine evidence
-        as it was).
     free_evidence_renewal : float
         Free evidence (``seen_free`` and the fine evidence) that the laser's own travel has
         made unsafe is dropped [m of travel]: the evidence is kept in two generations, a new
@@ -272,7 +265,6 @@ class LabelRule:
     fine_evidence_resolution: float = 0.0
     fine_evidence_radius: float = 0.0
     fine_evidence_range: float = 20.0
-    fine_evidence_beam_spacing: float = 0.0
     free_evidence_renewal: float = 0.0
     mobile_expiry: float = 0.0
     track_confirm_time: float = 0.0
@@ -290,8 +282,7 @@ class LabelRule:
     def __post_init__(self):
         for name in ('free_evidence_radius', 'moving_object_size', 'evidence_margin',
                      'fine_evidence_resolution', 'fine_evidence_radius',
-                     'fine_evidence_range', 'fine_evidence_beam_spacing',
-                     'free_evidence_renewal', 'mobile_expiry',
+                     'fine_evidence_range', 'free_evidence_renewal', 'mobile_expiry',
                      'track_confirm_time', 'track_still_distance', 'trail_distance',
                      'object_memory'):
             value = getattr(self, name)
@@ -611,8 +602,7 @@ class LabelGrid(PlanningMap):
                               if rule.object_memory > 0.0 else None)
         self.fine_evidence = (FineEvidence(self.geometry, rule.fine_evidence_resolution,
                                            rule.fine_evidence_radius, rule.fine_evidence_range,
-                                           rule.free_evidence_renewal,
-                                           rule.fine_evidence_beam_spacing)
+                                           rule.free_evidence_renewal)
                               if rule.fine_evidence_radius > 0.0 else None)
         # Free evidence an update left for `settle`: (free window, fine scan), or None.
         self._deferred = None
