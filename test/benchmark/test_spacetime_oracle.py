@@ -13,14 +13,15 @@ physics; a contact is the robot's and the agent's circles overlapping.
 import math
 
 from dpn_navigator.benchmark.baselines.oracle_grid import OracleGrid
-from dpn_navigator.benchmark.baselines.spacetime_oracle import SpaceTimeConfig, \
-    SpaceTimeOracle
+from dpn_navigator.benchmark.baselines.spacetime_oracle import _box_distance, \
+    SpaceTimeConfig, SpaceTimeOracle
 from dpn_navigator.benchmark.ground_truth import wall_belt
 from dpn_navigator.core import CellLabel, GridGeometry, Navigator, NavigatorConfig
 from dpn_navigator.core.cell_label import blocked_mask
+from dpn_navigator.core.control.path_follower import STOP, VelocityCommand
 from dpn_navigator.core.navigator import NavigatorStatus
 import numpy as np
-from numpy.testing import assert_array_equal
+from numpy.testing import assert_allclose, assert_array_equal
 import pytest
 from sim_bridge.husky import DriveLimits, HUSKY_RADIUS, integrate_pose, ramp
 
@@ -201,3 +202,52 @@ def test_the_forecast_of_yielding_agents_around_a_moving_husky_is_their_future(a
             world.step(*command)
             seen.append(world.wanderer_positions)
         assert_array_equal(forecast, np.array(seen))
+
+
+def still_agent_oracle(config, agent, **planning):
+    """Return an oracle whose one agent stands at ``agent`` [m] for good."""
+    return SpaceTimeOracle(config, make_grid(config),
+                           lambda times, husky: np.array([[agent]] * len(times), dtype=float),
+                           AGENT_RADIUS + config.safety_radius, SpaceTimeConfig(**planning))
+
+
+def test_the_body_guard_holds_a_turn_that_would_sweep_a_corner_into_an_agent(config):
+    # The Husky's corners sweep a 0.6 m disc as it turns; an agent of radius 0.4 whose centre
+    # is 0.84 m away is within it (the turn that hit a stopped P3-AT on crossroads, task 0,
+    # 5 wanderers, held-out seed 1).
+    turn = VelocityCommand(0.0, 1.0, turn=1.0)
+    pose = (5.0, 4.0, 0.0)
+    assert still_agent_oracle(config, (5.0, 4.84))._guarded(pose, turn) is STOP
+    assert still_agent_oracle(config, (5.0, 6.0))._guarded(pose, turn) is turn
+
+
+def test_the_body_guard_stops_a_drive_onto_an_agent_but_not_away_from_it(config):
+    oracle = still_agent_oracle(config, (6.0, 4.0))          # 1.0 m ahead of the centre
+    toward, away = VelocityCommand(0.8, 0.0), VelocityCommand(0.8, 0.0)
+    assert oracle._guarded((5.0, 4.0, 0.0), toward) is STOP
+    assert oracle._guarded((5.0, 4.0, math.pi), away) is away
+    # Passing beside it with room to spare is no contact.
+    assert oracle._guarded((5.0, 2.7, 0.0), toward) is toward
+
+
+def test_the_box_distance_is_zero_inside_and_the_gap_outside():
+    half = (0.495, 0.335)
+    points = np.array([[0.2, 0.1], [1.0, 0.0], [0.0, -1.0], [1.495, 1.335]])
+    assert_allclose(_box_distance((0.0, 0.0, 0.0), half, points),
+                    [0.0, 0.505, 0.665, math.sqrt(2.0)])
+    # Turned by a quarter turn, length and width swap.
+    assert_allclose(_box_distance((0.0, 0.0, math.pi / 2), half, points[1:2]), [0.665])
+
+
+def test_without_the_body_guard_the_plan_is_followed_as_it_is(config):
+    with pytest.raises(ValueError, match='body_margin must be finite'):
+        SpaceTimeConfig(body_margin=-0.1)
+    drive_on = VelocityCommand(0.8, 0.0)
+    commands = {}
+    for guard in (True, False):
+        oracle = still_agent_oracle(config, (2.4, 4.0), body_guard=guard)   # 1.15 m ahead
+        oracle.set_goal(*GOAL)
+        oracle.step(0.0, START, **SCAN)                 # plans once
+        oracle._command = lambda stamp, pose: drive_on  # the plan says: drive on
+        commands[guard] = oracle.step(0.1, START, **SCAN).command
+    assert commands[True] is STOP and commands[False] is drive_on

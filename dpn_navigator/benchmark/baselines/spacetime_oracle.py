@@ -17,6 +17,14 @@ the first), and the next plan corrects it. The plan is then followed with the na
 path follower: between two waits it follows the plan's cells; during a wait it turns toward
 the next cell in place and holds.
 
+The plan keeps cell *centres* ``R + r`` from the agents, but the robot's centre strays from its
+cells' centres by up to half a cell's diagonal while it drives, and a turn in place sweeps its
+corners round the disc of its circumscribed radius. So every command is checked against where
+the agents are now (`SpaceTimeConfig.body_guard`): a turn in place with an agent's body within
+that disc, or a drive that brings the robot's box nearer than ``body_margin`` to an agent's
+body already that close, is not made (the robot holds; the next plan, at most
+``replan_period`` later, takes the agents' new places).
+
 """
 
 from dataclasses import dataclass
@@ -52,6 +60,13 @@ class SpaceTimeConfig:
         Added to ``R + r`` around every agent [m] (the robot's centre strays from its cell's
         centre while it drives the plan); 0.25 was tried against pedestrians and did not help
         (docs/benchmark.md).
+    body_guard : bool
+        Check each command against the agents' bodies now (module docstring); False: follow
+        the plan as it is (the oracle before 27 November, session 13).
+    body_margin : float
+        Gap the body guard keeps between the robot's box and an agent's body [m].
+    guard_lookahead : float
+        A drive is checked at where it brings the robot in this long [s].
 
     """
 
@@ -61,6 +76,9 @@ class SpaceTimeConfig:
     margin: int = 1
     max_expansions: int = 60_000
     clearance: float = 0.0
+    body_guard: bool = True
+    body_margin: float = 0.1
+    guard_lookahead: float = 0.3
 
     def __post_init__(self):
         for name in ('horizon', 'step', 'replan_period'):
@@ -69,8 +87,10 @@ class SpaceTimeConfig:
                 raise ValueError(f'{name} must be positive and finite, got {value!r}')
         if self.horizon < self.step:
             raise ValueError('horizon must be at least one step')
-        if not (math.isfinite(self.clearance) and self.clearance >= 0.0):
-            raise ValueError(f'clearance must be finite and >= 0, got {self.clearance!r}')
+        for name in ('clearance', 'body_margin', 'guard_lookahead'):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value >= 0.0):
+                raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
         if self.margin < 0 or self.max_expansions < 1:
             raise ValueError('margin must be >= 0 and max_expansions >= 1')
 
@@ -106,6 +126,9 @@ class SpaceTimeOracle(Navigator):
         self.planning = planning if planning is not None else SpaceTimeConfig()
         self._forecast = forecast
         self._reach = float(reach) + self.planning.clearance
+        # The agents' body radius R (``reach`` is R + r) and the robot's half length and width.
+        self._agent_radius = max(0.0, float(reach) - config.safety_radius)
+        self._half_box = (0.5 * config.robot_length, 0.5 * config.robot_width)
         step = self.planning.step
         speed = config.follower.max_linear_speed
         self._straight = max(1, math.ceil(config.resolution / (speed * step) - 1e-9))
@@ -145,8 +168,38 @@ class SpaceTimeOracle(Navigator):
         cause = ReplanCause.OTHER if replanned else ReplanCause.NONE
         if self._schedule is None:
             return NavigatorOutput(STOP, self.status, self.reason, replanned, cause)
-        return NavigatorOutput(self._command(stamp, pose), self.status, self.reason, replanned,
-                               cause)
+        command = self._command(stamp, pose)
+        if self.planning.body_guard and command is not STOP:
+            command = self._guarded(pose, command)
+        return NavigatorOutput(command, self.status, self.reason, replanned, cause)
+
+    def _guarded(self, pose, command):
+        """Return ``command``, or STOP when it would bring the robot's body onto an agent's."""
+        agents = np.asarray(self._forecast(np.zeros(1), lambda t: (pose[0], pose[1])),
+                            dtype=np.float64)[0]
+        if agents.shape[0] == 0:
+            return command
+        margin = self._agent_radius + self.planning.body_margin
+        if command.linear == 0.0:
+            if command.angular == 0.0:
+                return command
+            # A turn in place sweeps the disc of the circumscribed radius.
+            sweep = math.hypot(*self._half_box) + margin
+            near = np.hypot(agents[:, 0] - pose[0], agents[:, 1] - pose[1]) < sweep
+            if near.any():
+                self.waits += 1
+                return STOP
+            return command
+        now = _box_distance(pose, self._half_box, agents)
+        travel = command.linear * self.planning.guard_lookahead
+        yaw = pose[2] + 0.5 * command.angular * self.planning.guard_lookahead
+        ahead = (pose[0] + travel * math.cos(yaw), pose[1] + travel * math.sin(yaw),
+                 pose[2] + command.angular * self.planning.guard_lookahead)
+        then = _box_distance(ahead, self._half_box, agents)
+        if np.any((then < margin) & (then < now)):
+            self.waits += 1
+            return STOP
+        return command
 
     def _plan_in_time(self, stamp, pose):
         """Forecast the agents, plan in space and time, keep the schedule."""
@@ -242,6 +295,31 @@ class SpaceTimeOracle(Navigator):
             last = i + 1 + int(waits_ahead[0])
         return _without_goal(follow_path(pose, xy[i + 1:last + 1] if last > i else xy[-1:],
                                          config))
+
+
+def _box_distance(pose, half_box, points):
+    """
+    Return the distance from each point to the robot's box at ``pose``, 0 inside it.
+
+    Parameters
+    ----------
+    pose : (float, float, float)
+        The robot's centre and heading [m, m, rad].
+    half_box : (float, float)
+        Half its length and half its width [m].
+    points : (K, 2) ndarray of float64
+        [m]
+
+    Returns
+    -------
+    (K,) ndarray of float64 [m]
+
+    """
+    dx, dy = points[:, 0] - pose[0], points[:, 1] - pose[1]
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    along = np.abs(c * dx + s * dy) - half_box[0]
+    across = np.abs(-s * dx + c * dy) - half_box[1]
+    return np.hypot(np.maximum(along, 0.0), np.maximum(across, 0.0))
 
 
 def _without_goal(command):
