@@ -7,9 +7,11 @@ map (cells where a disc of the P3-AT's radius plus a margin fits anywhere) and d
 centre to centre: it turns in place until it faces the next waypoint, then moves along the
 straight segment, so it never leaves clear cells and never touches a wall. It does not drive
 into the Husky: while the Husky is in a corridor ahead of it (up to ``husky_look_ahead``
-beyond the Husky's radius) it stops, and likewise for another wanderer close ahead. A
-wanderer that stays stopped longer than its patience picks a new goal and plans around what
-blocks it, so none is stuck for long.
+beyond the Husky's radius) it stops, and likewise for another wanderer close ahead; nor does
+it turn its corners into the Husky (``turn_guard``: a P3-AT's box sweeps its circle as it turns
+in place, so a polite one holds its heading while that circle and the Husky's are closer than
+0.05 m, and counts as stopped). A wanderer that stays stopped longer than its patience picks a
+new goal and plans around what blocks it, so none is stuck for long.
 
 **Agent models.** The same walker moves other agents: `WandererConfig` sets their body
 (``body``: the P3-AT's URDF, or an upright cylinder of ``radius``, a pedestrian), their speed
@@ -57,6 +59,8 @@ from .husky import HUSKY_RADIUS
 P3AT_URDF = Path(__file__).resolve().parent / 'urdf' / 'p3at.urdf'
 #: Radius of the circle around a P3-AT's 0.508 m x 0.497 m footprint [m].
 P3AT_RADIUS = 0.5 * math.hypot(0.508, 0.497)
+#: Gap a polite P3-AT keeps between its circle and the Husky's before it turns in place [m].
+TURN_GUARD_GAP = 0.05
 
 
 @dataclass(frozen=True)
@@ -103,6 +107,11 @@ class WandererConfig:
     yield_slowest : float
         Slowest speed a yielding agent walks at, as a share of its walking speed, in (0, 1];
         when no speed from its walking speed down to this one yields, it stands.
+    turn_guard : bool
+        A polite P3-AT does not turn in place while its circle (`P3AT_RADIUS`) comes within
+        0.05 m of the Husky's circumscribed one: it holds its heading and counts as stopped
+        (before 27 November it turned its box's corners into a standing Husky). Cylinders
+        sweep nothing as they turn.
     others : WandererConfig or None
         A second kind of agent in the same crowd: the last ``round(others_share * count)``
         agents behave by it (body, speeds, acceleration, politeness, turning, patience); the
@@ -129,6 +138,7 @@ class WandererConfig:
     yield_horizon: float = 0.0
     yield_margin: float = 0.05
     yield_slowest: float = 0.5
+    turn_guard: bool = True
     others: object = None
     others_share: float = 0.0
 
@@ -409,6 +419,14 @@ class Wanderers:
         max_turn = kind.max_turn_rate * dt
         err = wrap_angle(math.atan2(dy, dx) - yaw)
         turn = min(max(err, -max_turn), max_turn)
+        if (turn != 0.0 and kind.turn_guard and kind.polite and kind.body == 'p3at'
+                and math.hypot(husky_xy[0] - x, husky_xy[1] - y)
+                < self.robot_radius + P3AT_RADIUS + TURN_GUARD_GAP):
+            # Its corners would sweep into the Husky: hold, as stopped for it.
+            self._stopped[i] += dt
+            if self._stopped[i] >= self._patience[i]:
+                self._new_goal(i, husky_xy, (husky_xy[0], husky_xy[1], self.robot_radius))
+            return False
         self._yaw[i] = wrap_angle(yaw + turn)
         if abs(err - turn) > kind.heading_tolerance:
             return turn != 0.0

@@ -189,3 +189,39 @@ def test_a_yielding_pedestrian_turns_back_from_a_husky_blocking_its_corridor(see
         nearest = min(nearest, math.dist(wanderers.positions[0], husky))
     assert nearest > 0.3 + HUSKY_RADIUS
     assert wanderers.positions[0][0] < 4.0           # it walked back west, away from the Husky
+
+
+def p3at_facing_north(config, husky):
+    """Return one P3-AT at (6, 6) facing north whose next waypoint lies west, in the room."""
+    scenario = room()
+    grid = clearance_grid(scenario.free, scenario.geometry, config.clearance)
+    wanderers = Wanderers(grid, 1, husky, np.random.default_rng(0), config)
+    wanderers.positions[0] = 6.0, 6.0
+    wanderers.yaws[0] = math.pi / 2
+    wanderers._paths[0] = [(3.0, 6.0)]
+    wanderers._centring[0] = False
+    wanderers._patience[0] = 100.0                   # no new goal within the test
+    return wanderers
+
+
+@pytest.mark.parametrize('guard', [True, False])
+def test_a_polite_p3at_does_not_turn_its_corners_into_a_standing_husky(guard):
+    # The Husky stands 0.89 m from the P3-AT's centre, within the two circles (0.36 + 0.60 m):
+    # a turn in place would sweep the P3-AT's corner into it (maze, task 2, 9 wanderers,
+    # held-out seed 1).
+    config = WandererConfig(turn_guard=guard)
+    husky = (6.0 + 0.89 * math.cos(-0.4), 6.0 + 0.89 * math.sin(-0.4))
+    wanderers = p3at_facing_north(config, husky)
+    for _ in range(25):                              # 0.5 s
+        wanderers.step(0.02, husky)
+    turned = abs(wanderers.yaws[0] - math.pi / 2)
+    if guard:
+        assert turned == 0.0 and wanderers._stopped[0] > 0.0
+    else:
+        assert turned > 0.5
+    # With the Husky out of reach, it turns.
+    far = p3at_facing_north(config, (6.0 + 1.2 * math.cos(-0.4), 6.0 + 1.2 * math.sin(-0.4)))
+    for _ in range(25):
+        far.step(0.02, (6.0 + 1.2 * math.cos(-0.4), 6.0 + 1.2 * math.sin(-0.4)))
+    assert abs(far.yaws[0] - math.pi / 2) > 0.5
+    assert 0.89 < HUSKY_RADIUS + P3AT_RADIUS + 0.05 < 1.2
