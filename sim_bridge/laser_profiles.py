@@ -16,6 +16,7 @@ from dataclasses import dataclass, fields, replace
 import math
 
 from .laser import LaserConfig
+from .named_profiles import named_profile
 
 
 @dataclass(frozen=True)
@@ -109,11 +110,7 @@ def laser_profile(name):
         For an unknown name, listing the known ones.
 
     """
-    try:
-        return LASER_PROFILES[name]
-    except (KeyError, TypeError):
-        raise ValueError(f'unknown laser profile {name!r}: choose one of '
-                         f'{", ".join(LASER_PROFILE_NAMES)}') from None
+    return named_profile(LASER_PROFILES, 'laser profile', name)
 
 
 def laser_config(name, **overrides):

@@ -25,6 +25,7 @@ import math
 
 from .husky import DriveLimits, HUSKY_LENGTH, HUSKY_URDF, HUSKY_WIDTH, LASER_HEIGHT, \
     LASER_MOUNT
+from .named_profiles import named_profile
 
 
 @dataclass(frozen=True)
@@ -116,8 +117,4 @@ def robot_profile(name):
         For an unknown name, listing the known ones.
 
     """
-    try:
-        return ROBOT_PROFILES[name]
-    except KeyError:
-        raise ValueError(f'unknown robot profile {name!r}: use one of '
-                         f'{", ".join(ROBOT_PROFILES)}') from None
+    return named_profile(ROBOT_PROFILES, 'robot profile', name)

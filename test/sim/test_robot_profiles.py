@@ -101,3 +101,9 @@ def test_the_burger_body_meets_a_wall_with_its_front():
         assert world.contacts.wall_events == 1
         assert world.contacts.first_wall_time == pytest.approx(4.23, abs=0.05)
         assert 6.92 < world.husky_pose[0] < 6.94
+
+
+def test_an_unhashable_profile_name_is_a_clear_error_too():
+    # A parameter file may hand a list where a name belongs: the same error, not a TypeError.
+    with pytest.raises(ValueError, match=r"unknown robot profile \['husky'\]: choose one of"):
+        robot_profile(['husky'])
