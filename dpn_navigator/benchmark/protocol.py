@@ -32,8 +32,9 @@ NOT_GETTING_STUCK_OFF = {'stale_obstacle_age': 0.0, 'path_trust_time': 0.0,
 #: obstacle proximity cost of A*, forgetting unseen obstacles when stuck, the label rules:
 #: conservative free space, object-level relabelling and ghost expiry, and the turn sweep).
 #: The reference navigators (`MAP_MODELS`) plan on another map with dpn's planner and
-#: follower, the turn sweep included; they forget nothing (the costmap has no decay, the oracle
-#: nothing to forget). ``costmap`` is the Nav2-faithful one (recoveries, 1 Hz replanning,
+#: follower, the turn sweep included (and the drive guard in ``oracle-foresight`` and
+#: ``oracle-bare``; ``costmap`` steps its own way, ``oracle`` knows the walls and the agents);
+#: they forget nothing (the costmap has no decay, the oracle nothing to forget). ``costmap`` is the Nav2-faithful one (recoveries, 1 Hz replanning,
 #: NavFn's unknown cost); ``costmap-bare`` the costmap alone, as it ran before 27 November.
 #: ``oracle`` plans in space and time on the agents' true future over 8 s and waits where
 #: that pays (``baselines.spacetime_oracle``); ``oracle-foresight`` blocks only the agents
@@ -51,7 +52,8 @@ NAVIGATORS = {
               'track_confirm_time': 0.0, 'track_still_distance': 0.0, 'track_exclusive': False,
               'trail_distance': 0.0, 'object_memory': 0.0,
               'object_memory_short_segments': False, 'no_return_reach': 1.0,
-              'surface_time': 0.0, 'turn_sweep_memory': 0.0, 'map_growth_step': 0.0,
+              'surface_time': 0.0, 'turn_sweep_memory': 0.0, 'drive_guard_distance': 0.0,
+              'map_growth_step': 0.0,
               'free_evidence_renewal': 0.0, **NOT_GETTING_STUCK_OFF},
     'costmap': {'forget_obstacles_after': 0.0, **NOT_GETTING_STUCK_OFF},
     'costmap-bare': {'forget_obstacles_after': 0.0, **NOT_GETTING_STUCK_OFF},

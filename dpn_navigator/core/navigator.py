@@ -19,6 +19,7 @@ import time
 import numpy as np
 
 from .cell_label import blocked_mask
+from .control.drive_guard import DriveGuard
 from .control.path_follower import follow_path, FollowerConfig, STOP, VelocityCommand
 from .control.turn_sweep import TurnSweep
 from .mapping.label_grid import LabelGrid, LabelRule, warm_up_label_update
@@ -214,6 +215,12 @@ class NavigatorConfig:
     turn_sweep_spot_distance: float = setting(
         0.6, 'm', 'farthest place the turn sweep moves the robot to for a blocked turn; 0: it '
         'waits', 0.0, 5.0)
+    drive_guard_distance: float = setting(
+        0.3, 'm', "drive guard: a forward command's arc is followed this far and tested against "
+        "the turn sweep's kept hits (so it needs `turn_sweep_memory` > 0); when the robot's box "
+        'would touch one (with `turn_sweep_margin`), the robot steers slowly along the nearest '
+        'clear arc, else stops; 0: off (the paper; [safety](safety.md#driving-past-a-body))',
+        0.0, 5.0)
     stale_obstacle_age: float = setting(
         6.0, 's', 'stale obstacles: with no path, the obstacle cells no laser hit has confirmed '
         'for this long that alone close the route (a path exists without them) are dropped '
@@ -265,7 +272,8 @@ class NavigatorConfig:
     def __post_init__(self):
         for name in ('safety_radius', 'footprint_radius', 'no_path_retry_period',
                      'obstacle_proximity_cost', 'forget_obstacles_after', 'turn_sweep_memory',
-                     'turn_sweep_margin', 'turn_sweep_spot_distance', 'stale_obstacle_age',
+                     'turn_sweep_margin', 'turn_sweep_spot_distance', 'drive_guard_distance',
+                     'stale_obstacle_age',
                      'path_trust_time', 'route_block_distance', 'route_switch_margin',
                      'mobile_wait_time', 'unknown_cell_cost', 'forgotten_obstacle_cost',
                      'map_growth_step', 'map_growth_margin', 'map_memory_limit'):
@@ -372,9 +380,15 @@ class Navigator:
         self._last_scan = None
         self._unswept_pose = None                # robot pose of a scan the turn sweep lacks
         self._last_stamp = None
+        self.drive_guard = None
+        if config.turn_sweep_memory > 0.0 and config.drive_guard_distance > 0.0:
+            self.drive_guard = DriveGuard(
+                config.drive_guard_distance, config.robot_length, config.robot_width,
+                config.turn_sweep_margin, max_angular_speed=config.follower.max_angular_speed)
         self.turn_sweep = None if config.turn_sweep_memory == 0.0 else TurnSweep(
             config.turn_sweep_memory, config.robot_length, config.robot_width,
-            config.turn_sweep_margin, spot_distance=config.turn_sweep_spot_distance)
+            config.turn_sweep_margin, spot_distance=config.turn_sweep_spot_distance,
+            min_reach=0.0 if self.drive_guard is None else self.drive_guard.reach)
         self._init_not_getting_stuck(config)
         self.map_growths = 0
         self.map_growth_refusals = 0
@@ -732,7 +746,12 @@ class Navigator:
             self.reason = 'inside the goal tolerance'
             return NavigatorOutput(STOP, self.status, self.reason, replanned, cause)
         if self.turn_sweep is not None:
-            command = self.turn_sweep.check(command, pose, self._obstacle_at)
+            swept = self.turn_sweep.check(command, pose, self._obstacle_at)
+            # The sweep's own drive to a turn place is checked on its straight way there.
+            if self.drive_guard is not None and swept is command and command.linear > 0.0:
+                swept = self.drive_guard.check(
+                    command, self.turn_sweep.points(pose, self._obstacle_at))
+            command = swept
         return NavigatorOutput(command, self.status, self.reason, replanned, cause)
 
     def _closest_on_path(self, pose):

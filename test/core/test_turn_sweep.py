@@ -289,7 +289,7 @@ def test_find_turn_place_returns_a_place_the_turn_is_clear_from():
     occupied, pose, turn = near_wall()
     sweep = TurnSweep(2.0, LENGTH, WIDTH, MARGIN)
     scan_into(sweep, 0.0, pose, occupied)
-    points = sweep._points(pose, None)
+    points = sweep.points(pose)
     assert sweep_hits(points, turn, LENGTH, WIDTH, MARGIN)
     place = find_turn_place(points, turn, LENGTH, WIDTH, MARGIN, 0.6)
     assert place is not None and 0.0 < math.hypot(*place) <= 0.6 + 1e-9

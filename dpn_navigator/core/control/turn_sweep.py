@@ -260,6 +260,8 @@ class TurnSweep:
         Forward speed on the way to a turn place [m/s], > 0.
     spot_distance : float
         Farthest turn place tried [m], >= 0; 0: none, the robot waits.
+    min_reach : float
+        Hits are kept at least this far from the robot [m] (the drive guard's ``reach``).
 
     Attributes
     ----------
@@ -272,7 +274,8 @@ class TurnSweep:
 
     """
 
-    def __init__(self, memory, length, width, margin=0.05, speed=0.2, spot_distance=0.6):
+    def __init__(self, memory, length, width, margin=0.05, speed=0.2, spot_distance=0.6,
+                 min_reach=0.0):
         for name, value in (('memory', memory), ('length', length), ('width', width),
                             ('speed', speed)):
             if not (math.isfinite(value) and value > 0.0):
@@ -286,7 +289,8 @@ class TurnSweep:
         self.margin = margin
         self.speed = speed
         self.spot_distance = spot_distance
-        self.reach = 0.5 * math.hypot(length, width) + margin + spot_distance + KEEP_BEYOND
+        self.reach = max(0.5 * math.hypot(length, width) + margin + spot_distance + KEEP_BEYOND,
+                         min_reach)
         self.reset()
 
     def reset(self):
@@ -342,8 +346,12 @@ class TurnSweep:
         newest = np.sort(xy.shape[0] - 1 - last)
         self._xy, self._stamps = xy[newest], stamps[newest]
 
-    def _points(self, pose, obstacle):
-        """Return the counted kept hits in the robot's frame at ``pose`` [m], (N, 2)."""
+    def points(self, pose, obstacle=None):
+        """
+        Return the kept hits that count, in the robot's frame at ``pose`` [m], (N, 2).
+
+        ``pose`` and ``obstacle`` are as for `check`.
+        """
         hits = self._xy
         if self._now is not None:
             old = self._now - self._stamps > self.memory
@@ -383,7 +391,7 @@ class TurnSweep:
         if command.linear != 0.0 or command.angular == 0.0 or command.turn == 0.0:
             self._spot, self._driving = None, False
             return command
-        points = self._points(pose, obstacle)
+        points = self.points(pose, obstacle)
         if not sweep_hits(points, command.turn, self.length, self.width, self.margin):
             self._spot, self._driving = None, False
             return command
