@@ -749,8 +749,8 @@ class Navigator:
             swept = self.turn_sweep.check(command, pose, self._obstacle_at)
             # The sweep's own drive to a turn place is checked on its straight way there.
             if self.drive_guard is not None and swept is command and command.linear > 0.0:
-                swept = self.drive_guard.check(
-                    command, self.turn_sweep.points(pose, self._obstacle_at))
+                swept = self.drive_guard.check(command, self.turn_sweep.points(
+                    pose, self._obstacle_at, within=self.drive_guard.reach))
             command = swept
         return NavigatorOutput(command, self.status, self.reason, replanned, cause)
 

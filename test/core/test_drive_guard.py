@@ -151,3 +151,16 @@ def test_the_navigator_builds_the_guard_by_default_and_not_in_paper():
                                          **options)).drive_guard is None
     with pytest.raises(ValueError, match='drive_guard_distance'):
         NavigatorConfig(width=12.0, height=12.0, drive_guard_distance=-0.1)
+
+
+def test_the_kept_hits_within_the_guards_reach_are_those_it_would_count():
+    from dpn_navigator.core.control.turn_sweep import TurnSweep
+    sweep = TurnSweep(2.0, LENGTH, WIDTH, MARGIN)
+    rng = np.random.default_rng(3)
+    hits = rng.uniform(-2.0, 2.0, size=(400, 2))
+    sweep.add_scan(0.0, (0.0, 0.0), hits)
+    pose = (0.2, -0.1, 0.7)
+    every = sweep.points(pose)
+    near = sweep.points(pose, within=1.0)
+    assert 0 < near.shape[0] < every.shape[0]
+    assert_allclose(near, every[np.hypot(every[:, 0], every[:, 1]) <= 1.0])

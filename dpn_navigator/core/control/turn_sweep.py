@@ -346,15 +346,19 @@ class TurnSweep:
         newest = np.sort(xy.shape[0] - 1 - last)
         self._xy, self._stamps = xy[newest], stamps[newest]
 
-    def points(self, pose, obstacle=None):
+    def points(self, pose, obstacle=None, within=None):
         """
         Return the kept hits that count, in the robot's frame at ``pose`` [m], (N, 2).
 
-        ``pose`` and ``obstacle`` are as for `check`.
+        ``pose`` and ``obstacle`` are as for `check`; ``within`` [m], if given, leaves out the
+        hits farther than that from the robot (the grid is not asked about them).
         """
-        hits = self._xy
+        hits, stamps = self._xy, self._stamps
+        if within is not None:
+            near = np.hypot(hits[:, 0] - pose[0], hits[:, 1] - pose[1]) <= within
+            hits, stamps = hits[near], stamps[near]
         if self._now is not None:
-            old = self._now - self._stamps > self.memory
+            old = self._now - stamps > self.memory
             if old.any():
                 count = ~old
                 if obstacle is not None:
