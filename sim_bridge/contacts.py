@@ -7,16 +7,21 @@ so scraping along a wall made of several boxes, or into a corner, is one event; 
 is an obstacle of its own.
 
 **Who closed the gap.** A contact event with a wanderer is *agent-caused* when, on the tick it
-starts, the point of the Husky's footprint nearest the wanderer moves towards the wanderer's
-centre at no more than `APPROACH_SPEED` (the Husky stood, or moved away or sideways) and
-slower than the wanderer moves towards that point (the wanderer walked into it); every other
+starts, the Husky's surface at the contact moves towards the wanderer at no more than
+`APPROACH_SPEED` (the Husky stood, or moved away or sideways) and slower than the wanderer's
+surface there moves towards the Husky (the wanderer walked or turned into it); every other
 contact is *robot-caused* (the Husky drove or turned into the wanderer, or both stood nearly
-still and the Husky's own small motion made the touch). This is the split of at-fault and
-not-at-fault collisions of nuPlan's ``no_ego_at_fault_collisions`` metric (Caesar et al. 2021,
-*nuPlan: A closed-loop ML-based planning benchmark for autonomous vehicles*,
-arXiv:2106.11810; nuplan-devkit's ``CollisionType``: a collision with a stopped ego,
-``STOPPED_EGO_COLLISION``, is not at fault), made planar for a robot that turns in place. Wall
-contacts are all the robot's.
+still and the Husky's own small motion made the touch). Each surface's speed is its body's
+velocity at the contact point, turning included (``v + omega x r``), along the contact normal
+(`robot_caused_at_contact`, from pybullet's deepest contact point). Judged by the centres
+instead (`robot_caused`, kept for a contact pybullet gives no point for), a P3-AT box turning
+its corner into a standing Husky has no approach of its own and was counted the Husky's, and
+a Husky whose corner slid into a standing P3-AT while curving could be counted the P3-AT's.
+This is the split of at-fault and not-at-fault collisions of nuPlan's
+``no_ego_at_fault_collisions`` metric (Caesar et al. 2021, *nuPlan: A closed-loop ML-based
+planning benchmark for autonomous vehicles*, arXiv:2106.11810; nuplan-devkit's
+``CollisionType``: a collision with a stopped ego, ``STOPPED_EGO_COLLISION``, is not at
+fault), made planar for a robot that turns in place. Wall contacts are all the robot's.
 
 """
 
@@ -41,6 +46,55 @@ def robot_caused(pose, velocity, length, width, point, point_velocity):
     # direction from the Husky to it, as `approach_speed` measures it.
     agent = approach_speed(pose, (0.0, 0.0), length, width, point,
                            point_velocity=point_velocity)
+    return robot >= agent
+
+
+def robot_caused_at_contact(pose, velocity, contact, normal, agent_centre, agent_velocity,
+                            agent_yaw_rate):
+    """
+    Tell whether a contact that starts now is the Husky's doing, judged at the contact point.
+
+    Parameters
+    ----------
+    pose : (float, float, float)
+        The Husky's pose ``(x, y, yaw)``, its centre of rotation [m, m, rad].
+    velocity : (float, float)
+        Its forward speed and turn rate ``(v, omega)`` [m/s, rad/s].
+    contact : (float, float)
+        The contact point [m].
+    normal : (float, float)
+        The contact normal, pointing from the wanderer towards the Husky (unit length or not;
+        not zero).
+    agent_centre : (float, float)
+        The wanderer's centre of rotation [m].
+    agent_velocity : (float, float)
+        Its velocity ``(vx, vy)`` over the tick [m/s].
+    agent_yaw_rate : float
+        Its turn rate over the tick [rad/s].
+
+    Returns
+    -------
+    bool
+        True when the Husky's surface at the contact moves towards the wanderer faster than
+        `APPROACH_SPEED`, or at least as fast as the wanderer's surface moves towards it.
+
+    """
+    norm = math.hypot(normal[0], normal[1])
+    if not norm > 0.0:
+        raise ValueError(f'the contact normal must not be zero, got {normal!r}')
+    nx, ny = normal[0] / norm, normal[1] / norm
+    v, omega = velocity
+    yaw = pose[2]
+    rx, ry = contact[0] - pose[0], contact[1] - pose[1]
+    husky_vx = v * math.cos(yaw) - omega * ry
+    husky_vy = v * math.sin(yaw) + omega * rx
+    robot = -(husky_vx * nx + husky_vy * ny)          # towards the wanderer: against the normal
+    if robot > APPROACH_SPEED:
+        return True
+    ax, ay = contact[0] - agent_centre[0], contact[1] - agent_centre[1]
+    agent_vx = agent_velocity[0] - agent_yaw_rate * ay
+    agent_vy = agent_velocity[1] + agent_yaw_rate * ax
+    agent = agent_vx * nx + agent_vy * ny             # towards the Husky: along the normal
     return robot >= agent
 
 

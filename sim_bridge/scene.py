@@ -228,6 +228,37 @@ class Scene:
             depth = max(depth, -distance)
         return wall, wanderers, depth
 
+    def wanderer_contact(self, index):
+        """
+        Return the Husky's deepest contact with one wanderer, from the last collision detection.
+
+        Parameters
+        ----------
+        index : int
+            The wanderer.
+
+        Returns
+        -------
+        ((float, float), (float, float)) or None
+            The contact point on the Husky [m] and the contact normal in the plane, pointing
+            from the wanderer towards the Husky (unit length); None when they do not
+            penetrate, or the normal has no horizontal part.
+
+        """
+        deepest = None
+        for point in pybullet.getContactPoints(bodyA=self.husky,
+                                               bodyB=self.wanderer_bodies[index],
+                                               physicsClientId=self.client):
+            if point[8] < 0.0 and (deepest is None or point[8] < deepest[8]):
+                deepest = point
+        if deepest is None:
+            return None
+        nx, ny = deepest[7][0], deepest[7][1]        # contactNormalOnB: from B towards A
+        norm = math.hypot(nx, ny)
+        if norm < 1e-6:
+            return None
+        return (deepest[5][0], deepest[5][1]), (nx / norm, ny / norm)
+
     def _robot_body(self, body):
         """Load the robot's URDF, or make a box of its footprint standing on the ground."""
         client = self.client

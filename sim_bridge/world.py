@@ -36,7 +36,7 @@ import math
 from dpn_navigator.core.pose2d import compose, wrap_angle
 import numpy as np
 
-from .contacts import ContactLog, robot_caused
+from .contacts import ContactLog, robot_caused, robot_caused_at_contact
 from .free_space import clearance_grid
 from .husky import clamp_command, integrate_pose, ramp
 from .laser import Laser
@@ -291,16 +291,15 @@ class World:
         ang = ramp(self._velocity[1], self._command[1], limits.max_angular_accel, dt)
         proposed = integrate_pose(self._pose, lin, ang, dt)
         before = self._wanderers.positions.copy()
+        yaws_before = self._wanderers.yaws.copy()
         self._place_moved_wanderers(self._wanderers.step(dt, self._pose[:2]))
         self.scene.place(self.scene.husky, proposed)
         wall, touched, depth = self.scene.husky_contacts()
         self._tick += 1
         self._scan = None
         new = set(touched) - self.contacts.touching_wanderers
-        positions = self._wanderers.positions
-        approached = {i for i in new if robot_caused(
-            proposed, (lin, ang), *self.husky_footprint, positions[i].tolist(),
-            ((positions[i] - before[i]) / dt).tolist())}
+        approached = {i for i in new
+                      if self._robot_caused(i, proposed, (lin, ang), before, yaws_before)}
         self.contacts.update(self.time, wall, touched, approached)
         if depth > self._depth:
             # Deeper than at the last accepted pose; but a wanderer may have moved into the
@@ -369,6 +368,25 @@ class World:
     def _place_wanderer(self, i):
         x, y = self._wanderers.positions[i].tolist()
         self.scene.place_wanderer(i, x, y, float(self._wanderers.yaws[i]))
+
+    def _robot_caused(self, index, pose, velocity, positions_before, yaws_before):
+        """
+        Tell whether the new contact with wanderer ``index`` is the Husky's doing.
+
+        At pybullet's deepest contact point (``contacts.robot_caused_at_contact``), or, when
+        pybullet gives none, by the wanderer's centre (``contacts.robot_caused``).
+        """
+        dt = self._dt
+        position = self._wanderers.positions[index]
+        agent_velocity = ((position - positions_before[index]) / dt).tolist()
+        contact = self.scene.wanderer_contact(index)
+        if contact is None:
+            return robot_caused(pose, velocity, *self.husky_footprint, position.tolist(),
+                                agent_velocity)
+        turned = math.remainder(float(self._wanderers.yaws[index] - yaws_before[index]),
+                                2.0 * math.pi)
+        return robot_caused_at_contact(pose, velocity, contact[0], contact[1],
+                                       position.tolist(), agent_velocity, turned / dt)
 
     def _place_moved_wanderers(self, moved):
         """

@@ -331,6 +331,72 @@ def test_robot_caused_unless_the_agent_closed_the_gap(velocity, agent_velocity, 
                         agent_velocity) == expected
 
 
+@pytest.mark.parametrize('velocity, contact, normal, agent, agent_velocity, yaw_rate, expected', [
+    # Held-out narrow_passages 1/2/0: the Husky curving left, its front-right corner into a
+    # P3-AT standing ahead-right.
+    ((0.5, 0.7), (0.495, -0.335), (-1.0, 0.0), (0.86, -0.41), (0.0, 0.0), 0.0, True),
+    # Held-out maze 2/9/1: a P3-AT turning in place sweeps its corner into a standing Husky;
+    # its centre does not move.
+    ((0.0, 0.0), (0.5, 0.2), (-1.0, 0.0), (0.9, 0.0), (0.0, 0.0), 1.0, False),
+    # The same turn the other way sweeps the corner away: the Husky's own small motion.
+    ((0.0, 0.0), (0.5, 0.2), (-1.0, 0.0), (0.9, 0.0), (0.0, 0.0), -1.0, True),
+    # Both still: the Husky's.
+    ((0.0, 0.0), (0.5, 0.0), (-1.0, 0.0), (0.8, 0.0), (0.0, 0.0), 0.0, True),
+    # A walker into a Husky backing off.
+    ((-0.3, 0.0), (0.5, 0.0), (-1.0, 0.0), (0.8, 0.0), (-1.0, 0.0), 0.0, False),
+    # The Husky turning in place, its corner into a standing agent beside it.
+    ((0.0, 1.0), (0.495, 0.335), (0.0, -1.0), (0.5, 0.7), (0.0, 0.0), 0.0, True),
+])
+def test_robot_caused_at_the_contact_point(velocity, contact, normal, agent, agent_velocity,
+                                           yaw_rate, expected):
+    from sim_bridge.contacts import robot_caused, robot_caused_at_contact
+    assert robot_caused_at_contact((0.0, 0.0, 0.0), velocity, contact, normal, agent,
+                                   agent_velocity, yaw_rate) is expected
+    # Moved and turned, the same.
+    yaw = -1.1
+    c, s = math.cos(yaw), math.sin(yaw)
+
+    def moved(p):
+        return (2.0 + c * p[0] - s * p[1], 3.0 + s * p[0] + c * p[1])
+
+    def turned(v):
+        return (c * v[0] - s * v[1], s * v[0] + c * v[1])
+    assert robot_caused_at_contact((2.0, 3.0, yaw), velocity, moved(contact), turned(normal),
+                                   moved(agent), turned(agent_velocity), yaw_rate) is expected
+    if yaw_rate > 0.0:
+        # The centre rule blamed the standing Husky for the turning P3-AT's corner.
+        assert robot_caused((0.0, 0.0, 0.0), velocity, 0.99, 0.67, agent, agent_velocity)
+    with pytest.raises(ValueError, match='normal'):
+        robot_caused_at_contact((0.0, 0.0, 0.0), velocity, contact, (0.0, 0.0), agent,
+                                agent_velocity, yaw_rate)
+
+
+def test_a_p3at_turning_its_corner_into_a_standing_husky_is_its_own_contact(monkeypatch):
+    scenario = room()
+    config = WorldConfig(drive=NO_RAMP, n_wanderers=1, seed=2,
+                         wanderer=WandererConfig(speed_range=(0.0, 0.0)))
+    with World(scenario, config, start=(6.0, 6.0, 0.0)) as world:
+        wanderers = world._wanderers
+        # A P3-AT just ahead of the Husky, facing along it, 5 cm clear of its front.
+        wanderers.positions[0] = 6.0 + 0.504 + 0.254 + 0.05, 6.0
+        wanderers.yaws[0] = 0.0
+        world._place_wanderer(0)
+        world.step(0.0, 0.0)
+        assert world.contacts.wanderer_events == 0
+
+        def turn_in_place(dt, husky_xy):
+            wanderers.yaws[0] += 1.0 * dt                     # 1 rad/s, centre fixed
+            return [0]
+        monkeypatch.setattr(wanderers, 'step', turn_in_place)
+        for _ in range(60):                                   # up to 1.2 rad
+            world.step(0.0, 0.0)
+            if world.contacts.wanderer_events:
+                break
+        contacts = world.contacts
+        assert contacts.wanderer_events == 1
+        assert (contacts.robot_caused_events, contacts.agent_caused_events) == (0, 1)
+
+
 def test_the_contact_log_splits_wanderer_events_by_who_closed_the_gap():
     from sim_bridge.contacts import ContactLog
     log = ContactLog()
