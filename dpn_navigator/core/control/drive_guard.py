@@ -31,7 +31,7 @@ import math
 import numpy as np
 
 from .path_follower import STOP, VelocityCommand
-from .turn_sweep import sweep_hits
+from .turn_sweep import box_neighbours, sweep_hits
 
 #: Travel between two tested poses of an arc [m].
 ARC_STEP = 0.05
@@ -95,16 +95,10 @@ def arc_hits(points, curvature, distance, length, width, margin):
         True when some point lies inside the (widened) box at some pose of the drive.
 
     """
-    points = np.asarray(points, dtype=np.float64).reshape(-1, 2)
-    half_x, half_y = 0.5 * length, 0.5 * width
-    outside_widened = ((np.abs(points[:, 0]) > half_x + margin)
-                       | (np.abs(points[:, 1]) > half_y + margin))
-    inside_box = (np.abs(points[:, 0]) <= half_x) & (np.abs(points[:, 1]) <= half_y)
-    reach = distance + math.hypot(half_x + margin, half_y + margin)
-    keep = ~inside_box & (np.hypot(points[:, 0], points[:, 1]) <= reach)
-    if not keep.any():
+    points, widen = box_neighbours(points, length, width, margin, distance)
+    if not points.shape[0]:
         return False
-    points, widen = points[keep], np.where(outside_widened[keep], margin, 0.0)
+    half_x, half_y = 0.5 * length, 0.5 * width
     poses = arc_poses(curvature, distance)
     cos_t, sin_t = np.cos(poses[:, 2])[:, None], np.sin(poses[:, 2])[:, None]
     dx = points[None, :, 0] - poses[:, 0:1]

@@ -68,6 +68,42 @@ SPOT_TURN_RATE = 0.6
 SPOT_HEADING_GAIN = 2.0
 
 
+def box_neighbours(points, length, width, margin, beyond):
+    """
+    Return the points a box can meet when it moves, and the margin each one is kept by.
+
+    Parameters
+    ----------
+    points : (N, 2) array_like of float
+        Points in the box's frame (x forward, y left, origin at its centre) [m].
+    length, width : float
+        The box's sides along x and y [m].
+    margin : float
+        Added to each half side [m].
+    beyond : float
+        How far the box's widened corners move at most [m]: points farther than that beyond
+        the widened box's circumscribed circle are left out.
+
+    Returns
+    -------
+    points : (K, 2) ndarray of float64
+        The points outside the box itself and within reach.
+    widen : (K,) ndarray of float64
+        ``margin`` for the points outside the widened box, 0 for those already within the
+        margin (beside a wall the robot stands close to: they count only when the box itself
+        would reach them).
+
+    """
+    points = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+    half_x, half_y = 0.5 * length, 0.5 * width
+    outside_widened = ((np.abs(points[:, 0]) > half_x + margin)
+                       | (np.abs(points[:, 1]) > half_y + margin))
+    inside_box = (np.abs(points[:, 0]) <= half_x) & (np.abs(points[:, 1]) <= half_y)
+    reach = beyond + math.hypot(half_x + margin, half_y + margin)
+    keep = ~inside_box & (np.hypot(points[:, 0], points[:, 1]) <= reach)
+    return points[keep], np.where(outside_widened[keep], margin, 0.0)
+
+
 def sweep_hits(points, angle, length, width, margin):
     """
     Tell whether turning a box in place by ``angle`` brings it onto any of ``points``.
@@ -90,16 +126,12 @@ def sweep_hits(points, angle, length, width, margin):
         True when some point lies inside the (widened) box at some pose of the turn.
 
     """
-    points = np.asarray(points, dtype=np.float64).reshape(-1, 2)
-    half_x, half_y = 0.5 * length, 0.5 * width
-    outside_widened = ((np.abs(points[:, 0]) > half_x + margin)
-                       | (np.abs(points[:, 1]) > half_y + margin))
-    inside_box = (np.abs(points[:, 0]) <= half_x) & (np.abs(points[:, 1]) <= half_y)
-    reach = math.hypot(half_x + margin, half_y + margin)
-    keep = ~inside_box & (np.hypot(points[:, 0], points[:, 1]) <= reach)
-    if not keep.any() or angle == 0.0:
+    if angle == 0.0:
         return False
-    points, widen = points[keep], np.where(outside_widened[keep], margin, 0.0)
+    points, widen = box_neighbours(points, length, width, margin, 0.0)
+    if not points.shape[0]:
+        return False
+    half_x, half_y = 0.5 * length, 0.5 * width
     steps = max(1, math.ceil(abs(angle) / SWEEP_STEP))
     thetas = np.linspace(angle / steps, angle, steps)
     cos_t, sin_t = np.cos(thetas)[:, None], np.sin(thetas)[:, None]
