@@ -221,6 +221,22 @@ def test_the_body_guard_holds_a_turn_that_would_sweep_a_corner_into_an_agent(con
     assert still_agent_oracle(config, (5.0, 6.0))._guarded(pose, turn) is turn
 
 
+def test_the_body_guard_lets_a_turn_pass_an_agent_its_corners_do_not_reach(config):
+    # Held-out seed 1, back_and_forth 0/3/1: a P3-AT stopped 0.98 m beside the Husky, which
+    # had to turn left by 0.6 rad, away from it. The circle of the box's corners plus the
+    # margin reached the agent, so the old guard held every turn, and both stood for 183 s.
+    pose = (5.0, 4.0, -0.15)
+    agent = (4.86, 4.98)
+    turn = VelocityCommand(0.0, 1.2, turn=0.62)
+    assert still_agent_oracle(config, agent)._guarded(pose, turn) is turn
+    assert still_agent_oracle(config, agent, exact_turns=False)._guarded(pose, turn) is STOP
+    # Turning the other way round by half a turn brings a corner onto it: held.
+    back = VelocityCommand(0.0, -1.2, turn=-math.pi)
+    assert still_agent_oracle(config, agent)._guarded(pose, back) is STOP
+    with pytest.raises(ValueError, match='turn_margin'):
+        SpaceTimeConfig(turn_margin=-0.1)
+
+
 def test_the_body_guard_stops_a_drive_onto_an_agent_but_not_away_from_it(config):
     oracle = still_agent_oracle(config, (6.0, 4.0))          # 1.0 m ahead of the centre
     toward, away = VelocityCommand(0.8, 0.0), VelocityCommand(0.8, 0.0)
