@@ -66,7 +66,9 @@ def build_parser():
     parser.add_argument('--navigator', type=navigator_choice, default='dpn',
                         metavar='{' + ','.join(sorted(NAVIGATORS)) + '} or package.module:Class',
                         help='dpn: as shipped; dpn_no_sweep: dpn with the turn sweep off '
-                             "(docs/safety.md); paper: without this project's additions "
+                             '(docs/safety.md); dpn_real_laser: dpn with '
+                             'config/dpn_real_laser.yaml, for real lasers (docs/real_data.md); '
+                             "paper: without this project's additions "
                              '(A* proximity cost, forgetting unseen obstacles when stuck, the '
                              'label rules of docs/detection.md); costmap: a Nav2-style '
                              "obstacle + inflation costmap run by Nav2 Jazzy's default "

@@ -46,9 +46,15 @@ NOT_GETTING_STUCK_OFF = {'stale_obstacle_age': 0.0, 'path_trust_time': 0.0,
 #: agent where it stands, the oracle before that.
 #: ``dpn_no_sweep`` is dpn with the turn sweep off (``NavigatorConfig.turn_sweep_memory``, on
 #: by default), as shipped before 25 November; paper turns it off too.
+#: ``dpn_real_laser`` is dpn with ``config/dpn_real_laser.yaml``, for a moving robot with a real
+#: laser: beams with no return clear nothing (a wall at grazing incidence returns nothing, and
+#: its beams would show it empty), mixed pixels are invalid, veiling hits show no motion
+#: (``REAL_LASER``, docs/real_data.md).
+REAL_LASER = {'no_return_reach': 0.0, 'mixed_pixel_angle': 0.1745, 'veiling_angle': 0.1745}
 NAVIGATORS = {
     'dpn': {},
     'dpn_no_sweep': {'turn_sweep_memory': 0.0},
+    'dpn_real_laser': dict(REAL_LASER),
     'paper': {'obstacle_proximity_cost': 0.0, 'forget_obstacles_after': 0.0,
               'free_evidence_radius': 0.0, 'moving_object_size': 0.0, 'object_min_hits': 0,
               'fine_evidence_resolution': 0.0, 'fine_evidence_radius': 0.0, 'mobile_expiry': 0.0,
@@ -71,7 +77,8 @@ NAVIGATORS = {
 #: ``spacetime``: the walls, planned on by ``SpaceTimeOracle``); ``nav2`` is the costmap run by
 #: Nav2's default behaviour tree (``baselines.nav2_navigator.Nav2Navigator``: 1 Hz replanning,
 #: NavFn's cost of unknown space, the recoveries), ``costmap`` the bare costmap without them.
-MAP_MODELS = {'dpn': 'labels', 'dpn_no_sweep': 'labels', 'paper': 'labels', 'costmap': 'nav2',
+MAP_MODELS = {'dpn': 'labels', 'dpn_no_sweep': 'labels', 'dpn_real_laser': 'labels',
+              'paper': 'labels', 'costmap': 'nav2',
               'costmap-bare': 'costmap', 'oracle': 'spacetime', 'oracle-foresight': 'foresight',
               'oracle-bare': 'oracle'}
 

@@ -199,6 +199,16 @@ class NavigatorConfig:
     noise_margin: float = setting(
         0.1, 'm', 'intermittent surfaces: side of a place, about the range noise of the '
         'laser (Hokuyo UTM-30LX and SICK LMS1xx: +-30 mm)', 0.01, 5.0)
+    mixed_pixel_angle: float = setting(
+        0.0, 'rad', 'mixed pixels: a hit between its two neighbours in depth, the segments to '
+        'both within this angle of its beam, is read as invalid (a spot that fell on both '
+        "sides of a depth edge; 0.17 rad = 10 deg, as laser_filters' shadow filter); 0: off "
+        '(the paper)', 0.0, 1.5707963267948966)
+    veiling_angle: float = setting(
+        0.0, 'rad', "veiling hits (laser_filters' shadow filter): a hit whose segment to a "
+        'neighbour lies within this angle of its beam (beside a depth edge, or on a surface '
+        'at grazing incidence) shows no motion of its own, and still marks its cells; 0: off '
+        '(the paper); needs surface_time > 0', 0.0, 1.5707963267948966)
     robot_length: float = setting(
         0.99, 'm', "the robot's footprint along x, centred on the base (Husky A200 with "
         'bumpers); used by the turn sweep', 0.01, 10.0)

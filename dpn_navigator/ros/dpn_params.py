@@ -197,6 +197,7 @@ PARAMETERS = (
                 'track_exclusive', 'trail_distance', 'object_memory',
                 'object_memory_short_segments', 'no_echo_below_range_min',
                 'no_return_reach', 'surface_time', 'surface_memory', 'noise_margin',
+                'mixed_pixel_angle', 'veiling_angle',
                 'robot_length', 'robot_width',
                 'turn_sweep_memory', 'turn_sweep_margin', 'turn_sweep_spot_distance',
                 'drive_guard_distance'),

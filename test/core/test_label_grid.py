@@ -300,8 +300,15 @@ RULES = {
     'no_return_clears_nothing': LabelRule(free_evidence_radius=0.5, no_return_reach=0.0,
                                           no_echo_below_range_min=True),
     'no_return_short': LabelRule(no_return_reach=0.3),
+    # Mixed pixels read as invalid, veiling hits without evidence of their own.
+    'edge_pixels': LabelRule(free_evidence_radius=0.5, moving_object_size=0.7, segment_gap=0.6,
+                             object_min_hits=2, no_return_reach=0.0, surface_time=0.3,
+                             surface_memory=2.0, noise_margin=0.25, mixed_pixel_angle=0.5,
+                             veiling_angle=0.4),
+    'mixed_pixels_alone': LabelRule(mixed_pixel_angle=0.6),
 }
-REAL_SENSOR_RULES = ('real', 'no_return_clears_nothing', 'no_return_short')
+REAL_SENSOR_RULES = ('real', 'no_return_clears_nothing', 'no_return_short', 'edge_pixels',
+                     'mixed_pixels_alone')
 
 
 @settings(max_examples=120)

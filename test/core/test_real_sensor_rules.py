@@ -1,11 +1,12 @@
-"""The label rules for real lasers: no-echo codes, no-return reach, intermittent surfaces."""
+"""The label rules for real lasers: no-echo codes, no-return reach, surfaces, edge pixels."""
 
 import math
+from pathlib import Path
 
 from dpn_navigator.core.cell_label import CellLabel
 from dpn_navigator.core.grid_geometry import GridGeometry
 from dpn_navigator.core.mapping.label_grid import LabelGrid, LabelRule
-from dpn_navigator.core.mapping.scan_reading import read_no_echo
+from dpn_navigator.core.mapping.scan_reading import mixed_pixels, read_no_echo, veiling_points
 from dpn_navigator.core.mapping.surface_memory import SurfaceMemory
 from dpn_navigator.core.navigator import NavigatorConfig
 import numpy as np
@@ -171,3 +172,158 @@ def test_the_paper_keeps_every_real_sensor_rule_off():
     assert paper == LabelRule()
     assert not paper.no_echo_below_range_min and paper.no_return_reach == 1.0
     assert paper.surface_time == 0.0
+    assert paper.mixed_pixel_angle == paper.veiling_angle == 0.0
+
+
+# --- Mixed pixels and veiling hits (`mixed_pixel_angle`, `veiling_angle`).
+
+def random_edge_scan(rng, beams=120):
+    """Ranges with depth edges, mixed pixels between them, no returns, invalid readings."""
+    ranges = np.repeat(rng.uniform(0.3, 6.0, beams // 10), 10)[:beams]
+    ranges = ranges + rng.normal(0.0, 0.01, beams)
+    edges = np.flatnonzero(np.abs(np.diff(ranges)) > 0.2)
+    for k in edges[rng.random(edges.size) < 0.5]:
+        ranges[k] = ranges[k] + rng.uniform(0.1, 0.9) * (ranges[k + 1] - ranges[k])
+    ranges[rng.random(beams) < 0.05] = np.inf
+    ranges[rng.random(beams) < 0.03] = np.nan
+    ranges[rng.random(beams) < 0.03] = 0.05                     # below range_min
+    return ranges
+
+
+@pytest.mark.parametrize('seed', range(8))
+def test_mixed_pixels_and_veiling_hits_equal_their_literal_twins(seed):
+    from real_sensor_rules import literal_mixed, literal_veiling
+    rng = np.random.default_rng(seed)
+    ranges = random_edge_scan(rng)
+    increment = float(rng.choice([0.0044, 0.0065, 0.0175, 0.1]))
+    angle = float(rng.choice([0.1, 0.1745, 0.3]))
+    mixed = mixed_pixels(ranges, increment, 0.1, 5.5, angle)
+    veiling = veiling_points(ranges, increment, 0.1, 5.5, angle)
+    assert_array_equal(mixed, literal_mixed(ranges, increment, 0.1, 5.5, angle))
+    assert_array_equal(veiling, literal_veiling(ranges, increment, 0.1, 5.5, angle))
+    assert not (mixed & ~veiling).any()                      # a mixed pixel veils
+    assert not mixed_pixels(ranges, increment, 0.1, 5.5, 0.0).any()
+    assert not veiling_points(ranges, increment, 0.1, 5.5, 0.0).any()
+
+
+def test_a_mixed_pixel_veils_towards_both_sides_and_an_object_edge_one():
+    increment = math.radians(0.5)
+    # A wall 2 m away, a mixed pixel at 3 m, what lies behind the edge 4 m away.
+    ranges = np.array([2.0, 2.0, 2.0, 3.0, 4.0, 4.0, 4.0])
+    assert_array_equal(mixed_pixels(ranges, increment, 0.1, 10.0, 0.1745),
+                       [False, False, False, True, False, False, False])
+    # Without it, the edge hits veil towards the other side only, and are kept.
+    edge = np.array([2.0, 2.0, 2.0, 4.0, 4.0, 4.0])
+    assert_array_equal(veiling_points(edge, increment, 0.1, 10.0, 0.1745),
+                       [False, False, True, True, False, False])
+    assert not mixed_pixels(edge, increment, 0.1, 10.0, 0.1745).any()
+    # A surface facing the laser does not veil.
+    assert not veiling_points(np.full(7, 2.0), increment, 0.1, 10.0, 0.1745).any()
+
+
+def edge_scan(laser_y, mixed=False):
+    """
+    From ``(0, laser_y)``: a wall ``x = 2`` for y < 0, a wall ``x = 4`` behind its end.
+
+    With ``mixed`` the first beam past the edge returns 3 m of x instead of 4: a spot that fell
+    on both walls, a point floating in the space between them.
+    """
+    angles = ANGLE_MIN + INCREMENT * np.arange(BEAMS)
+    cos = np.cos(angles)
+    ahead = cos > 1e-9
+    ranges = np.full(BEAMS, np.inf)
+    near = ahead & (laser_y + 2.0 * np.tan(np.where(ahead, angles, 0.0)) < 0.0)
+    ranges[near] = 2.0 / cos[near]
+    far = ahead & ~near
+    ranges[far] = 4.0 / cos[far]
+    if mixed:
+        first = np.flatnonzero(far)[0]
+        ranges[first] = 3.0 / cos[first]
+    return ranges
+
+
+@pytest.mark.parametrize('mixed_pixel_angle, ghost', [(0.0, True), (0.1745, False)])
+def test_a_mixed_pixel_makes_no_ghost_when_read_as_invalid(mixed_pixel_angle, ghost):
+    # The laser drives from y = 1 to y = 0 along x = 0: the space between the two walls
+    # behind the near wall's end is seen empty from above, then the mixed pixels float in it.
+    grid = grid_for(dpn_rule(mixed_pixel_angle=mixed_pixel_angle))
+    ever_mobile = np.zeros(grid.labels.shape, dtype=bool)
+    for k in range(41):
+        laser_y = 1.0 - 0.025 * k
+        grid.update((0.0, laser_y, 0.0), edge_scan(laser_y, mixed=k % 4 == 3), ANGLE_MIN,
+                    INCREMENT, 0.1, 8.0, 0.6, stamp=0.1 * k)
+        ever_mobile |= grid.labels == CellLabel.MOBILE_OBSTACLE
+    assert ever_mobile.any() == ghost
+    # The walls are mapped either way.
+    assert grid.labels[grid.geometry.world_to_cell(2.0, -1.0)] == CellLabel.STEADY_OBSTACLE
+    assert grid.labels[grid.geometry.world_to_cell(4.0, 1.0)] == CellLabel.STEADY_OBSTACLE
+
+
+def oblique_wall_scan(drop=False):
+    """
+    Return the scan of a wall ``y = 0.5`` for x in [0.3, 6] from the origin, facing +x.
+
+    Its far part is seen at grazing incidence (beyond about 2.9 m, more than 80 degrees from
+    its normal). With ``drop`` it returns nothing (a flicker): its place looks empty.
+    """
+    angles = ANGLE_MIN + INCREMENT * np.arange(BEAMS)
+    ranges = np.full(BEAMS, np.inf)
+    up = np.sin(angles) > 1e-9
+    ranges[up] = 0.5 / np.sin(angles[up])
+    x = ranges * np.cos(angles)
+    ranges[~up | (x < 0.3) | (x > 6.0)] = np.inf
+    if drop:
+        ranges[np.isfinite(ranges)] = np.inf
+    return ranges
+
+
+@pytest.mark.parametrize('veiling_angle, far_wall_ever_mobile', [(0.0, True), (0.1745, False)])
+def test_hits_on_a_grazing_wall_show_no_motion_when_veiling(
+        veiling_angle, far_wall_ever_mobile):
+    # The wall flickers in two scans, so its place was surely seen empty; a long surface
+    # memory keeps it from being a known surface within the test, so that only the veiling
+    # rule can keep it steady. A person then walks across 1.5 m ahead.
+    grid = grid_for(dpn_rule(veiling_angle=veiling_angle, surface_time=100.0,
+                             no_return_reach=1.0))
+    far = np.zeros(grid.labels.shape, dtype=bool)
+    for x in np.arange(3.5, 5.6, 0.1):
+        far[grid.geometry.world_to_cell(x, 0.5)] = True
+    far_mobile = walker_mobile = False
+    for k in range(60):
+        ranges = oblique_wall_scan(drop=k in (20, 21))
+        legs = []
+        if k >= 35:
+            y = -1.5 + 0.1 * (k - 35)
+            legs = [(1.5, y - 0.4), (1.5, y - 0.15)]
+            walker = cast(0.0, 100.0, legs)
+            ranges = np.minimum(ranges, walker)
+        grid.update((0.0, 0.0, 0.0), ranges, ANGLE_MIN, INCREMENT, 0.1, 8.0, 0.6,
+                    stamp=0.1 * k)
+        mobile = grid.labels == CellLabel.MOBILE_OBSTACLE
+        far_mobile |= bool((mobile & far).any())
+        if legs:
+            walker_mobile |= bool(mobile[grid.geometry.world_to_cell(1.5, legs[0][1])])
+    assert far_mobile == far_wall_ever_mobile
+    assert walker_mobile
+
+
+def test_bad_edge_pixel_parameters_raise():
+    for name in ('mixed_pixel_angle', 'veiling_angle'):
+        for value in (-0.1, 2.0, math.nan):
+            with pytest.raises(ValueError, match=name):
+                LabelRule(**{name: value})
+    with pytest.raises(ValueError, match='veiling_angle needs surface_time'):
+        LabelRule(free_evidence_radius=0.5, moving_object_size=0.7, veiling_angle=0.1)
+
+
+def test_the_real_laser_navigator_is_its_params_file():
+    from dpn_navigator.benchmark.protocol import NAVIGATORS, REAL_LASER
+    import yaml
+    path = Path(__file__).resolve().parents[2] / 'config' / 'dpn_real_laser.yaml'
+    overlay = yaml.safe_load(path.read_text())['/**/dpn']['ros__parameters']
+    assert overlay == REAL_LASER == NAVIGATORS['dpn_real_laser']
+    rule = dpn_rule(**overlay)
+    assert rule.no_return_reach == 0.0 and rule.mixed_pixel_angle > 0.0
+    assert rule.veiling_angle > 0.0
+    # The shipped dpn keeps both off.
+    assert dpn_rule().mixed_pixel_angle == dpn_rule().veiling_angle == 0.0

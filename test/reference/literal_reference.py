@@ -10,7 +10,8 @@ import heapq
 import math
 
 import numpy as np
-from real_sensor_rules import literal_fine_ranges, literal_read, literal_shorten
+from real_sensor_rules import (literal_fine_ranges, literal_mixed, literal_read,
+                               literal_shorten, literal_veiling)
 
 NON_EXPLORED, EXPLORED, STEADY, MOBILE = 0, 1, 2, 3
 
@@ -245,6 +246,8 @@ def literal_update_with_rule(labels, seen_free, last_hit, origin, resolution, po
     ``surfaces`` (``real_sensor_rules.LiteralSurfaceMemory``) with the intermittent surfaces.
     """
     ranges = literal_read(ranges, range_min, rule.no_echo_below_range_min)
+    mixed = literal_mixed(ranges, angle_increment, range_min, range_max, rule.mixed_pixel_angle)
+    ranges = [math.nan if m else r for r, m in zip(ranges, mixed)]
     vertices, hits = literal_scan_points(
         pose, ranges, angle_min, angle_increment, range_min, range_max)
     vertices = literal_shorten(vertices, ranges, range_max, range_min, rule.no_return_reach)
@@ -279,6 +282,10 @@ def literal_update_with_rule(labels, seen_free, last_hit, origin, resolution, po
                      math.ceil(cols * resolution / rule.noise_margin - 1e-9))
             known = surfaces.surface_hits(hits, stamp, shape)
             evidence = [e and not s for e, s in zip(evidence, known)]
+            # Veiling hits: no evidence of their own.
+            veiling = literal_veiling(ranges, angle_increment, range_min, range_max,
+                                      rule.veiling_angle)
+            evidence = [e and not veiling[b] for e, b in zip(evidence, beams)]
         moving = literal_moving_hits(hits, beams, evidence, rule.segment_gap,
                                      rule.moving_object_size, rule.object_min_hits,
                                      vertices[0], len(ranges))

@@ -100,3 +100,47 @@ class LiteralSurfaceMemory:
                 continue
             self.buckets[place] = (min(self.level(place, now) + period, self.capacity), now)
         return known
+
+
+def literal_veils(ranges, i, j, angle_increment, range_min, range_max, min_angle):
+    """
+    Tell whether hit ``i`` veils towards hit ``j`` (``j = i - 1`` or ``i + 1``).
+
+    In beam ``i``'s frame (x along the beam): the segment from ``i``'s point to ``j``'s runs
+    ``along`` the beam and ``across`` it; it veils when it lies within ``min_angle`` of the
+    beam's line, ``across < tan(min_angle) * |along|`` (``along`` not 0).
+    """
+    if not (0 <= j < len(ranges)):
+        return False
+    ri, rj = float(ranges[i]), float(ranges[j])
+    if not (range_min <= ri < range_max and range_min <= rj < range_max):
+        return False
+    along = ri - rj * math.cos(angle_increment)
+    across = abs(rj * math.sin(angle_increment))
+    return along != 0.0 and across < math.tan(min_angle) * abs(along)
+
+
+def literal_veiling(ranges, angle_increment, range_min, range_max, min_angle):
+    """Return, beam by beam, whether a hit veils towards either neighbour."""
+    if min_angle <= 0.0:
+        return [False] * len(ranges)
+    return [literal_veils(ranges, i, i - 1, angle_increment, range_min, range_max, min_angle)
+            or literal_veils(ranges, i, i + 1, angle_increment, range_min, range_max, min_angle)
+            for i in range(len(ranges))]
+
+
+def literal_mixed(ranges, angle_increment, range_min, range_max, min_angle):
+    """Return, beam by beam, whether a hit lies between both neighbours, veiling to both."""
+    mixed = [False] * len(ranges)
+    if min_angle <= 0.0:
+        return mixed
+    for i in range(1, len(ranges) - 1):
+        before, middle, after = (float(ranges[i - 1]), float(ranges[i]),
+                                 float(ranges[i + 1]))
+        between = (before < middle < after) or (before > middle > after)
+        mixed[i] = (between
+                    and literal_veils(ranges, i, i - 1, angle_increment, range_min, range_max,
+                                      min_angle)
+                    and literal_veils(ranges, i, i + 1, angle_increment, range_min, range_max,
+                                      min_angle))
+    return mixed

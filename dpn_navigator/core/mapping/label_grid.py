@@ -23,7 +23,8 @@ from .label_update import (expire_listed, mark_free_window, scan_hits, scan_upda
                            squared_bound, surely_free_update)
 from .motion_tracks import MotionTracks, TrackConfig
 from .object_memory import ObjectMemory
-from .scan_reading import no_return_as_reading, read_no_echo, shorten_no_returns
+from .scan_reading import (mixed_pixels, no_return_as_reading, read_no_echo,
+                           shorten_no_returns, veiling_points)
 from .surface_memory import SurfaceMemory
 from .trail_marks import update_trails
 from .travel_generations import TravelGenerations
@@ -254,6 +255,18 @@ class LabelRule:
     noise_margin : float
         Side of the places of the intermittent surfaces [m], about the laser's range noise: a
         hit within one place of a known surface is on it; > 0.
+    mixed_pixel_angle : float
+        Mixed pixels [rad] (``scan_reading.mixed_pixels``): a hit that lies between its two
+        neighbours in depth, the segments to both within this angle of its beam, is read as
+        invalid (no hit, no free space): the spot of a beam at a depth edge fell on both
+        surfaces and its range lies between them, on nothing. 0 turns it off.
+    veiling_angle : float
+        Veiling hits [rad] (``scan_reading.veiling_points``, ROS ``laser_filters``' shadow
+        filter): a hit whose segment to a neighbour lies within this angle of its beam (beside
+        a depth edge, or on a surface seen at grazing incidence, where the polygon's edge runs
+        along the beam and a spot's range is least sure) shows no motion of its own; it still
+        marks its cells (f1), and a moving object's other hits still make it moving. 0 turns
+        it off. Needs ``surface_time`` > 0 (its evidence is taken away with the surfaces').
 
     """
 
@@ -278,6 +291,8 @@ class LabelRule:
     surface_time: float = 0.0
     surface_memory: float = 10.0
     noise_margin: float = 0.1
+    mixed_pixel_angle: float = 0.0
+    veiling_angle: float = 0.0
 
     def __post_init__(self):
         for name in ('free_evidence_radius', 'moving_object_size', 'evidence_margin',
@@ -336,6 +351,13 @@ class LabelRule:
         if self.moving_object_size > 0.0 and self.free_evidence_radius == 0.0:
             raise ValueError('moving_object_size needs free_evidence_radius > 0: motion is '
                              'shown by hits in space surely seen free')
+        for name in ('mixed_pixel_angle', 'veiling_angle'):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and 0.0 <= value <= 0.5 * math.pi):
+                raise ValueError(f'{name} must lie in [0, pi / 2] rad, got {value!r}')
+        if self.veiling_angle > 0.0 and self.surface_time == 0.0:
+            raise ValueError('veiling_angle needs surface_time > 0: the veiling hits lose their '
+                             'motion evidence with those on known surfaces')
 
     def kernel_arguments(self):
         """
@@ -663,6 +685,12 @@ class LabelGrid(PlanningMap):
         if expiring:
             self._restart_clocks_if_time_went_back(stamp)
         ranges = read_no_echo(ranges, range_min, self.rule.no_echo_below_range_min)
+        if self.rule.mixed_pixel_angle > 0.0:
+            mixed = mixed_pixels(ranges, angle_increment, range_min, range_max,
+                                 self.rule.mixed_pixel_angle)
+            if mixed.any():
+                ranges = ranges.copy()
+                ranges[mixed] = math.nan
         if self._generations is not None and self._generations.step(pose):
             # A new generation: the one that ends is kept, the older ones are dropped.
             np.copyto(self.seen_free, self._fresh_free)
@@ -742,8 +770,8 @@ class LabelGrid(PlanningMap):
             shorten_no_returns(vertices_x, vertices_y, ranges, range_min, range_max,
                                self.rule.no_return_reach)
         if self.surface_memory is not None:
-            return self._follow_off_surfaces(pose, ranges, angle_min, angle_increment, stamp,
-                                             points)
+            return self._follow_off_surfaces(pose, ranges, angle_min, angle_increment,
+                                             range_min, range_max, stamp, points)
         fine_moving = None
         if self.fine_evidence is not None:
             # From the fine evidence before this scan; the hits are moving for the label
@@ -767,12 +795,14 @@ class LabelGrid(PlanningMap):
             followed = followed | fine_moving
         return followed, points
 
-    def _follow_off_surfaces(self, pose, ranges, angle_min, angle_increment, stamp, points):
+    def _follow_off_surfaces(self, pose, ranges, angle_min, angle_increment, range_min,
+                             range_max, stamp, points):
         """
         `_follow` with the intermittent surfaces: no evidence nor track on known surfaces.
 
         The evidence of each hit (the coarse free space's and the fine's) is taken away on
-        known surfaces before the object rule spreads it along the segments; then the scan's
+        known surfaces (and from veiling hits, with ``veiling_angle``) before the object rule
+        spreads it along the segments; then the scan's
         hits fill the surface memory, but those of objects followed and seen to move.
         """
         vertices_x, vertices_y, hits_x, hits_y, hit_beams, _ = points
@@ -786,6 +816,10 @@ class LabelGrid(PlanningMap):
         if self.fine_evidence is not None:
             evidence = evidence | self.fine_evidence.evidence(hits_x, hits_y)
         on_surface = self.surface_memory.on_surface(hits_x, hits_y, stamp)
+        if rule.veiling_angle > 0.0:
+            veiling = veiling_points(ranges, angle_increment, range_min, range_max,
+                                     rule.veiling_angle)
+            evidence = evidence & ~veiling[hit_beams]
         moving = motion_evidence.moving_hits(hits_x, hits_y, hit_beams, evidence & ~on_surface,
                                              segment_gap, object_size, min_hits,
                                              vertices_x[0], vertices_y[0], ranges.shape[0])

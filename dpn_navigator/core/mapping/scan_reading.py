@@ -9,7 +9,12 @@ as no return, which shows the whole beam out to ``range_max`` empty. Real lasers
   (`read_no_echo`, ``LabelRule.no_echo_below_range_min``);
 - weak echoes (dark or far surfaces, grazing incidence) drop out well before ``range_max``,
   so a beam with no return may pass a surface it does not see (`shorten_no_returns`,
-  `no_return_as_reading`, ``LabelRule.no_return_reach``).
+  `no_return_as_reading`, ``LabelRule.no_return_reach``);
+- at a depth edge a beam whose spot falls on both surfaces returns a range between them (a
+  *mixed pixel*), a point floating in free space (`mixed_pixels`, read as invalid with
+  ``LabelRule.mixed_pixel_angle``); the hits beside a depth edge and those of surfaces seen at
+  grazing incidence veil (`veiling_points`, as ROS ``laser_filters``' shadow filter), and show
+  no motion with ``LabelRule.veiling_angle``.
 
 """
 
@@ -115,3 +120,104 @@ def no_return_as_reading(ranges, range_min, range_max, reach):
     distance = reach * range_max
     read[beams] = distance if distance >= range_min else math.nan
     return read
+
+
+def veiling_points(ranges, angle_increment, range_min, range_max, min_angle):
+    """
+    Find the veiling hits of a scan, as ROS ``laser_filters``' shadow filter does.
+
+    At a depth edge a beam whose spot falls on both the nearer object and what lies behind
+    returns a range between the two (a *mixed pixel*): a point floating in space that is free.
+    Seen from the laser, the segment from such a point to a neighbouring hit is nearly
+    parallel to the beam. A valid hit ``i`` is veiling when, for a valid neighbour ``j``
+    (``i - 1`` or ``i + 1``), the angle at ``i`` between the beam (looking back to the laser)
+    and the segment to ``j`` is below ``min_angle`` or above ``pi - min_angle``:
+    ``ScanShadowsFilter`` of ``laser_filters`` with a window of 1 (its
+    ``ShadowDetector::isShadow``, ``min_angle`` / ``max_angle = pi - min_angle``). It also
+    finds the hits on either side of a real depth edge, and those of a surface seen at an
+    incidence steeper than ``pi / 2 - min_angle``.
+
+    Parameters
+    ----------
+    ranges : (L,) ndarray of float64
+        Checked ranges [m].
+    angle_increment : float
+        [rad]
+    range_min, range_max : float
+        Valid hits lie in ``[range_min, range_max)`` [m].
+    min_angle : float
+        [rad], in ``[0, pi / 2]``; 0 finds none.
+
+    Returns
+    -------
+    (L,) ndarray of bool
+
+    """
+    ranges = np.asarray(ranges, dtype=np.float64)
+    count = ranges.shape[0]
+    veiling = np.zeros(count, dtype=bool)
+    if min_angle <= 0.0 or count < 2:
+        return veiling
+    to_before, to_after = _veiling_sides(ranges, angle_increment, range_min, range_max,
+                                         min_angle)
+    veiling[1:] |= to_before
+    veiling[:-1] |= to_after
+    return veiling
+
+
+def mixed_pixels(ranges, angle_increment, range_min, range_max, min_angle):
+    """
+    Find the hits that lie between their two neighbours in depth, veiling towards both.
+
+    A mixed pixel floats between the nearer object of a depth edge and what lies behind it:
+    the segments to its neighbours on either side are both within ``min_angle`` of its beam
+    (`veiling_points`), one neighbour nearer and one farther. The edge hit of an object
+    veils only towards the far side, and is kept.
+
+    Parameters
+    ----------
+    ranges : (L,) ndarray of float64
+        Checked ranges [m].
+    angle_increment : float
+        [rad]
+    range_min, range_max : float
+        Valid hits lie in ``[range_min, range_max)`` [m].
+    min_angle : float
+        [rad], in ``[0, pi / 2]``; 0 finds none.
+
+    Returns
+    -------
+    (L,) ndarray of bool
+
+    """
+    ranges = np.asarray(ranges, dtype=np.float64)
+    count = ranges.shape[0]
+    mixed = np.zeros(count, dtype=bool)
+    if min_angle <= 0.0 or count < 3:
+        return mixed
+    to_before, to_after = _veiling_sides(ranges, angle_increment, range_min, range_max,
+                                         min_angle)
+    with np.errstate(invalid='ignore'):
+        between = (ranges[:-2] - ranges[1:-1]) * (ranges[1:-1] - ranges[2:]) > 0.0
+    mixed[1:-1] = to_before[:-1] & to_after[1:] & between
+    return mixed
+
+
+def _veiling_sides(ranges, angle_increment, range_min, range_max, min_angle):
+    """
+    Return, for each hit, whether it veils towards the beam before and the beam after it.
+
+    ``to_before[k]`` is about hit ``k + 1`` and its neighbour ``k``; ``to_after[k]`` about hit
+    ``k`` and its neighbour ``k + 1``; both (L - 1,) bool, False unless both hits are valid.
+    """
+    valid = (ranges >= range_min) & (ranges < range_max)
+    pair = valid[:-1] & valid[1:]
+    tan_min = math.tan(min_angle)
+    sides = []
+    for r1, r2 in ((ranges[1:], ranges[:-1]), (ranges[:-1], ranges[1:])):
+        # The segment from r1's point to r2's, in r1's beam frame: along and across the beam.
+        across = np.abs(r2 * math.sin(angle_increment))
+        with np.errstate(invalid='ignore'):
+            along = r1 - r2 * math.cos(angle_increment)
+            sides.append(pair & (along != 0.0) & (across < tan_min * np.abs(along)))
+    return sides[0], sides[1]
