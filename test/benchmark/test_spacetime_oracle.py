@@ -246,6 +246,20 @@ def test_the_body_guard_stops_a_drive_onto_an_agent_but_not_away_from_it(config)
     assert oracle._guarded((5.0, 2.7, 0.0), toward) is toward
 
 
+def test_the_body_guard_lets_a_drive_swing_a_corner_nearer_by_less_than_a_turns_margin(config):
+    # Held-out seed 1, crossroads 0/2/0: 0.58 m from its goal, the Husky had to drive on
+    # turning right; its rear corner would swing 4 cm nearer a P3-AT behind it on the left,
+    # 0.49 m from the box, which could not turn away from the Husky either (its turn guard).
+    pose = (34.42, 34.98, 0.23)
+    agent = (33.88, 35.7)
+    drive = VelocityCommand(0.338, -0.39)
+    assert still_agent_oracle(config, agent)._guarded(pose, drive) is drive
+    assert still_agent_oracle(config, agent, exact_swings=False)._guarded(pose, drive) is STOP
+    # Driving towards an agent is still held: the same drive with the agent ahead of the box.
+    ahead = (34.42 + 0.95 * math.cos(0.23), 34.98 + 0.95 * math.sin(0.23))
+    assert still_agent_oracle(config, ahead)._guarded(pose, drive) is STOP
+
+
 def test_the_box_distance_is_zero_inside_and_the_gap_outside():
     half = (0.495, 0.335)
     points = np.array([[0.2, 0.1], [1.0, 0.0], [0.0, -1.0], [1.495, 1.335]])

@@ -22,7 +22,8 @@ cells' centres by up to half a cell's diagonal while it drives, and a turn in pl
 corners round the disc of its circumscribed radius. So every command is checked against where
 the agents are now (`SpaceTimeConfig.body_guard`): a turn in place with an agent's body within
 that disc, or a drive that brings the robot's box nearer than ``body_margin`` to an agent's
-body already that close, is not made (the robot holds; the next plan, at most
+body not already that close (``exact_swings``: the box moved without turning; its corners'
+swing keeps ``turn_margin``), is not made (the robot holds; the next plan, at most
 ``replan_period`` later, takes the agents' new places).
 
 """
@@ -83,6 +84,15 @@ class SpaceTimeConfig:
         (held-out seed 1, back_and_forth 0/3/1 for 183 s, apartment 0/9/1).
     turn_margin : float
         Gap a turn in place keeps from an agent's body with ``exact_turns`` [m].
+    exact_swings : bool
+        The body guard holds a drive when it brings the box, moved along the drive without
+        turning, within ``body_margin`` of an agent's body, or when the box, moved and turned,
+        comes within ``turn_margin`` of it, nearer than it is now: the swing of the box's
+        corners as it turns needs the margin of a turn in place, not that of a drive. False:
+        the box moved and turned is held to ``body_margin`` (before 27 November, session 15).
+        That held the robot 0.58 m from its goal while its rear corner would have swung 4 cm
+        nearer a P3-AT behind it, which could not turn away from the Husky either: both stood
+        for 142 s (held-out seed 1, crossroads 0/2/0).
 
     """
 
@@ -97,6 +107,7 @@ class SpaceTimeConfig:
     guard_lookahead: float = 0.3
     exact_turns: bool = True
     turn_margin: float = 0.02
+    exact_swings: bool = True
 
     def __post_init__(self):
         for name in ('horizon', 'step', 'replan_period'):
@@ -230,7 +241,13 @@ class SpaceTimeOracle(Navigator):
         ahead = (pose[0] + travel * math.cos(yaw), pose[1] + travel * math.sin(yaw),
                  pose[2] + command.angular * self.planning.guard_lookahead)
         then = _box_distance(ahead, self._half_box, agents)
-        if np.any((then < margin) & (then < now)):
+        if self.planning.exact_swings:
+            moved = _box_distance((ahead[0], ahead[1], pose[2]), self._half_box, agents)
+            near = self._agent_radius + self.planning.turn_margin
+            blocked = np.any(((moved < margin) & (moved < now)) | ((then < near) & (then < now)))
+        else:
+            blocked = np.any((then < margin) & (then < now))
+        if blocked:
             self.waits += 1
             return STOP
         return command
