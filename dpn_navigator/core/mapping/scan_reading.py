@@ -172,23 +172,8 @@ def mixed_pixels(ranges, angle_increment, range_min, range_max, min_angle):
     A mixed pixel floats between the nearer object of a depth edge and what lies behind it:
     the segments to its neighbours on either side are both within ``min_angle`` of its beam
     (`veiling_points`), one neighbour nearer and one farther. The edge hit of an object
-    veils only towards the far side, and is kept.
-
-    Parameters
-    ----------
-    ranges : (L,) ndarray of float64
-        Checked ranges [m].
-    angle_increment : float
-        [rad]
-    range_min, range_max : float
-        Valid hits lie in ``[range_min, range_max)`` [m].
-    min_angle : float
-        [rad], in ``[0, pi / 2]``; 0 finds none.
-
-    Returns
-    -------
-    (L,) ndarray of bool
-
+    veils only towards the far side, and is kept. Parameters and result as `veiling_points`'s:
+    the (L,) bool array of the mixed pixels.
     """
     ranges = np.asarray(ranges, dtype=np.float64)
     count = ranges.shape[0]
