@@ -217,8 +217,8 @@ def test_the_body_guard_holds_a_turn_that_would_sweep_a_corner_into_an_agent(con
     # 5 wanderers, held-out seed 1).
     turn = VelocityCommand(0.0, 1.0, turn=1.0)
     pose = (5.0, 4.0, 0.0)
-    assert still_agent_oracle(config, (5.0, 4.84))._guarded(pose, turn) is STOP
-    assert still_agent_oracle(config, (5.0, 6.0))._guarded(pose, turn) is turn
+    assert still_agent_oracle(config, (5.0, 4.84))._held(pose, turn)
+    assert not still_agent_oracle(config, (5.0, 6.0))._held(pose, turn)
 
 
 def test_the_body_guard_lets_a_turn_pass_an_agent_its_corners_do_not_reach(config):
@@ -228,11 +228,11 @@ def test_the_body_guard_lets_a_turn_pass_an_agent_its_corners_do_not_reach(confi
     pose = (5.0, 4.0, -0.15)
     agent = (4.86, 4.98)
     turn = VelocityCommand(0.0, 1.2, turn=0.62)
-    assert still_agent_oracle(config, agent)._guarded(pose, turn) is turn
-    assert still_agent_oracle(config, agent, exact_turns=False)._guarded(pose, turn) is STOP
+    assert not still_agent_oracle(config, agent)._held(pose, turn)
+    assert still_agent_oracle(config, agent, exact_turns=False)._held(pose, turn)
     # Turning the other way round by half a turn brings a corner onto it: held.
     back = VelocityCommand(0.0, -1.2, turn=-math.pi)
-    assert still_agent_oracle(config, agent)._guarded(pose, back) is STOP
+    assert still_agent_oracle(config, agent)._held(pose, back)
     with pytest.raises(ValueError, match='turn_margin'):
         SpaceTimeConfig(turn_margin=-0.1)
 
@@ -240,10 +240,10 @@ def test_the_body_guard_lets_a_turn_pass_an_agent_its_corners_do_not_reach(confi
 def test_the_body_guard_stops_a_drive_onto_an_agent_but_not_away_from_it(config):
     oracle = still_agent_oracle(config, (6.0, 4.0))          # 1.0 m ahead of the centre
     toward, away = VelocityCommand(0.8, 0.0), VelocityCommand(0.8, 0.0)
-    assert oracle._guarded((5.0, 4.0, 0.0), toward) is STOP
-    assert oracle._guarded((5.0, 4.0, math.pi), away) is away
+    assert oracle._held((5.0, 4.0, 0.0), toward)
+    assert not oracle._held((5.0, 4.0, math.pi), away)
     # Passing beside it with room to spare is no contact.
-    assert oracle._guarded((5.0, 2.7, 0.0), toward) is toward
+    assert not oracle._held((5.0, 2.7, 0.0), toward)
 
 
 def test_the_body_guard_lets_a_drive_swing_a_corner_nearer_by_less_than_a_turns_margin(config):
@@ -253,11 +253,85 @@ def test_the_body_guard_lets_a_drive_swing_a_corner_nearer_by_less_than_a_turns_
     pose = (34.42, 34.98, 0.23)
     agent = (33.88, 35.7)
     drive = VelocityCommand(0.338, -0.39)
-    assert still_agent_oracle(config, agent)._guarded(pose, drive) is drive
-    assert still_agent_oracle(config, agent, exact_swings=False)._guarded(pose, drive) is STOP
+    assert not still_agent_oracle(config, agent)._held(pose, drive)
+    assert still_agent_oracle(config, agent, exact_swings=False)._held(pose, drive)
     # Driving towards an agent is still held: the same drive with the agent ahead of the box.
     ahead = (34.42 + 0.95 * math.cos(0.23), 34.98 + 0.95 * math.sin(0.23))
-    assert still_agent_oracle(config, ahead)._guarded(pose, drive) is STOP
+    assert still_agent_oracle(config, ahead)._held(pose, drive)
+
+
+def test_a_drive_inside_the_margin_is_held_only_by_the_margin_of_a_turn(config):
+    # Held-out seed 1, l_corridor 1/4/1: the Husky's box 0.099 m from a P3-AT that had stopped
+    # for it, its plan passing the P3-AT a millimetre nearer.
+    pose = (5.0, 4.0, 0.0)
+    agent = (5.0, 4.0 + 0.335 + 0.099 + AGENT_RADIUS)     # beside the box, 0.099 m from it
+    past = VelocityCommand(0.8, 0.01)                      # along it, a hair to the left
+    gap = _box_distance(pose, (0.495, 0.335), np.array([agent]))[0] - AGENT_RADIUS
+    assert gap == pytest.approx(0.099)
+    assert not still_agent_oracle(config, agent)._held(pose, past)
+    assert still_agent_oracle(config, agent, close_drives=False)._held(pose, past)
+    # Still held when the drive would take the box within turn_margin of the body: the
+    # same drive with the agent 0.099 m ahead of the box.
+    ahead = (5.0 + 0.495 + 0.099 + AGENT_RADIUS, 4.0)
+    assert still_agent_oracle(config, ahead)._held(pose, past)
+
+
+def scheduled_oracle(config, agent, xy, when, **planning):
+    """Return an oracle (one agent standing at ``agent``) that follows the schedule given."""
+    oracle = still_agent_oracle(config, agent, **planning)
+    oracle.set_goal(*GOAL)
+    oracle._schedule = (np.asarray(when, dtype=float), np.asarray(xy, dtype=float))
+    oracle._next_plan = math.inf                           # no plan of its own
+    return oracle
+
+
+def test_a_held_turn_toward_a_plan_behind_the_robot_backs_along_it(config):
+    # Held-out seed 1, l_corridor 0/8/0: the plan leads back past a P3-AT standing beside
+    # the Husky; a half turn would swing the box's corners into it, and the P3-AT waits for
+    # the Husky. Backing along the plan passes it.
+    pose = (5.0, 4.0, 0.0)
+    agent = (5.1, 4.88)
+    plan = [(5.0, 4.0), (4.5, 4.0), (4.0, 4.0), (3.5, 4.0)]
+    for reverse in (True, False):
+        oracle = scheduled_oracle(config, agent, plan, [0.0, 0.5, 1.0, 1.5],
+                                  reverse_when_held=reverse)
+        turn = oracle._command(0.0, pose)
+        assert turn.linear == 0.0 and abs(turn.turn) > 0.5 * math.pi
+        assert oracle._held(pose, turn)
+        command = oracle.step(0.0, pose, **SCAN).command
+        if reverse:
+            assert command.linear < 0.0 and abs(command.angular) < 0.1
+            assert not oracle._held(pose, command)
+        else:
+            assert command is STOP
+    # With the agent gone, the robot turns round as before.
+    oracle = scheduled_oracle(config, (14.0, 8.0), plan, [0.0, 0.5, 1.0, 1.5])
+    assert oracle.step(0.0, pose, **SCAN).command.linear == 0.0
+    # No reverse when the held command is not a turn of more than a quarter turn.
+    # (a 60-degree turn left; the front-left corner would swing into the agent's body)
+    oracle = scheduled_oracle(config, (5.462, 4.894), [(5.0, 4.0), (5.3, 4.52), (5.6, 5.04)],
+                              [0.0, 0.6, 1.2])
+    held = oracle._command(0.0, pose)
+    assert oracle._held(pose, held) and abs(held.turn) < 0.5 * math.pi
+    assert oracle.step(0.0, pose, **SCAN).command is STOP
+
+
+def test_a_leg_that_ends_in_a_wait_is_driven_to_the_waits_cell(config):
+    # Held-out seed 1, l_corridor 0/8/1: the robot stopped 0.29 m short of the cell its plan
+    # waited in, inside the follower's goal tolerance; the forecast, with the robot there,
+    # had a P3-AT pass that did not pass the robot where it stood.
+    pose = (5.0, 4.29, -math.pi / 2)
+    plan = [(5.0, 4.29), (5.0, 4.0), (5.0, 4.0), (5.0, 4.5)]
+    when = [0.0, 0.5, 2.5, 3.0]
+    drive = scheduled_oracle(config, (14.0, 8.0), plan, when)._command(0.1, pose)
+    assert drive.linear > 0.0
+    assert scheduled_oracle(config, (14.0, 8.0), plan, when, exact_waits=False)._command(
+        0.1, pose) is STOP
+    # Within wait_tolerance of the cell the leg is done.
+    assert scheduled_oracle(config, (14.0, 8.0), plan, when)._command(
+        0.1, (5.0, 4.09, -math.pi / 2)) is STOP
+    with pytest.raises(ValueError, match='wait_tolerance'):
+        SpaceTimeConfig(wait_tolerance=0.0)
 
 
 def test_the_box_distance_is_zero_inside_and_the_gap_outside():

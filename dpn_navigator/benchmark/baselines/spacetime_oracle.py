@@ -22,13 +22,17 @@ cells' centres by up to half a cell's diagonal while it drives, and a turn in pl
 corners round the disc of its circumscribed radius. So every command is checked against where
 the agents are now (`SpaceTimeConfig.body_guard`): a turn in place with an agent's body within
 that disc, or a drive that brings the robot's box nearer than ``body_margin`` to an agent's
-body not already that close (``exact_swings``: the box moved without turning; its corners'
-swing keeps ``turn_margin``), is not made (the robot holds; the next plan, at most
-``replan_period`` later, takes the agents' new places).
+body (``exact_swings``: the box moved without turning; its corners' swing keeps
+``turn_margin``; ``close_drives``: a body already within ``body_margin`` keeps ``turn_margin``),
+nearer than it is now, is not made: the robot holds (the next plan, at most ``replan_period``
+later, takes the agents' new places), or, when the held command is a turn of more than a quarter
+turn toward the plan, backs along the plan if that drive passes (``reverse_when_held``). A leg
+that ends in a wait is driven to within ``wait_tolerance`` of the wait's cell, where the
+forecast places the robot (``exact_waits``).
 
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 import math
 
 import numpy as np
@@ -93,6 +97,30 @@ class SpaceTimeConfig:
         That held the robot 0.58 m from its goal while its rear corner would have swung 4 cm
         nearer a P3-AT behind it, which could not turn away from the Husky either: both stood
         for 142 s (held-out seed 1, crossroads 0/2/0).
+    close_drives : bool
+        A drive that starts with an agent's body already within ``body_margin`` of the box is
+        held only when it brings the box within ``turn_margin`` of that body, nearer than it is
+        now (the margin of a turn in place). False: it is held by any approach, however small
+        (before 28 November, session 16). That held the robot 0.099 m from a P3-AT that had
+        stopped for it, its plan passing the P3-AT 1 mm nearer: both stood to the time limit
+        (held-out seed 1, l_corridor 1/4/1).
+    reverse_when_held : bool
+        When the body guard holds a turn in place of more than a quarter turn toward the plan,
+        the robot backs along the plan instead: its path follower steers the robot turned
+        round, the speed negated, and that drive passes the body guard like any other. False:
+        it holds (before 28 November, session 16). The swing of the box's corners cannot pass
+        a P3-AT beside it that has stopped for the Husky, and the P3-AT does not move while
+        the Husky is there: both stood to the time limit (held-out seed 1, l_corridor 0/8/0,
+        the plan leading back past the P3-AT).
+    exact_waits : bool
+        A leg of the plan that ends in a wait is driven until the robot is within
+        ``wait_tolerance`` of the wait's cell centre. False: it ends inside the follower's goal
+        tolerance, 0.3 m (before 28 November, session 16). The forecast places the robot at
+        the cell's centre: a robot that stopped 0.29 m short of it stood where a P3-AT would
+        not pass, while the forecast, with the robot at the centre, had the P3-AT pass; every
+        plan waited for it, to the time limit (held-out seed 1, l_corridor 0/8/1).
+    wait_tolerance : float
+        [m], with ``exact_waits``.
 
     """
 
@@ -108,6 +136,10 @@ class SpaceTimeConfig:
     exact_turns: bool = True
     turn_margin: float = 0.02
     exact_swings: bool = True
+    close_drives: bool = True
+    reverse_when_held: bool = True
+    exact_waits: bool = True
+    wait_tolerance: float = 0.1
 
     def __post_init__(self):
         for name in ('horizon', 'step', 'replan_period'):
@@ -116,10 +148,13 @@ class SpaceTimeConfig:
                 raise ValueError(f'{name} must be positive and finite, got {value!r}')
         if self.horizon < self.step:
             raise ValueError('horizon must be at least one step')
-        for name in ('clearance', 'body_margin', 'guard_lookahead', 'turn_margin'):
+        for name in ('clearance', 'body_margin', 'guard_lookahead', 'turn_margin',
+                     'wait_tolerance'):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0.0):
                 raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
+        if not self.wait_tolerance > 0.0:
+            raise ValueError(f'wait_tolerance must be positive, got {self.wait_tolerance!r}')
         if self.margin < 0 or self.max_expansions < 1:
             raise ValueError('margin must be >= 0 and max_expansions >= 1')
 
@@ -164,6 +199,13 @@ class SpaceTimeOracle(Navigator):
         self._diagonal = max(1, math.ceil(config.resolution * math.sqrt(2.0) / (speed * step)
                                           - 1e-9))
         self._steps = max(1, int(round(self.planning.horizon / step)))
+        # The follower for a leg that ends in a wait.
+        follower = config.follower
+        self._to_wait = follower
+        if self.planning.exact_waits:
+            margin = follower.goal_tolerance - self.planning.wait_tolerance
+            self._to_wait = replace(follower, goal_approach_margin=max(
+                margin, follower.goal_approach_margin))
         self._walls = blocked_mask(grid.labels)
         self._to_go = None
         self._schedule = None        # (times [s], xy (N, 2) [m]) of the plan being followed
@@ -198,20 +240,28 @@ class SpaceTimeOracle(Navigator):
         if self._schedule is None:
             return NavigatorOutput(STOP, self.status, self.reason, replanned, cause)
         command = self._command(stamp, pose)
-        if self.planning.body_guard and command is not STOP:
-            command = self._guarded(pose, command)
+        if self.planning.body_guard and command is not STOP and self._held(pose, command):
+            back = STOP
+            if self.planning.reverse_when_held and command.linear == 0.0 and \
+                    abs(command.turn) > 0.5 * math.pi:
+                back = self._command(stamp, pose, backwards=True)
+                if back is not STOP and self._held(pose, back):
+                    back = STOP
+            if back is STOP:
+                self.waits += 1
+            command = back
         return NavigatorOutput(command, self.status, self.reason, replanned, cause)
 
-    def _guarded(self, pose, command):
-        """Return ``command``, or STOP when it would bring the robot's body onto an agent's."""
+    def _held(self, pose, command):
+        """Tell whether ``command`` would bring the robot's body onto an agent's."""
         agents = np.asarray(self._forecast(np.zeros(1), lambda t: (pose[0], pose[1])),
                             dtype=np.float64)[0]
         if agents.shape[0] == 0:
-            return command
+            return False
         margin = self._agent_radius + self.planning.body_margin
         if command.linear == 0.0:
             if command.angular == 0.0:
-                return command
+                return False
             if self.planning.exact_turns:
                 # The box at every TURN_STEP of the turn: held when it comes within
                 # ``turn_margin`` of an agent's body, nearer than it is now.
@@ -231,10 +281,7 @@ class SpaceTimeOracle(Navigator):
                 sweep = math.hypot(*self._half_box) + margin
                 blocked = bool((np.hypot(agents[:, 0] - pose[0],
                                          agents[:, 1] - pose[1]) < sweep).any())
-            if blocked:
-                self.waits += 1
-                return STOP
-            return command
+            return blocked
         now = _box_distance(pose, self._half_box, agents)
         travel = command.linear * self.planning.guard_lookahead
         yaw = pose[2] + 0.5 * command.angular * self.planning.guard_lookahead
@@ -244,13 +291,13 @@ class SpaceTimeOracle(Navigator):
         if self.planning.exact_swings:
             moved = _box_distance((ahead[0], ahead[1], pose[2]), self._half_box, agents)
             near = self._agent_radius + self.planning.turn_margin
-            blocked = np.any(((moved < margin) & (moved < now)) | ((then < near) & (then < now)))
+            # With close_drives, a body already within the margin is held to turn_margin.
+            limit = np.where(now < margin, near, margin) if self.planning.close_drives \
+                else margin
+            blocked = np.any(((moved < limit) & (moved < now)) | ((then < near) & (then < now)))
         else:
             blocked = np.any((then < margin) & (then < now))
-        if blocked:
-            self.waits += 1
-            return STOP
-        return command
+        return bool(blocked)
 
     def _plan_in_time(self, stamp, pose):
         """Forecast the agents, plan in space and time, keep the schedule."""
@@ -322,14 +369,21 @@ class SpaceTimeOracle(Navigator):
         blocked[layer[near], rows[near], cols[near]] = True
         return blocked
 
-    def _command(self, stamp, pose):
-        """Follow the schedule: drive between waits, hold (turned to the next cell) in one."""
+    def _command(self, stamp, pose, backwards=False):
+        """
+        Follow the schedule: drive between waits, hold (turned to the next cell) in one.
+
+        ``backwards``: drive the leg in reverse (the follower steers the robot turned round, the
+        speed negated); STOP in a wait or when the robot, turned round, would turn in place.
+        """
         when, xy = self._schedule
         i = int(np.searchsorted(when, stamp, side='right')) - 1
         i = min(max(i, 0), len(when) - 1)
         same = np.all(np.isclose(xy[1:], xy[:-1]), axis=1)      # entry j waits to j + 1
         config = self.config.follower
         if i < len(when) - 1 and same[i]:
+            if backwards:
+                return STOP
             self.waits += 1
             anchor = xy[i]
             if math.hypot(anchor[0] - pose[0], anchor[1] - pose[1]) > 0.25:
@@ -344,8 +398,14 @@ class SpaceTimeOracle(Navigator):
         waits_ahead = np.flatnonzero(same[i + 1:])
         if waits_ahead.size:
             last = i + 1 + int(waits_ahead[0])
-        return _without_goal(follow_path(pose, xy[i + 1:last + 1] if last > i else xy[-1:],
-                                         config))
+            config = self._to_wait
+        leg = xy[i + 1:last + 1] if last > i else xy[-1:]
+        if not backwards:
+            return _without_goal(follow_path(pose, leg, config))
+        turned = _without_goal(follow_path((pose[0], pose[1], pose[2] + math.pi), leg, config))
+        if turned.linear <= 0.0:
+            return STOP
+        return VelocityCommand(-turned.linear, turned.angular)
 
 
 def _box_distance(pose, half_box, points):
