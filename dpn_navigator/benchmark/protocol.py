@@ -49,8 +49,10 @@ NOT_GETTING_STUCK_OFF = {'stale_obstacle_age': 0.0, 'path_trust_time': 0.0,
 #: ``dpn_real_laser`` is dpn with ``config/dpn_real_laser.yaml``, for a moving robot with a real
 #: laser: beams with no return clear nothing (a wall at grazing incidence returns nothing, and
 #: its beams would show it empty), mixed pixels are invalid, veiling hits show no motion
-#: (``REAL_LASER``, docs/real_data.md).
-REAL_LASER = {'no_return_reach': 0.0, 'mixed_pixel_angle': 0.1745, 'veiling_angle': 0.1745}
+#: (``REAL_LASER``, docs/real_data.md); a hit shows motion only beyond three sigma of the range
+#: noise.
+REAL_LASER = {'no_return_reach': 0.0, 'mixed_pixel_angle': 0.1745, 'veiling_angle': 0.1745,
+              'range_noise_margin': 0.05, 'range_noise_fraction': 0.03}
 NAVIGATORS = {
     'dpn': {},
     'dpn_no_sweep': {'turn_sweep_memory': 0.0},

@@ -209,6 +209,17 @@ class NavigatorConfig:
         'neighbour lies within this angle of its beam (beside a depth edge, or on a surface '
         'at grazing incidence) shows no motion of its own, and still marks its cells; 0: off '
         '(the paper); needs surface_time > 0', 0.0, 1.5707963267948966)
+    range_noise_margin: float = setting(
+        0.0, 'm', 'range noise: a hit shows motion of its own only when the point this much '
+        '(plus `range_noise_fraction` of its range) farther along its beam does too, so that '
+        'a short reading of a surface a long one showed empty is not motion; about three '
+        "standard deviations of the laser's range noise; 0: off (the paper); needs "
+        'surface_time > 0', 0.0, 1.0)
+    range_noise_fraction: float = setting(
+        0.0, '1', 'range noise: the part of `range_noise_margin` that grows with the range, '
+        'for a laser whose noise is a share of the distance, or a heading error (0.015: three '
+        "sigma of an RPLIDAR A2's 0.5 %; 0.03: of a 0.01 rad heading error); 0: off (the "
+        'paper)', 0.0, 0.2)
     robot_length: float = setting(
         0.99, 'm', "the robot's footprint along x, centred on the base (Husky A200 with "
         'bumpers); used by the turn sweep', 0.01, 10.0)

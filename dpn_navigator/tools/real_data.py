@@ -422,6 +422,7 @@ TABLE_RULES = (
     ('paper', 'paper', {}),
     ('dpn, no real-sensor rules', 'dpn', {'no_return_reach': 1.0, 'surface_time': 0.0}),
     ('dpn', 'dpn', {}),
+    ('dpn with range noise', 'dpn', {'range_noise_margin': 0.05, 'range_noise_fraction': 0.03}),
     ('dpn_real_laser', 'dpn_real_laser', {}),
 )
 
@@ -547,16 +548,32 @@ annotated recordings' driver writes a beam with no echo as 0.000-0.019 m; read a
 steady. A user of such a driver sets `no_echo_below_range_min` (off by default: REP 117 drivers
 write `+inf`), the second group of rows.
 
+**Range noise.** `dpn with range noise` is dpn with `range_noise_margin` 0.05 m and
+`range_noise_fraction` 0.03: a hit shows motion of its own only when the point 0.05 m + 3 % of
+its range beyond it does too ([method](method.md#the-dpn-label-rules-not-in-the-paper)). An
+earlier long reading shows a surface's place empty behind its true place, and a later short
+one then looks like motion. On these standing lasers it leaves recall as it was and takes the
+static cells ever mobile down by a quarter to three quarters (rows above); a fixed margin
+alone (0.1 m, no share of the range) leaves the unannotated recording at 22.4 %, against
+10.3 % with the 3 %: the URG-04LX's noise there grows with the range. Off in `dpn` for now.
+On the ideal laser of the benchmark, which has no noise, it costs recall (0.870 -> 0.853 on
+the smoke profile with `dpn_real_laser`, the same goals); on 40 episodes of the held-out seed
+at 3-10 wanderers dpn with it reached 39 goals instead of 36 (recall 0.848 instead of 0.861),
+but the held-out seed does not choose rules: whether `dpn` ships with it is for a full run on
+the development seed, not made yet.
+
 **`dpn_real_laser`, for a moving robot.** `config/dpn_real_laser.yaml` (the benchmark's
 `--navigator dpn_real_laser`) is dpn with beams that return nothing clearing nothing
 (`no_return_reach` 0: Nav2's obstacle layer with `inf_is_valid` false), mixed pixels read as
-invalid (`mixed_pixel_angle`, 10 deg) and veiling hits without motion evidence of their own
-(`veiling_angle`, 10 deg; ROS `laser_filters`' shadow filter). A moving robot sees walls at
+invalid (`mixed_pixel_angle`, 10 deg), veiling hits without motion evidence of their own
+(`veiling_angle`, 10 deg; ROS `laser_filters`' shadow filter) and the range noise rule above
+(0.05 m + 3 %; set it to three sigma of your laser's range noise and of your localiser's
+heading error). A moving robot sees walls at
 grazing incidence, where real lasers return nothing; with dpn's reach the beams past such a
 wall show it empty, and it seems to move when the robot later sees it squarely, and a mixed
 pixel floats in space seen empty. In the simulator with the SICK LMS1xx profile (smoke
 profile, 9 episodes) dpn reaches 0 of 9 goals with 26 % of the wall cells ever mobile,
-`dpn_real_laser` 6 of 9 with 1.3 % ([benchmark](benchmark.md#realistic-lasers)). For a laser
+`dpn_real_laser` 6 of 9 with 0.4 % ([benchmark](benchmark.md#realistic-lasers)). For a laser
 standing still it is the wrong file: the walkers of these recordings walk where the background
 returns nothing, so with no-return beams clearing nothing their place is never seen empty and
 they stay steady (its rows above). The two edge-pixel rules alone (dpn with both at 10 deg),
@@ -635,14 +652,14 @@ def write_page(out, results, costs, figures, data_dir):
     lines += ['', NOTES, MEASURES, '## Cost', '',
               '`LabelGrid.update` alone (no planning, no turn sweep), paper and dpn timed '
               'interleaved scan by scan on the same recording, three rounds, medians:', '',
-              '| scans | paper [ms] | dpn, no real-sensor rules [ms] | dpn [ms] | '
-              'dpn_real_laser [ms] | ratio before | ratio | ratio dpn_real_laser |',
-              '|---|---:|---:|---:|---:|---:|---:|---:|']
+              '| scans | ' + ' | '.join(f'{name} [ms]' for name, _, _ in TABLE_RULES) + ' | '
+              + ' | '.join(f'ratio {name}' for name, _, _ in TABLE_RULES[1:]) + ' |',
+              '|---|' + '---:|' * (2 * len(TABLE_RULES) - 1)]
     for title, cost in costs:
-        paper, before, dpn, real = (cost[name] for name, _, _ in TABLE_RULES)
-        lines.append(f'| {title} | {1e3 * paper:.3f} | {1e3 * before:.3f} | {1e3 * dpn:.3f} '
-                     f'| {1e3 * real:.3f} | {before / paper:.1f} | {dpn / paper:.1f} '
-                     f'| {real / paper:.1f} |')
+        paper = cost[TABLE_RULES[0][0]]
+        times = ' | '.join(f'{1e3 * cost[name]:.3f}' for name, _, _ in TABLE_RULES)
+        ratios = ' | '.join(f'{cost[name] / paper:.1f}' for name, _, _ in TABLE_RULES[1:])
+        lines.append(f'| {title} | {times} | {ratios} |')
     lines += ['', '## Final labelled maps', '',
               'White explored, black steady, grey mobile, blue-grey never seen; red dots: every '
               'annotated leg position of the recording; the laser at the origin.', '']
@@ -689,8 +706,9 @@ def main(argv=None):
         path = args.out / f'{rec.name}.png'
         draw_maps(path, panels, config, np.vstack(legs) if legs else None)
         reading = ', no-echo codes read as no return' if no_echo else ''
-        figures.append((f'{rec.name}{reading}: final labels, paper, dpn without and with the '
-                        'real-sensor rules, dpn_real_laser', f'{args.out.name}/{path.name}'))
+        figures.append((f'{rec.name}{reading}: final labels, '
+                        + ', '.join(name for name, _, _ in TABLE_RULES),
+                        f'{args.out.name}/{path.name}'))
     write_page(args.out, results, costs, figures, data_dir)
     print(f'real_data: wrote {args.out}.md and {len(figures)} figures in {args.out}/')
     return 0

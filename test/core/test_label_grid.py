@@ -306,9 +306,15 @@ RULES = {
                              surface_memory=2.0, noise_margin=0.25, mixed_pixel_angle=0.5,
                              veiling_angle=0.4),
     'mixed_pixels_alone': LabelRule(mixed_pixel_angle=0.6),
+    # A hit's motion evidence checked the range noise margin beyond it, coarse and fine.
+    'range_noise': LabelRule(free_evidence_radius=0.5, moving_object_size=0.7, segment_gap=0.6,
+                             object_min_hits=2, fine_evidence_resolution=0.25,
+                             fine_evidence_radius=0.3, fine_evidence_range=2.5,
+                             surface_time=0.3, surface_memory=2.0, noise_margin=0.25,
+                             range_noise_margin=0.3, range_noise_fraction=0.1),
 }
 REAL_SENSOR_RULES = ('real', 'no_return_clears_nothing', 'no_return_short', 'edge_pixels',
-                     'mixed_pixels_alone')
+                     'mixed_pixels_alone', 'range_noise')
 
 
 @settings(max_examples=120)

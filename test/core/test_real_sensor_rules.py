@@ -1,5 +1,6 @@
 """The label rules for real lasers: no-echo codes, no-return reach, surfaces, edge pixels."""
 
+import dataclasses
 import math
 from pathlib import Path
 
@@ -9,6 +10,7 @@ from dpn_navigator.core.mapping.label_grid import LabelGrid, LabelRule
 from dpn_navigator.core.mapping.scan_reading import mixed_pixels, read_no_echo, veiling_points
 from dpn_navigator.core.mapping.surface_memory import SurfaceMemory
 from dpn_navigator.core.navigator import NavigatorConfig
+from literal_reference import literal_update_with_rule
 import numpy as np
 from numpy.testing import assert_array_equal
 import pytest
@@ -307,6 +309,83 @@ def test_hits_on_a_grazing_wall_show_no_motion_when_veiling(
     assert walker_mobile
 
 
+def noisy_wall_scans(count, noise, seed=3, walker_x=1.5):
+    """
+    Yield ``(stamp, ranges, legs)`` of a wall 3 m ahead, read with Gaussian range noise [m].
+
+    From the 8th scan on a person crosses ``walker_x`` ahead.
+    """
+    rng = np.random.default_rng(seed)
+    for k in range(count):
+        legs = []
+        if k >= 8:
+            y = -1.2 + 0.15 * (k - 8)
+            legs = [(walker_x, y), (walker_x, y + 0.25)]
+        ranges = cast(0.0, 3.0, legs)
+        wall = np.isfinite(ranges) & (ranges > 2.5)
+        ranges[wall] += rng.normal(0.0, noise, np.count_nonzero(wall))
+        yield 0.1 * k, ranges, legs
+
+
+@pytest.mark.parametrize('margin, fraction, wall_ever_mobile', [
+    (0.0, 0.0, True), (0.24, 0.0, False), (0.0, 0.08, False)])
+def test_range_noise_is_no_motion_and_a_walker_still_moves(margin, fraction, wall_ever_mobile):
+    # A wall 3 m ahead read with 8 cm of range noise: long readings show the wall's place
+    # empty, a short one then looks like motion. A long surface memory keeps the wall from
+    # being a known surface within the test, so that only the range noise rule keeps it
+    # steady: 3 sigma, as a fixed margin or as a share of the range (0.08 * 3 m).
+    grid = grid_for(dpn_rule(range_noise_margin=margin, range_noise_fraction=fraction,
+                             surface_time=100.0, no_return_reach=1.0))
+    wall = np.zeros(grid.labels.shape, dtype=bool)
+    for y in np.arange(-1.5, 1.51, 0.1):
+        wall[grid.geometry.world_to_cell(3.0, y)] = True
+    wall_mobile = walker_mobile = False
+    for stamp, ranges, legs in noisy_wall_scans(30, 0.08):
+        grid.update((0.0, 0.0, 0.0), ranges, ANGLE_MIN, INCREMENT, 0.1, 8.0, 0.6, stamp=stamp)
+        mobile = grid.labels == CellLabel.MOBILE_OBSTACLE
+        wall_mobile |= bool((mobile & wall).any())
+        if legs:
+            walker_mobile |= bool(mobile[grid.geometry.world_to_cell(1.5, legs[0][1])])
+    assert wall_mobile == wall_ever_mobile
+    assert walker_mobile
+
+
+@pytest.mark.parametrize('margin, fraction, walker_x', [(0.24, 0.0, 2.5), (0.08, 0.05, 2.6)])
+def test_range_noise_equals_its_literal_twin(margin, fraction, walker_x):
+    # The person crosses 0.4-0.5 m in front of the wall: twice the margin would take its
+    # hits' far points onto the wall, so the twin checks the margin itself.
+    rule = LabelRule(free_evidence_radius=0.5, moving_object_size=0.7, segment_gap=0.6,
+                     object_min_hits=2, fine_evidence_resolution=0.1,
+                     fine_evidence_radius=0.2, fine_evidence_range=8.0, surface_time=100.0,
+                     surface_memory=200.0, noise_margin=0.1, range_noise_margin=margin,
+                     range_noise_fraction=fraction)
+    side = 8.0
+    grid = grid_for(rule, side)
+    origin = (-side / 2, -side / 2)
+    labels = np.zeros(grid.labels.shape, dtype=np.uint8)
+    seen_free = np.zeros(grid.labels.shape, dtype=bool)
+    last_hit = np.full(grid.labels.shape, -math.inf)
+    fine_seen_free = np.zeros(grid.fine_evidence.seen_free.shape, dtype=bool)
+    surfaces = LiteralSurfaceMemory(origin, rule.noise_margin, rule.surface_time,
+                                    rule.surface_memory)
+    plain = grid_for(dataclasses.replace(rule, range_noise_margin=0.0,
+                                         range_noise_fraction=0.0), side)
+    last_stamp = -math.inf
+    differs = False
+    for stamp, ranges, _ in noisy_wall_scans(16, 0.08, walker_x=walker_x):
+        scan = (ANGLE_MIN, INCREMENT, 0.1, 8.0, 0.6)
+        _, last_stamp = literal_update_with_rule(
+            labels, seen_free, last_hit, origin, 0.5, (0.0, 0.0, 0.0), ranges, *scan, rule=rule,
+            stamp=stamp, last_stamp=last_stamp, fine_seen_free=fine_seen_free,
+            surfaces=surfaces)
+        grid.update((0.0, 0.0, 0.0), ranges, *scan, stamp=stamp)
+        plain.update((0.0, 0.0, 0.0), ranges, *scan, stamp=stamp)
+        assert_array_equal(grid.labels, labels)
+        assert_array_equal(grid.fine_evidence.seen_free, fine_seen_free)
+        differs |= not np.array_equal(grid.labels, plain.labels)
+    assert differs                  # the scene exercises the rule
+
+
 def test_bad_edge_pixel_parameters_raise():
     for name in ('mixed_pixel_angle', 'veiling_angle'):
         for value in (-0.1, 2.0, math.nan):
@@ -314,6 +393,12 @@ def test_bad_edge_pixel_parameters_raise():
                 LabelRule(**{name: value})
     with pytest.raises(ValueError, match='veiling_angle needs surface_time'):
         LabelRule(free_evidence_radius=0.5, moving_object_size=0.7, veiling_angle=0.1)
+    for name in ('range_noise_margin', 'range_noise_fraction'):
+        for value in (-0.1, math.inf, math.nan):
+            with pytest.raises(ValueError, match=name):
+                LabelRule(**{name: value})
+        with pytest.raises(ValueError, match='need surface_time'):
+            LabelRule(free_evidence_radius=0.5, moving_object_size=0.7, **{name: 0.1})
 
 
 def test_the_real_laser_navigator_is_its_params_file():

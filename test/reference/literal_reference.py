@@ -259,23 +259,31 @@ def literal_update_with_rule(labels, seen_free, last_hit, origin, resolution, po
     def centre(i, j):
         return x0 + (j + 0.5) * resolution, y0 + (i + 0.5) * resolution
 
+    def shows_motion(hx, hy):
+        # A cell once surely seen free near the point, or its fine cell once surely seen free.
+        if any(seen_free[i, j] and literal_f1(
+                *centre(i, j), [(hx, hy)],
+                max(rule.free_evidence_radius - rule.evidence_margin, 0.0))
+               for i in range(rows) for j in range(cols)):
+            return True
+        if rule.fine_evidence_radius > 0.0:
+            fine = rule.fine_evidence_resolution
+            i, j = math.floor((hy - y0) / fine), math.floor((hx - x0) / fine)
+            return bool(0 <= i < fine_seen_free.shape[0] and 0 <= j < fine_seen_free.shape[1]
+                        and fine_seen_free[i, j])
+        return False
+
     moving = [False] * len(hits)
     if rule.moving_object_size > 0.0:
-        evidence = []
-        for hx, hy in hits:
-            evidence.append(any(
-                seen_free[i, j] and literal_f1(
-                    *centre(i, j), [(hx, hy)],
-                    max(rule.free_evidence_radius - rule.evidence_margin, 0.0))
-                for i in range(rows) for j in range(cols)))
-        if rule.fine_evidence_radius > 0.0:
-            # Fine free evidence: the hit's fine cell once surely seen free.
-            fine = rule.fine_evidence_resolution
+        evidence = [shows_motion(hx, hy) for hx, hy in hits]
+        if rule.range_noise_margin > 0.0 or rule.range_noise_fraction > 0.0:
+            # Range noise: the point the margin farther along the beam must show it too.
+            lx, ly = vertices[0]
             for k, (hx, hy) in enumerate(hits):
-                i, j = math.floor((hy - y0) / fine), math.floor((hx - x0) / fine)
-                if (0 <= i < fine_seen_free.shape[0] and 0 <= j < fine_seen_free.shape[1]
-                        and fine_seen_free[i, j]):
-                    evidence[k] = True
+                reach = math.hypot(hx - lx, hy - ly)
+                margin = rule.range_noise_margin + rule.range_noise_fraction * reach
+                far = (hx + (hx - lx) * margin / reach, hy + (hy - ly) * margin / reach)
+                evidence[k] = evidence[k] and shows_motion(*far)
         if rule.surface_time > 0.0:
             # Intermittent surfaces: no evidence on a known surface.
             shape = (math.ceil(rows * resolution / rule.noise_margin - 1e-9),
