@@ -138,32 +138,48 @@ def dpn_rule(**changes):
     return NavigatorConfig(width=16.0, height=16.0, **changes).label_rule()
 
 
+def ever_mobile(grid, scans, points):
+    """
+    Update ``grid`` with ``scans`` from the origin; tell what was ever labelled mobile.
+
+    ``scans`` yields ``(stamp, ranges, legs)``, the legs' positions [m] (the first is the
+    walker's); ``points`` [m] are the cells watched. Returns ``(watched cells ever mobile,
+    the walker's first leg's cell ever mobile)``.
+    """
+    watched = np.zeros(grid.labels.shape, dtype=bool)
+    for x, y in points:
+        watched[grid.geometry.world_to_cell(x, y)] = True
+    cells_mobile = walker_mobile = False
+    for stamp, ranges, legs in scans:
+        grid.update((0.0, 0.0, 0.0), ranges, ANGLE_MIN, INCREMENT, 0.1, 8.0, 0.6, stamp=stamp)
+        mobile = grid.labels == CellLabel.MOBILE_OBSTACLE
+        cells_mobile |= bool((mobile & watched).any())
+        if legs:
+            walker_mobile |= bool(mobile[grid.geometry.world_to_cell(*legs[0])])
+    return cells_mobile, walker_mobile
+
+
 @pytest.mark.parametrize('surface_time, wall_ever_mobile', [(0.0, True), (1.0, False)])
 def test_a_flickering_wall_is_a_surface_and_a_walker_still_moves(
         surface_time, wall_ever_mobile):
     # A wall 3 m ahead returns in every scan but two, where its middle has no echo (the
     # polygon then shows its place empty); a person walks across 1.5 m ahead afterwards.
     grid = grid_for(dpn_rule(surface_time=surface_time, no_return_reach=1.0))
-    wall_cells = np.zeros(grid.labels.shape, dtype=bool)
-    for y in np.arange(-1.0, 1.01, 0.1):
-        wall_cells[grid.geometry.world_to_cell(3.0, y)] = True
-    wall_mobile = walker_mobile = False
-    for k in range(60):
-        stamp = 0.1 * k
-        legs = []
-        if k >= 35:
-            x = -1.5 + 0.1 * (k - 35)                   # 1 m/s across the view
-            legs = [(1.5, x), (1.5, x + 0.25)]
-        ranges = cast(0.0, 3.0, legs)
-        if k in (20, 21):
-            middle = np.abs(ANGLE_MIN + np.arange(BEAMS) * INCREMENT) < 0.25
-            ranges[middle] = np.inf
-        grid.update((0.0, 0.0, 0.0), ranges, ANGLE_MIN, INCREMENT, 0.1, 8.0, 0.6, stamp=stamp)
-        mobile = grid.labels == CellLabel.MOBILE_OBSTACLE
-        wall_mobile |= bool((mobile & wall_cells).any())
-        if legs:
-            row, col = grid.geometry.world_to_cell(1.5, legs[0][1])
-            walker_mobile |= bool(mobile[row, col])
+
+    def scans():
+        for k in range(60):
+            legs = []
+            if k >= 35:
+                x = -1.5 + 0.1 * (k - 35)                   # 1 m/s across the view
+                legs = [(1.5, x), (1.5, x + 0.25)]
+            ranges = cast(0.0, 3.0, legs)
+            if k in (20, 21):
+                middle = np.abs(ANGLE_MIN + np.arange(BEAMS) * INCREMENT) < 0.25
+                ranges[middle] = np.inf
+            yield 0.1 * k, ranges, legs
+
+    wall = [(3.0, y) for y in np.arange(-1.0, 1.01, 0.1)]
+    wall_mobile, walker_mobile = ever_mobile(grid, scans(), wall)
     assert wall_mobile == wall_ever_mobile
     assert walker_mobile
 
@@ -287,24 +303,19 @@ def test_hits_on_a_grazing_wall_show_no_motion_when_veiling(
     # rule can keep it steady. A person then walks across 1.5 m ahead.
     grid = grid_for(dpn_rule(veiling_angle=veiling_angle, surface_time=100.0,
                              no_return_reach=1.0))
-    far = np.zeros(grid.labels.shape, dtype=bool)
-    for x in np.arange(3.5, 5.6, 0.1):
-        far[grid.geometry.world_to_cell(x, 0.5)] = True
-    far_mobile = walker_mobile = False
-    for k in range(60):
-        ranges = oblique_wall_scan(drop=k in (20, 21))
-        legs = []
-        if k >= 35:
-            y = -1.5 + 0.1 * (k - 35)
-            legs = [(1.5, y - 0.4), (1.5, y - 0.15)]
-            walker = cast(0.0, 100.0, legs)
-            ranges = np.minimum(ranges, walker)
-        grid.update((0.0, 0.0, 0.0), ranges, ANGLE_MIN, INCREMENT, 0.1, 8.0, 0.6,
-                    stamp=0.1 * k)
-        mobile = grid.labels == CellLabel.MOBILE_OBSTACLE
-        far_mobile |= bool((mobile & far).any())
-        if legs:
-            walker_mobile |= bool(mobile[grid.geometry.world_to_cell(1.5, legs[0][1])])
+
+    def scans():
+        for k in range(60):
+            ranges = oblique_wall_scan(drop=k in (20, 21))
+            legs = []
+            if k >= 35:
+                y = -1.5 + 0.1 * (k - 35)
+                legs = [(1.5, y - 0.4), (1.5, y - 0.15)]
+                ranges = np.minimum(ranges, cast(0.0, 100.0, legs))
+            yield 0.1 * k, ranges, legs
+
+    far = [(x, 0.5) for x in np.arange(3.5, 5.6, 0.1)]
+    far_mobile, walker_mobile = ever_mobile(grid, scans(), far)
     assert far_mobile == far_wall_ever_mobile
     assert walker_mobile
 
@@ -336,16 +347,8 @@ def test_range_noise_is_no_motion_and_a_walker_still_moves(margin, fraction, wal
     # steady: 3 sigma, as a fixed margin or as a share of the range (0.08 * 3 m).
     grid = grid_for(dpn_rule(range_noise_margin=margin, range_noise_fraction=fraction,
                              surface_time=100.0, no_return_reach=1.0))
-    wall = np.zeros(grid.labels.shape, dtype=bool)
-    for y in np.arange(-1.5, 1.51, 0.1):
-        wall[grid.geometry.world_to_cell(3.0, y)] = True
-    wall_mobile = walker_mobile = False
-    for stamp, ranges, legs in noisy_wall_scans(30, 0.08):
-        grid.update((0.0, 0.0, 0.0), ranges, ANGLE_MIN, INCREMENT, 0.1, 8.0, 0.6, stamp=stamp)
-        mobile = grid.labels == CellLabel.MOBILE_OBSTACLE
-        wall_mobile |= bool((mobile & wall).any())
-        if legs:
-            walker_mobile |= bool(mobile[grid.geometry.world_to_cell(1.5, legs[0][1])])
+    wall = [(3.0, y) for y in np.arange(-1.5, 1.51, 0.1)]
+    wall_mobile, walker_mobile = ever_mobile(grid, noisy_wall_scans(30, 0.08), wall)
     assert wall_mobile == wall_ever_mobile
     assert walker_mobile
 
