@@ -334,6 +334,26 @@ def test_a_leg_that_ends_in_a_wait_is_driven_to_the_waits_cell(config):
         SpaceTimeConfig(wait_tolerance=0.0)
 
 
+@pytest.mark.parametrize('still_start', [True, False])
+def test_a_wait_where_the_robot_stands_keeps_its_pose(config, monkeypatch, still_start):
+    # Held-out seed 1, maze 0/2/0: the plan waited in the robot's own cell, 0.1 m from its
+    # centre; the next forecast put the robot at the centre, where a P3-AT would pass, while
+    # at the robot's true place the P3-AT stopped for it.
+    from dpn_navigator.benchmark.baselines import spacetime_oracle
+    oracle = still_agent_oracle(config, (14.0, 8.0), still_start=still_start)
+    oracle.set_goal(*GOAL)
+    pose = (5.1, 4.1, 0.0)
+    row, col = (int(v) for v in oracle.grid.geometry.world_to_cell(pose[0], pose[1]))
+    plan = [(row, col, 0), (row, col, 2), (row, col, 4), (row, col + 1, 6)]
+    monkeypatch.setattr(spacetime_oracle, 'spacetime_plan', lambda *args: (plan, None))
+    oracle._plan_in_time(0.0, pose)
+    _, xy = oracle._schedule
+    centre = oracle.grid.geometry.cell_to_world(row, col)
+    assert_allclose(xy[0], pose[:2])
+    assert_allclose(xy[1:3], [pose[:2]] * 2 if still_start else [centre] * 2)
+    assert_allclose(xy[3], oracle.grid.geometry.cell_to_world(row, col + 1))
+
+
 def test_the_box_distance_is_zero_inside_and_the_gap_outside():
     half = (0.495, 0.335)
     points = np.array([[0.2, 0.1], [1.0, 0.0], [0.0, -1.0], [1.495, 1.335]])
