@@ -153,13 +153,11 @@ def veiling_points(ranges, angle_increment, range_min, range_max, min_angle):
     (L,) ndarray of bool
 
     """
-    ranges = np.asarray(ranges, dtype=np.float64)
-    count = ranges.shape[0]
-    veiling = np.zeros(count, dtype=bool)
-    if min_angle <= 0.0 or count < 2:
+    ranges, veiling, sides = _edge_test(ranges, angle_increment, range_min, range_max,
+                                        min_angle, 2)
+    if sides is None:
         return veiling
-    to_before, to_after = _veiling_sides(ranges, angle_increment, range_min, range_max,
-                                         min_angle)
+    to_before, to_after = sides
     veiling[1:] |= to_before
     veiling[:-1] |= to_after
     return veiling
@@ -175,17 +173,30 @@ def mixed_pixels(ranges, angle_increment, range_min, range_max, min_angle):
     veils only towards the far side, and is kept. Parameters and result as `veiling_points`'s:
     the (L,) bool array of the mixed pixels.
     """
-    ranges = np.asarray(ranges, dtype=np.float64)
-    count = ranges.shape[0]
-    mixed = np.zeros(count, dtype=bool)
-    if min_angle <= 0.0 or count < 3:
+    ranges, mixed, sides = _edge_test(ranges, angle_increment, range_min, range_max,
+                                      min_angle, 3)
+    if sides is None:
         return mixed
-    to_before, to_after = _veiling_sides(ranges, angle_increment, range_min, range_max,
-                                         min_angle)
+    to_before, to_after = sides
     with np.errstate(invalid='ignore'):
         between = (ranges[:-2] - ranges[1:-1]) * (ranges[1:-1] - ranges[2:]) > 0.0
     mixed[1:-1] = to_before[:-1] & to_after[1:] & between
     return mixed
+
+
+def _edge_test(ranges, angle_increment, range_min, range_max, min_angle, min_beams):
+    """
+    Return the float64 ranges, an all-False (L,) bool result and `_veiling_sides`'s pair.
+
+    The pair is None when ``min_angle`` is 0 or the scan has fewer than ``min_beams`` beams
+    (nothing can be found).
+    """
+    ranges = np.asarray(ranges, dtype=np.float64)
+    found = np.zeros(ranges.shape[0], dtype=bool)
+    if min_angle <= 0.0 or ranges.shape[0] < min_beams:
+        return ranges, found, None
+    return ranges, found, _veiling_sides(ranges, angle_increment, range_min, range_max,
+                                         min_angle)
 
 
 def _veiling_sides(ranges, angle_increment, range_min, range_max, min_angle):
