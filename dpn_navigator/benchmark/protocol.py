@@ -19,12 +19,13 @@ import zlib
 import numpy as np
 
 #: The settings of issue 31 (a navigator that does not get stuck: stale obstacles, the honest
-#: no-path timer, route commitment and waiting, exploration with memory), each 0 for off. Off
-#: in ``paper``, and in the reference navigators, whose rows stay those of the planner they
-#: were measured with.
+#: no-path timer, route commitment and waiting, giving way, exploration with memory), each 0
+#: for off. Off in ``paper``, and in the reference navigators, whose rows stay those of the
+#: planner they were measured with.
 NOT_GETTING_STUCK_OFF = {'stale_obstacle_age': 0.0, 'path_trust_time': 0.0,
                          'route_block_distance': 0.0, 'route_switch_margin': 0.0,
-                         'mobile_wait_time': 0.0, 'unknown_cell_cost': 0.0,
+                         'mobile_wait_time': 0.0, 'give_way_time': 0.0,
+                         'unknown_cell_cost': 0.0,
                          'forgotten_obstacle_cost': 0.0}
 
 #: ``--navigator`` choices: overrides of ``NavigatorConfig``'s defaults. ``dpn`` is the

@@ -28,6 +28,7 @@ from .mapping.stale_obstacles import ObstacleConfirmations
 from .mapping.surface_memory import MAX_CELLS as MAX_SURFACE_CELLS
 from .planning.astar_search import warm_up_astar
 from .planning.exploration_memory import ExplorationMemory
+from .planning.give_way import FACE_TOLERANCE, GiveWay
 from .planning.planning_masks import PlanningMasks, touches_blocked  # noqa: F401 (re-exported)
 from .planning.planning_masks import warm_up_planning_masks
 from .planning.route_commitment import RouteCommitment
@@ -267,6 +268,19 @@ class NavigatorConfig:
         'stops 1 m before it; a detour is taken when it is shorter than waiting; mobile cells '
         'within 1 m of the robot block; 0: such cells block (read only with '
         '`route_block_distance` > 0)', 0.0, 3600.0)
+    give_way_time: float = setting(
+        30.0, 's', 'giving way: a robot that has stood still this long with mobile cells within '
+        '4 safety radii (an agent that waits for it, as it waits for the agent) drives to the '
+        'nearest place within `give_way_distance` from which the agent can pass it, waits '
+        'there up to `give_way_hold` and goes on; 0: off (the paper; '
+        '[method](method.md#giving-way))', 0.0, 3600.0)
+    give_way_distance: float = setting(
+        6.0, 'm', 'giving way: the farthest place, along the way there, the robot gives way '
+        'from (read only with `give_way_time` > 0)', 0.5, 100.0)
+    give_way_hold: float = setting(
+        10.0, 's', 'giving way: the longest wait at the place, facing the agent (shorter once '
+        "a path to the goal enters no agent's cell; read only with `give_way_time` > 0)",
+        0.0, 3600.0)
     unknown_cell_cost: float = setting(
         1.0, 'cells', 'exploration: extra A\\* cost of entering a non-explored cell (NavFn '
         'plans through unknown space at 253 against 50 for free, about 4 cells); 0: unknown '
@@ -296,7 +310,8 @@ class NavigatorConfig:
                      'turn_sweep_margin', 'turn_sweep_spot_distance', 'drive_guard_distance',
                      'stale_obstacle_age',
                      'path_trust_time', 'route_block_distance', 'route_switch_margin',
-                     'mobile_wait_time', 'unknown_cell_cost', 'forgotten_obstacle_cost',
+                     'mobile_wait_time', 'give_way_time', 'give_way_distance',
+                     'give_way_hold', 'unknown_cell_cost', 'forgotten_obstacle_cost',
                      'map_growth_step', 'map_growth_margin', 'map_memory_limit'):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0.0):
@@ -434,6 +449,9 @@ class Navigator:
             blob_depth=2.0 * config.safety_radius + config.resolution)
         self._trusted_after = None             # the no-path spell ends at this stamp [s]
         self._next_wait_replan = -math.inf
+        self.give_way = None if config.give_way_time == 0.0 or not windowed else GiveWay(
+            shape, config.give_way_time, config.give_way_distance, config.give_way_hold)
+        self._give_way_follower = replace(config.follower, goal_approach_margin=0.0)
 
     def set_goal(self, x, y):
         """
@@ -468,6 +486,8 @@ class Navigator:
         self._trusted_after = None
         if self.commitment is not None:
             self.commitment.reset()
+        if self.give_way is not None:
+            self.give_way.reset()
 
     def clear_goal(self):
         """Drop the goal; the robot stops."""
@@ -623,7 +643,7 @@ class Navigator:
 
     def map_nbytes(self):
         """Return the bytes the per-cell arrays of the map and the planner hold."""
-        parts = (self.grid, self._masks, self._confirmations, self._exploration)
+        parts = (self.grid, self._masks, self._confirmations, self._exploration, self.give_way)
         return sum(getattr(part, 'nbytes', 0) for part in parts if part is not None)
 
     def _growth_refused(self, growth):
@@ -658,16 +678,20 @@ class Navigator:
             self._confirmations.grow(growth, geometry.shape)
         if self._exploration is not None:
             self._exploration.grow(growth, geometry.shape)
+        if self.give_way is not None:
+            self.give_way.grow(growth, geometry.shape)
         if self.path is not None:
             self.path = self.path + np.array([growth.below, growth.left], dtype=np.int64)
         self.map_growths += 1
 
     def _remember_scan(self, stamp):
-        """Record the latest update's hits and obstacles (stale cells, exploration memory)."""
+        """Record the latest update's hits, obstacles and mobile cells (issue 31's parts)."""
         if self._confirmations is not None and stamp is not None:
             self._confirmations.observe(self.grid.last_window, stamp)
         if self._exploration is not None:
             self._exploration.observe(self.grid.labels, self.grid.last_window)
+        if self.give_way is not None and stamp is not None:
+            self.give_way.observe(self.grid.labels, self.grid.last_window, stamp)
 
     def settle(self):
         """Finish what the last ``observe`` with ``defer_evidence`` left for later."""
@@ -730,6 +754,10 @@ class Navigator:
             return NavigatorOutput(STOP, self.status, self.reason)
         if self.status is NavigatorStatus.GOAL_REACHED:
             return NavigatorOutput(STOP, self.status, self.reason)
+        if self.give_way is not None:
+            giving_way = self._give_way(stamp, pose)
+            if giving_way is not None:
+                return giving_way
         replanned = False
         cause = ReplanCause.NONE
         waiting_replan = (self.commitment is not None and self.commitment.waited > 0.0
@@ -766,6 +794,11 @@ class Navigator:
             self.status = NavigatorStatus.GOAL_REACHED
             self.reason = 'inside the goal tolerance'
             return NavigatorOutput(STOP, self.status, self.reason, replanned, cause)
+        return NavigatorOutput(self._guarded(command, pose), self.status, self.reason,
+                               replanned, cause)
+
+    def _guarded(self, command, pose):
+        """Return ``command`` as the turn sweep and the drive guard let it through."""
         if self.turn_sweep is not None:
             swept = self.turn_sweep.check(command, pose, self._obstacle_at)
             # The sweep's own drive to a turn place is checked on its straight way there.
@@ -773,7 +806,70 @@ class Navigator:
                 swept = self.drive_guard.check(command, self.turn_sweep.points(
                     pose, self._obstacle_at, within=self.drive_guard.reach))
             command = swept
-        return NavigatorOutput(command, self.status, self.reason, replanned, cause)
+        return command
+
+    def _give_way(self, stamp, pose):
+        """
+        Drive to, or wait at, the place the robot gives way from (``GiveWay``).
+
+        Returns the step's output while giving way, None otherwise (plan and follow as usual).
+        The way is given up when a cell of it ahead turns obstacle or the drive takes too long
+        (``GiveWay.given_up``); the wait at the place ends when a way to the goal has opened
+        (`_way_open`) or after ``give_way_hold``; then the robot plans to its goal again.
+        """
+        give_way = self.give_way
+        radius = self.config.safety_radius
+        if not give_way.active:
+            give_way.note(stamp, pose[:2])
+            if not (give_way.due(stamp) and give_way.start(self.grid, pose[:2], radius, stamp)):
+                return None
+        if give_way.arrived(stamp, pose[:2]):
+            if give_way.done(stamp):
+                return self._end_give_way()
+            turn = give_way.facing_error(pose)
+            if abs(turn) > FACE_TOLERANCE:
+                follower = self.config.follower
+                angular = max(-follower.max_angular_speed,
+                              min(follower.max_angular_speed, follower.heading_gain * turn))
+                self.reason = 'giving way: turning to face the agent'
+                return NavigatorOutput(self._guarded(VelocityCommand(0.0, angular, turn=turn),
+                                                     pose), self.status, self.reason)
+            if self._way_open(stamp, pose):
+                return self._end_give_way()
+            self.reason = 'giving way: waiting for an agent to pass'
+            return NavigatorOutput(STOP, self.status, self.reason)
+        if give_way.given_up(stamp, self.grid, pose[:2], self.config.follower.max_linear_speed):
+            return self._end_give_way()
+        command = follow_path(pose, give_way.way_xy, self._give_way_follower)
+        if command.goal_reached:
+            give_way.arrived(stamp, give_way.way_xy[-1])
+            command = STOP
+        self.reason = 'giving way: driving aside for an agent'
+        return NavigatorOutput(self._guarded(command, pose), self.status, self.reason)
+
+    def _way_open(self, stamp, pose):
+        """
+        Tell whether, while the robot waits at its place, a way to the goal has opened.
+
+        Planned every ``no_path_retry_period``: a path that enters no agent's cell (route
+        commitment plans through far mobile cells at the cost of a wait) and on which the
+        robot need not wait (the agent moved off, or a way round it was found).
+        """
+        if stamp < self._next_retry:
+            return False
+        self._next_retry = stamp + self.config.no_path_retry_period
+        self._plan(pose, self._planning_terms(pose))
+        return (self.path is not None
+                and not self.give_way.crosses_agents(self.path, self.grid.labels, stamp)
+                and not self._must_wait(pose, stamp))
+
+    def _end_give_way(self):
+        """End giving way: the next step plans to the goal from where the robot is."""
+        self.give_way.reset()
+        self.path = None
+        self._path_xy = None
+        self._next_retry = -math.inf
+        return None
 
     def _closest_on_path(self, pose):
         """Return the index of the path point closest to the robot, and its distance [m]."""

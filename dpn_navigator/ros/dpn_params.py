@@ -203,7 +203,8 @@ PARAMETERS = (
                 'turn_sweep_memory', 'turn_sweep_margin', 'turn_sweep_spot_distance',
                 'drive_guard_distance'),
     *_navigator('stale_obstacle_age', 'path_trust_time', 'route_block_distance',
-                'route_switch_margin', 'mobile_wait_time', 'unknown_cell_cost',
+                'route_switch_margin', 'mobile_wait_time', 'give_way_time',
+                'give_way_distance', 'give_way_hold', 'unknown_cell_cost',
                 'forgotten_obstacle_cost'),
     # The map grows in blocks of 5 m (the core's default, 0, keeps it fixed as the paper).
     _field('navigator', 'map_growth_step', default=5.0),
