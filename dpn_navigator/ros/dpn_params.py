@@ -198,7 +198,7 @@ PARAMETERS = (
                 'object_memory_short_segments', 'no_echo_below_range_min',
                 'no_return_reach', 'surface_time', 'surface_memory', 'noise_margin',
                 'mixed_pixel_angle', 'veiling_angle', 'range_noise_margin',
-                'range_noise_fraction',
+                'range_noise_fraction', 'free_burn_in', 'object_min_width',
                 'robot_length', 'robot_width',
                 'turn_sweep_memory', 'turn_sweep_margin', 'turn_sweep_spot_distance',
                 'drive_guard_distance'),

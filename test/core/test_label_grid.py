@@ -312,9 +312,20 @@ RULES = {
                              fine_evidence_radius=0.3, fine_evidence_range=2.5,
                              surface_time=0.3, surface_memory=2.0, noise_margin=0.25,
                              range_noise_margin=0.3, range_noise_fraction=0.1),
+    # The fine free evidence's burn-in, and narrow free-standing segments without evidence.
+    'burn_in': LabelRule(free_evidence_radius=0.5, moving_object_size=0.7, segment_gap=0.6,
+                         object_min_hits=2, fine_evidence_resolution=0.25,
+                         fine_evidence_radius=0.3, fine_evidence_range=2.5,
+                         no_echo_below_range_min=True, no_return_reach=0.6,
+                         mobile_expiry=0.5, free_burn_in=0.3),
+    'narrow': LabelRule(free_evidence_radius=0.5, moving_object_size=0.7, segment_gap=0.6,
+                        fine_evidence_resolution=0.25, fine_evidence_radius=0.3,
+                        fine_evidence_range=2.5, surface_time=0.3, surface_memory=2.0,
+                        noise_margin=0.25, object_min_width=0.6, mobile_expiry=1.0,
+                        free_burn_in=0.2),
 }
 REAL_SENSOR_RULES = ('real', 'no_return_clears_nothing', 'no_return_short', 'edge_pixels',
-                     'mixed_pixels_alone', 'range_noise')
+                     'mixed_pixels_alone', 'range_noise', 'burn_in', 'narrow')
 
 
 @settings(max_examples=120)
@@ -347,10 +358,14 @@ def check_rule_against_the_literal_twin(case, rule, stamps):
         grid.seen_free[...] = seen_free
     if grid.last_hit is not None:
         grid.last_hit[...] = last_hit
-    fine_seen_free = None
+    fine_seen_free = fine_hit_stamp = None
     if grid.fine_evidence is not None:
         fine_seen_free = rng.random(grid.fine_evidence.seen_free.shape) < 0.3
         grid.fine_evidence.seen_free[...] = fine_seen_free
+        if grid.fine_evidence.hit_stamp is not None:
+            fine_hit_stamp = rng.choice([-math.inf, 0.0, 0.25, 0.5],
+                                        grid.fine_evidence.hit_stamp.shape)
+            grid.fine_evidence.hit_stamp[...] = fine_hit_stamp
     surfaces = None
     if grid.surface_memory is not None:
         memory = grid.surface_memory
@@ -371,7 +386,8 @@ def check_rule_against_the_literal_twin(case, rule, stamps):
         want, last_stamp = literal_update_with_rule(
             labels, seen_free, last_hit, case['origin'], case['resolution'], pose,
             case['ranges'], rule=rule, stamp=stamp, last_stamp=last_stamp, path=path,
-            fine_seen_free=fine_seen_free, surfaces=surfaces, **scan)
+            fine_seen_free=fine_seen_free, surfaces=surfaces, fine_hit_stamp=fine_hit_stamp,
+            **scan)
         got = grid.update(pose, case['ranges'], path=path, stamp=stamp, **scan)
         assert_array_equal(grid.labels, labels)
         if grid.seen_free is not None:
@@ -380,6 +396,8 @@ def check_rule_against_the_literal_twin(case, rule, stamps):
             assert_array_equal(grid.last_hit, last_hit)
         if fine_seen_free is not None:
             assert_array_equal(grid.fine_evidence.seen_free, fine_seen_free)
+        if fine_hit_stamp is not None:
+            assert_array_equal(grid.fine_evidence.hit_stamp, fine_hit_stamp)
         assert got == want
 
 

@@ -415,3 +415,175 @@ def test_the_real_laser_navigator_is_its_params_file():
     assert rule.veiling_angle > 0.0
     # The shipped dpn keeps both off.
     assert dpn_rule().mixed_pixel_angle == dpn_rule().veiling_angle == 0.0
+
+
+# --- The burn-in of the free evidence (`free_burn_in`) and narrow things (`object_min_width`).
+
+def flickering_scans(count, thing_x=2.5, thing_radius=0.4, walker_from=30, period=2):
+    """
+    Yield ``(stamp, ranges, legs)`` at 10 Hz: a wall 4 m ahead and a round thing before it.
+
+    The thing (``thing_radius`` [m] at ``thing_x`` ahead) returns an echo in one scan of
+    ``period`` and none in the others (``+inf``: the beams then show its place empty out to
+    ``range_max``); from ``walker_from`` on a person crosses 1.5 m ahead at 1.5 m/s.
+    """
+    for k in range(count):
+        legs = []
+        if k >= walker_from:
+            y = -1.5 + 0.15 * (k - walker_from)
+            legs = [(1.5, y), (1.5, y + 0.25)]
+        ranges = cast(0.0, 4.0, legs)
+        thing = cast(0.0, 100.0, [(thing_x, 0.0)], leg_radius=thing_radius)
+        behind_thing = np.isfinite(thing) & (thing < ranges)
+        if k % period == 0:
+            ranges[behind_thing] = thing[behind_thing]
+        else:
+            ranges[behind_thing & (ranges > thing_x)] = np.inf
+        yield 0.1 * k, ranges, legs
+
+
+def real_rule(**changes):
+    """Return dpn's rule for these scenes: no-return beams clear to range_max, no known surface."""
+    settings = {'surface_time': 100.0, 'surface_memory': 200.0, 'no_return_reach': 1.0}
+    settings.update(changes)
+    return dpn_rule(**settings)
+
+
+@pytest.mark.parametrize('burn_in, thing_ever_mobile', [(0.0, True), (0.5, False)])
+def test_a_surface_seen_empty_between_its_echoes_shows_no_motion_with_the_burn_in(
+        burn_in, thing_ever_mobile):
+    # A board 0.8 m wide 2.5 m ahead gives no echo in every other scan: its place is seen
+    # empty in between. With the burn-in a place hit 0.1 s before is not surely free, and the
+    # board's next echo shows no motion; the person crossing space seen empty for 3 s does.
+    grid = grid_for(real_rule(free_burn_in=burn_in))
+    board = [(2.5 - 0.4 * math.cos(a), 0.4 * math.sin(a)) for a in np.linspace(-1.2, 1.2, 9)]
+    board_mobile, walker_mobile = ever_mobile(grid, flickering_scans(45), board)
+    assert board_mobile == thing_ever_mobile
+    assert walker_mobile
+
+
+@pytest.mark.parametrize('min_width, post_ever_mobile', [(0.0, True), (0.05, False)])
+def test_a_narrow_flickering_post_shows_no_motion_and_a_walker_still_moves(
+        min_width, post_ever_mobile):
+    # A post 6 cm thick 1 m ahead, hit by three beams (1 degree apart, 3.5 cm between its
+    # end hits), gives no echo in every other scan. Thin things (`object_min_hits`) are off,
+    # so that only its width keeps it from showing motion; the legs (16 cm) still show it.
+    grid = grid_for(real_rule(object_min_hits=0, object_min_width=min_width))
+    scans = list(flickering_scans(45, thing_x=1.0, thing_radius=0.03))
+    hits = np.isfinite(scans[0][1]) & (scans[0][1] < 1.5)
+    assert hits.sum() == 3
+    post = [(0.97, 0.0)]
+    post_mobile, walker_mobile = ever_mobile(grid, scans, post)
+    assert post_mobile == post_ever_mobile
+    assert walker_mobile
+
+
+@pytest.mark.parametrize('scene', ['board', 'post', 'wide'])
+def test_the_burn_in_and_narrow_things_equal_their_literal_twin(scene):
+    # 'wide': a thing 2 m across, its echo 0.8 s apart: seen empty in between long enough for
+    # the label cells' discs, and longer than the burn-in.
+    rule = LabelRule(free_evidence_radius=0.5, moving_object_size=0.7, segment_gap=0.6,
+                     fine_evidence_resolution=0.1, fine_evidence_radius=0.2,
+                     fine_evidence_range=8.0, mobile_expiry=3.0, surface_time=100.0,
+                     surface_memory=200.0, noise_margin=0.1, free_burn_in=0.5,
+                     object_min_width=0.05)
+    scans = {'board': flickering_scans(40),
+             'post': flickering_scans(40, thing_x=1.0, thing_radius=0.03),
+             'wide': flickering_scans(40, thing_radius=1.0, period=8)}[scene]
+    side = 8.0
+    grid = grid_for(rule, side)
+    origin = (-side / 2, -side / 2)
+    labels = np.zeros(grid.labels.shape, dtype=np.uint8)
+    seen_free = np.zeros(grid.labels.shape, dtype=bool)
+    last_hit = np.full(grid.labels.shape, -math.inf)
+    fine_seen_free = np.zeros(grid.fine_evidence.seen_free.shape, dtype=bool)
+    fine_hit_stamp = np.full(fine_seen_free.shape, -math.inf)
+    surfaces = LiteralSurfaceMemory(origin, rule.noise_margin, rule.surface_time,
+                                    rule.surface_memory)
+    plain = grid_for(dataclasses.replace(rule, free_burn_in=0.0, object_min_width=0.0), side)
+    last_stamp = -math.inf
+    differs = False
+    for stamp, ranges, _ in scans:
+        scan = (ANGLE_MIN, INCREMENT, 0.1, 8.0, 0.6)
+        _, last_stamp = literal_update_with_rule(
+            labels, seen_free, last_hit, origin, 0.5, (0.0, 0.0, 0.0), ranges, *scan, rule=rule,
+            stamp=stamp, last_stamp=last_stamp, fine_seen_free=fine_seen_free,
+            surfaces=surfaces, fine_hit_stamp=fine_hit_stamp)
+        grid.update((0.0, 0.0, 0.0), ranges, *scan, stamp=stamp)
+        plain.update((0.0, 0.0, 0.0), ranges, *scan, stamp=stamp)
+        assert_array_equal(grid.labels, labels)
+        assert_array_equal(grid.seen_free, seen_free)
+        assert_array_equal(grid.fine_evidence.seen_free, fine_seen_free)
+        assert_array_equal(grid.fine_evidence.hit_stamp, fine_hit_stamp)
+        differs |= not (np.array_equal(grid.labels, plain.labels)
+                        and np.array_equal(grid.seen_free, plain.seen_free)
+                        and np.array_equal(grid.fine_evidence.seen_free,
+                                           plain.fine_evidence.seen_free))
+    assert differs                  # the scene exercises the rules
+
+
+def test_the_burn_in_holds_through_deferred_evidence_and_time_going_back():
+    # Deferring the evidence to `settle` marks the same cells; a bag played again from its
+    # start (time goes back) leaves no hit in the future holding cells back for good.
+    settings = {'surface_time': 100.0, 'surface_memory': 200.0, 'no_return_reach': 1.0,
+                'free_burn_in': 0.5}
+    eager, deferred = grid_for(dpn_rule(**settings)), grid_for(dpn_rule(**settings))
+    scans = list(flickering_scans(20))
+    for stamp, ranges, _ in scans + scans:
+        for grid, defer in ((eager, False), (deferred, True)):
+            grid.update((0.0, 0.0, 0.0), ranges, ANGLE_MIN, INCREMENT, 0.1, 8.0, 0.6,
+                        stamp=stamp, defer_evidence=defer)
+        deferred.settle()
+        assert_array_equal(eager.labels, deferred.labels)
+        assert_array_equal(eager.seen_free, deferred.seen_free)
+        assert_array_equal(eager.fine_evidence.seen_free, deferred.fine_evidence.seen_free)
+        assert eager.fine_evidence.hit_stamp.max() <= stamp
+
+
+def narrow_case(seed):
+    """
+    Compare `narrow_segments` with its twin on a random scan.
+
+    Returns whether a narrow segment was found, and whether one narrow by its width alone
+    did not stand free.
+    """
+    from dpn_navigator.core._kernels.motion_evidence import narrow_segments
+    from dpn_navigator.core._kernels.scan_window import scan_points
+    from real_sensor_rules import literal_narrow
+    rng = np.random.default_rng(seed)
+    ranges = random_edge_scan(rng)
+    # Short runs of two to four beams in front of or behind their neighbours.
+    for start in rng.choice(ranges.size - 4, 12, replace=False):
+        ranges[start:start + rng.integers(2, 5)] = rng.uniform(0.3, 6.0)
+    increment = float(rng.choice([0.0044, 0.0065, 0.0175]))
+    _, _, hits_x, hits_y, beams = scan_points(ranges, 0.0, 0.0, 0.0, -0.3, increment, 0.1, 5.5)
+    width = float(rng.choice([0.02, 0.05, 0.1]))
+    narrow = narrow_segments(hits_x, hits_y, beams, 0.3, width, 0.0, 0.0, ranges.size)
+    twin = literal_narrow(list(zip(hits_x, hits_y)), list(beams), 0.3, width, (0.0, 0.0),
+                          ranges.size)
+    assert_array_equal(narrow, twin)
+    by_width = literal_narrow(list(zip(hits_x, hits_y)), list(beams), 0.3, width, (0.0, 0.0),
+                              ranges.size, free_standing_only=False)
+    return narrow.any(), (np.array(by_width) & ~narrow).any()
+
+
+def test_narrow_segments_equal_their_literal_twin():
+    # Over the seeds, narrow segments are found, and narrow ones that do not stand free (a
+    # nearer neighbour hides one end) are not.
+    cases = [narrow_case(seed) for seed in range(8)]
+    assert any(found for found, _ in cases)
+    assert any(hidden for _, hidden in cases)
+
+
+def test_bad_burn_in_and_width_parameters_raise():
+    for name in ('free_burn_in', 'object_min_width'):
+        for value in (-0.1, math.inf, math.nan):
+            with pytest.raises(ValueError, match=name):
+                LabelRule(**{name: value})
+    with pytest.raises(ValueError, match='free_burn_in needs'):
+        LabelRule(free_evidence_radius=0.5, moving_object_size=0.7, free_burn_in=0.5)
+    with pytest.raises(ValueError, match='object_min_width needs surface_time'):
+        LabelRule(free_evidence_radius=0.5, moving_object_size=0.7, object_min_width=0.05)
+    grid = grid_for(real_rule(free_burn_in=0.5))
+    with pytest.raises(ValueError, match='free_burn_in. needs a finite scan stamp'):
+        grid.update((0.0, 0.0, 0.0), np.full(BEAMS, 3.0), ANGLE_MIN, INCREMENT, 0.1, 8.0, 0.6)

@@ -23,24 +23,31 @@ import pytest
 from realdata_paths import real_bag, real_bag_ids
 
 
-def both_updates(seen_free, scans, origin, resolution, radius):
+def both_updates(seen_free, scans, origin, resolution, radius, hit_stamp=None,
+                 fresh_after=0.0):
     """
     Run both kernels over ``scans`` from the same ``seen_free``; return the two results.
 
     ``scans``: ``(pose, ranges, angle_min, angle_increment, range_min, range_max)`` each.
-    The arrays are compared after every scan.
+    The arrays are compared after every scan. With ``hit_stamp`` (the burn-in's clock of each
+    cell), cells stamped after ``fresh_after`` must stay as they were.
     """
     fast = seen_free.copy()
     marked = seen_free.copy()
     bound = squared_bound(radius)
+    stamps = np.zeros((1, 1)) if hit_stamp is None else hit_stamp
     for pose, ranges, angle_min, increment, range_min, range_max in scans:
         arguments = (np.ascontiguousarray(ranges, dtype=np.float64), *map(float, pose),
                      float(angle_min), float(increment), float(range_min), float(range_max),
                      float(origin[0]), float(origin[1]), float(resolution), float(radius),
-                     bound)
+                     bound, stamps, float(fresh_after))
+        before = fast.copy()
         free_space.surely_free_update(fast, *arguments)
         free_space.surely_free_update_by_marks(marked, *arguments)
         assert_array_equal(fast, marked)
+        if hit_stamp is not None:
+            held = hit_stamp > fresh_after
+            assert_array_equal(fast[held], before[held])
     return fast, marked
 
 
@@ -81,6 +88,20 @@ def dense_scans(draw):
 def test_dense_scans_mark_the_cells_of_the_marks(case):
     seen_free, scans, origin, resolution, radius = case
     both_updates(seen_free, scans, origin, resolution, radius)
+
+
+@given(case=dense_scans(), seed=st.integers(0, 2 ** 32 - 1))
+def test_the_burn_in_holds_back_the_same_cells_in_both(case, seed):
+    # Cells a hit came near after `fresh_after` are not marked, by either kernel; the others
+    # are marked as without the burn-in.
+    seen_free, scans, origin, resolution, radius = case
+    rng = np.random.default_rng(seed)
+    hit_stamp = np.where(rng.random(seen_free.shape) < 0.3, 1.0, -math.inf)
+    held, _ = both_updates(seen_free, scans, origin, resolution, radius, hit_stamp, 0.5)
+    plain, _ = both_updates(seen_free, scans, origin, resolution, radius)
+    free = hit_stamp < 0.5
+    assert_array_equal(held[free], plain[free])
+    assert_array_equal(held[~free], seen_free[~free])
 
 
 @st.composite

@@ -10,7 +10,7 @@ import heapq
 import math
 
 import numpy as np
-from real_sensor_rules import (literal_fine_ranges, literal_mixed, literal_read,
+from real_sensor_rules import (literal_fine_ranges, literal_mixed, literal_narrow, literal_read,
                                literal_shorten, literal_veiling)
 
 NON_EXPLORED, EXPLORED, STEADY, MOBILE = 0, 1, 2, 3
@@ -236,14 +236,16 @@ def literal_moving_hits(hits, beams, evidence, segment_gap, object_size, min_hit
 def literal_update_with_rule(labels, seen_free, last_hit, origin, resolution, pose, ranges,
                              angle_min, angle_increment, range_min, range_max, safety_radius,
                              rule, stamp, last_stamp, path=None, fine_seen_free=None,
-                             surfaces=None):
+                             surfaces=None, fine_hit_stamp=None):
     """
     Apply the dpn label rule to every cell, in place; return (replan, new last_stamp).
 
     ``seen_free`` (bool) and ``last_hit`` (float) are updated in place when their rule is on,
     and so is ``fine_seen_free`` (bool, the fine grid's cells of
-    ``rule.fine_evidence_resolution`` from ``origin``) with the fine free evidence, and
-    ``surfaces`` (``real_sensor_rules.LiteralSurfaceMemory``) with the intermittent surfaces.
+    ``rule.fine_evidence_resolution`` from ``origin``) with the fine free evidence,
+    ``surfaces`` (``real_sensor_rules.LiteralSurfaceMemory``) with the intermittent surfaces,
+    and ``fine_hit_stamp`` (float, per fine cell the latest time a hit lay within
+    ``fine_evidence_radius`` of it) with the burn-in.
     """
     ranges = literal_read(ranges, range_min, rule.no_echo_below_range_min)
     mixed = literal_mixed(ranges, angle_increment, range_min, range_max, rule.mixed_pixel_angle)
@@ -294,13 +296,21 @@ def literal_update_with_rule(labels, seen_free, last_hit, origin, resolution, po
             veiling = literal_veiling(ranges, angle_increment, range_min, range_max,
                                       rule.veiling_angle)
             evidence = [e and not veiling[b] for e, b in zip(evidence, beams)]
+            # Narrow things: no evidence in a narrow free-standing segment.
+            narrow = literal_narrow(hits, beams, rule.segment_gap, rule.object_min_width,
+                                    vertices[0], len(ranges))
+            evidence = [e and not n for e, n in zip(evidence, narrow)]
         moving = literal_moving_hits(hits, beams, evidence, rule.segment_gap,
                                      rule.moving_object_size, rule.object_min_hits,
                                      vertices[0], len(ranges))
     moving_hits = [h for h, m in zip(hits, moving) if m]
-    if rule.mobile_expiry > 0.0:
+    if rule.mobile_expiry > 0.0 or rule.free_burn_in > 0.0:
         if stamp < last_stamp:
-            np.minimum(last_hit, stamp, out=last_hit)
+            # Time went back: no hit is newer than now.
+            if rule.mobile_expiry > 0.0:
+                np.minimum(last_hit, stamp, out=last_hit)
+            if rule.free_burn_in > 0.0:
+                np.minimum(fine_hit_stamp, stamp, out=fine_hit_stamp)
         last_stamp = stamp
     on_path = set() if path is None else {(int(r), int(c)) for r, c in path}
     replan = False
@@ -318,8 +328,11 @@ def literal_update_with_rule(labels, seen_free, last_hit, origin, resolution, po
                     new = MOBILE if literal_f1(cx, cy, moving_hits, safety_radius) else STEADY
                 elif f1 and old == EXPLORED and not seen_free[i, j]:
                     new = STEADY                 # conservative free space
-                if literal_surely_free(cx, cy, vertices, hits, safety_radius,
-                                       rule.free_evidence_radius):
+                # Burn-in: not while a hit of the last free_burn_in seconds was within r.
+                fresh = not (rule.free_burn_in > 0.0
+                             and last_hit[i, j] > stamp - rule.free_burn_in)
+                if fresh and literal_surely_free(cx, cy, vertices, hits, safety_radius,
+                                                 rule.free_evidence_radius):
                     newly_seen.append((i, j))
             if rule.mobile_expiry > 0.0:
                 if f1:
@@ -335,6 +348,7 @@ def literal_update_with_rule(labels, seen_free, last_hit, origin, resolution, po
     if rule.fine_evidence_radius > 0.0:
         fine = rule.fine_evidence_resolution
         radius = rule.fine_evidence_radius
+        returns = hits
         # The scan as the fine grid takes it: no farther than fine_evidence_range.
         vertices, hits = literal_scan_points(
             pose, literal_fine_ranges(ranges, range_min, range_max, rule.no_return_reach),
@@ -342,7 +356,17 @@ def literal_update_with_rule(labels, seen_free, last_hit, origin, resolution, po
             min(range_max, max(rule.fine_evidence_range, range_min)))
         for i in range(fine_seen_free.shape[0]):
             for j in range(fine_seen_free.shape[1]):
-                if literal_surely_free(x0 + (j + 0.5) * fine, y0 + (i + 0.5) * fine, vertices,
-                                       hits, radius, radius):
+                cx, cy = x0 + (j + 0.5) * fine, y0 + (i + 0.5) * fine
+                # Burn-in: not while a hit of the last free_burn_in seconds was near.
+                if rule.free_burn_in > 0.0 and fine_hit_stamp[i, j] > stamp - rule.free_burn_in:
+                    continue
+                if literal_surely_free(cx, cy, vertices, hits, radius, radius):
                     fine_seen_free[i, j] = True
+        if rule.free_burn_in > 0.0:
+            # Then this scan's returns (not the fine scan's vertices) stamp their discs.
+            for i in range(fine_seen_free.shape[0]):
+                for j in range(fine_seen_free.shape[1]):
+                    if literal_f1(x0 + (j + 0.5) * fine, y0 + (i + 0.5) * fine, returns,
+                                  radius):
+                        fine_hit_stamp[i, j] = stamp
     return replan, last_stamp

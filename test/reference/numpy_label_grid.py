@@ -87,8 +87,9 @@ class NumpyFineEvidence(FineEvidence):
                                   rule.moving_object_size, rule.object_min_hits,
                                   (vertices_x[0], vertices_y[0]), vertices_x.shape[0] - 2)
 
-    def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max):
-        """Update the whole fine grid, labels and all."""
+    def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
+               stamp=0.0, hits=None):
+        """Update the whole fine grid, labels and all (no burn-in: ``stamp``, ``hits`` unread)."""
         self.grid.update(pose, ranges, angle_min, angle_increment, range_min,
                          self.capped_range_max(range_min, range_max), self.radius)
 

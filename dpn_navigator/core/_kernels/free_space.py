@@ -52,7 +52,7 @@ def mark_free_row(row_free, row_input, row_not_free):
 @kernel
 def mark_free_window(seen_free, row0, col0, cell_input, extent, x0, y0, resolution,
                      vertices_x, vertices_y, hit_beams, safety_radius, free_radius,
-                     free_bound):
+                     free_bound, last_hit, free_fresh_after):
     """
     Mark the surely-free cells of a scan whose update left them (``defer_free``).
 
@@ -62,6 +62,8 @@ def mark_free_window(seen_free, row0, col0, cell_input, extent, x0, y0, resoluti
     n_rows, n_cols = cell_input.shape
     not_free = not_surely_free(n_rows, n_cols, row0, col0, x0, y0, resolution, vertices_x,
                                vertices_y, hit_beams, safety_radius, free_radius, free_bound)
+    if free_fresh_after > -math.inf:
+        mark_recent_hits(not_free, row0, col0, last_hit, free_fresh_after)
     mark_free_rows(seen_free, row0, col0, cell_input, extent, not_free)
 
 
@@ -224,7 +226,7 @@ def polygon_window(shape, ranges, x, y, yaw, angle_min, angle_increment, range_m
 
 @kernel
 def surely_free_update(seen_free, ranges, x, y, yaw, angle_min, angle_increment, range_min,
-                       range_max, x0, y0, resolution, radius, bound):
+                       range_max, x0, y0, resolution, radius, bound, hit_stamp, fresh_after):
     """
     Mark the cells whose disc of ``radius`` lies inside the scan's polygon as surely free.
 
@@ -242,11 +244,17 @@ def surely_free_update(seen_free, ranges, x, y, yaw, angle_min, angle_increment,
     Scans whose beams lie half a turn or more apart take `surely_free_update_by_marks`, and
     scans that show much new space (more than ``_TESTS_PER_BEAM`` tests per vertex at most)
     mark their window as it does.
+
+    The burn-in (``hit_stamp`` of ``seen_free``'s shape; a ``(1, 1)`` stand-in turns it off):
+    a cell whose ``hit_stamp`` [s] is later than ``fresh_after`` [s] (a hit lay within
+    ``radius`` of it then, `stamp_hits`) is not marked.
     """
     if not angle_increment < 0.5 * math.pi:
         surely_free_update_by_marks(seen_free, ranges, x, y, yaw, angle_min, angle_increment,
-                                    range_min, range_max, x0, y0, resolution, radius, bound)
+                                    range_min, range_max, x0, y0, resolution, radius, bound,
+                                    hit_stamp, fresh_after)
         return
+    burn_in = hit_stamp.shape == seen_free.shape
     vertices_x, vertices_y, row0, col0, cell_input, extent = polygon_window(
         seen_free.shape, ranges, x, y, yaw, angle_min, angle_increment, range_min, range_max,
         x0, y0, resolution, radius)
@@ -271,6 +279,8 @@ def surely_free_update(seen_free, ranges, x, y, yaw, angle_min, angle_increment,
         for j in range(extent[i, 0], extent[i, 1]):
             if cell_input[i, j] != SCAN_INSIDE or seen_free[row, col0 + j]:
                 continue
+            if burn_in and hit_stamp[row, col0 + j] > fresh_after:
+                continue
             if around and not inside_around(cell_input, i, j):
                 continue
             cx = x0 + (float(col0 + j) + 0.5) * resolution
@@ -284,6 +294,8 @@ def surely_free_update(seen_free, ranges, x, y, yaw, angle_min, angle_increment,
         not_free = not_surely_free(n_rows, n_cols, row0, col0, x0, y0, resolution, vertices_x,
                                    vertices_y, np.zeros(0, dtype=np.int64), 0.0, radius,
                                    bound)
+        if burn_in:
+            mark_recent_hits(not_free, row0, col0, hit_stamp, fresh_after)
         mark_free_rows(seen_free, row0, col0, cell_input, extent, not_free)
         return
     theta0 = yaw + angle_min
@@ -299,14 +311,16 @@ def surely_free_update(seen_free, ranges, x, y, yaw, angle_min, angle_increment,
 
 @kernel
 def surely_free_update_by_marks(seen_free, ranges, x, y, yaw, angle_min, angle_increment,
-                                range_min, range_max, x0, y0, resolution, radius, bound):
+                                range_min, range_max, x0, y0, resolution, radius, bound,
+                                hit_stamp, fresh_after):
     """
     `surely_free_update` as the label update marks it: every vertex's disc, every edge band.
 
     The twin `surely_free_update` equals (and the fallback for scans it does not take).
     Exactly the ``seen_free`` of `update_window` under a rule with only the conservative free
     space on and a safety radius equal to ``radius``: f2 cells that no vertex's disc and no
-    edge band reaches (a hit's f1 disc is its vertex's disc). Nothing else is computed.
+    edge band reaches (a hit's f1 disc is its vertex's disc). Nothing else is computed. The
+    burn-in as in `surely_free_update`.
     """
     vertices_x, vertices_y, row0, col0, cell_input, extent = polygon_window(
         seen_free.shape, ranges, x, y, yaw, angle_min, angle_increment, range_min, range_max,
@@ -318,4 +332,36 @@ def surely_free_update_by_marks(seen_free, ranges, x, y, yaw, angle_min, angle_i
     # all.
     not_free = not_surely_free(n_rows, n_cols, row0, col0, x0, y0, resolution, vertices_x,
                                vertices_y, np.zeros(0, dtype=np.int64), 0.0, radius, bound)
+    if hit_stamp.shape == seen_free.shape:
+        mark_recent_hits(not_free, row0, col0, hit_stamp, fresh_after)
     mark_free_rows(seen_free, row0, col0, cell_input, extent, not_free)
+
+
+@kernel
+def mark_recent_hits(not_free, row0, col0, hit_stamp, fresh_after):
+    """Add to a window's ``not_free`` marks the cells whose ``hit_stamp`` is after ``fresh_after``."""
+    for i in range(not_free.shape[0]):
+        for j in range(not_free.shape[1]):
+            if hit_stamp[row0 + i, col0 + j] > fresh_after:
+                not_free[i, j] = True
+
+
+@kernel
+def stamp_hits(hit_stamp, hits_x, hits_y, x0, y0, resolution, bound, stamp):
+    """
+    Stamp ``stamp`` [s] on every cell whose centre passes ``dx*dx + dy*dy <= bound`` of a hit.
+
+    The burn-in's clock (`surely_free_update`): ``bound`` is that of the free radius, so the
+    cells stamped are those a hit's disc keeps from being surely free in its own scan.
+    """
+    rows, cols = hit_stamp.shape
+    reach = int(math.ceil(math.sqrt(bound) / resolution)) + 1
+    for k in range(hits_x.shape[0]):
+        row = int(math.floor((hits_y[k] - y0) / resolution))
+        col = int(math.floor((hits_x[k] - x0) / resolution))
+        for i in range(max(row - reach, 0), min(row + reach + 1, rows)):
+            dy = (y0 + (float(i) + 0.5) * resolution) - hits_y[k]
+            for j in range(max(col - reach, 0), min(col + reach + 1, cols)):
+                dx = (x0 + (float(j) + 0.5) * resolution) - hits_x[k]
+                if dx * dx + dy * dy <= bound:
+                    hit_stamp[i, j] = stamp

@@ -10,7 +10,7 @@ import math
 import numpy as np
 
 from .codes import EXPLORED, MOBILE_OBSTACLE, NON_EXPLORED, SCAN_HIT, SCAN_INSIDE, SCAN_NONE, STEADY_OBSTACLE
-from .free_space import mark_free_row, not_surely_free
+from .free_space import mark_free_row, mark_recent_hits, not_surely_free
 from .jit import kernel
 from .motion_evidence import hit_evidence, moving_hits
 from .raster import fill_inside, mark_discs
@@ -23,7 +23,7 @@ def update_window(labels, seen_free, last_hit, listed, transition, row0, col0, c
                   safety_radius, safety_bound, free_on, free_radius, free_bound, objects_on,
                   evidence_radius, evidence_bound, segment_gap, object_size, min_hits,
                   expiry_on, stamp, path, new_mobile, extra_moving, moving_known, defer_free,
-                  extent):
+                  extent, free_fresh_after):
     """
     Fold one scan into the window ``labels[row0:row0 + n_rows, col0:col0 + n_cols]``.
 
@@ -77,6 +77,9 @@ def update_window(labels, seen_free, last_hit, listed, transition, row0, col0, c
         surely-free cells later. No label of this scan depends on them.
     extent : (n_rows, 2) ndarray of int64
         Receives the columns ``[first, end)`` of each window row that f2 filled.
+    free_fresh_after : float
+        The burn-in (``LabelRule.free_burn_in``): a cell whose ``last_hit`` is later than this
+        [s] is not marked surely free; ``-inf`` turns it off.
 
     Returns
     -------
@@ -122,6 +125,8 @@ def update_window(labels, seen_free, last_hit, listed, transition, row0, col0, c
         not_free = not_surely_free(n_rows, n_cols, row0, col0, x0, y0, resolution,
                                    vertices_x, vertices_y, hit_beams, safety_radius,
                                    free_radius, free_bound)
+        if free_fresh_after > -math.inf:
+            mark_recent_hits(not_free, row0, col0, last_hit, free_fresh_after)
     # The path's labels before the update, for the replan flag.
     path_before = np.empty(path.shape[0], dtype=np.uint8)
     for k in range(path.shape[0]):
@@ -228,7 +233,7 @@ def scan_update(labels, seen_free, last_hit, listed, transition, ranges, x, y, y
                 angle_increment, range_min, range_max, x0, y0, resolution, reach,
                 safety_radius, safety_bound, free_on, free_radius, free_bound, objects_on,
                 evidence_radius, evidence_bound, segment_gap, object_size, min_hits, expiry_on,
-                stamp, path, extra_moving):
+                stamp, path, extra_moving, free_fresh_after):
     """
     Find the scan's points, then run `points_update` with them (nothing deferred).
 
@@ -240,7 +245,8 @@ def scan_update(labels, seen_free, last_hit, listed, transition, ranges, x, y, y
         labels, seen_free, last_hit, listed, transition, vertices_x, vertices_y, hits_x, hits_y,
         hit_beams, x0, y0, resolution, reach, safety_radius, safety_bound, free_on,
         free_radius, free_bound, objects_on, evidence_radius, evidence_bound, segment_gap,
-        object_size, min_hits, expiry_on, stamp, path, extra_moving, False, False)
+        object_size, min_hits, expiry_on, stamp, path, extra_moving, False, False,
+        free_fresh_after)
     return replan, row0, row_end, col0, col_end, cell_input, new_mobile
 
 
@@ -249,7 +255,7 @@ def points_update(labels, seen_free, last_hit, listed, transition, vertices_x, v
                   hits_y, hit_beams, x0, y0, resolution, reach, safety_radius, safety_bound,
                   free_on, free_radius, free_bound, objects_on, evidence_radius,
                   evidence_bound, segment_gap, object_size, min_hits, expiry_on, stamp, path,
-                  extra_moving, moving_known, defer_free):
+                  extra_moving, moving_known, defer_free, free_fresh_after):
     """
     Find the scan's window from its points, then run `update_window` over it.
 
@@ -272,6 +278,6 @@ def points_update(labels, seen_free, last_hit, listed, transition, vertices_x, v
         vertices_x, vertices_y, hits_x, hits_y, hit_beams, safety_radius, safety_bound,
         free_on, free_radius, free_bound, objects_on, evidence_radius, evidence_bound,
         segment_gap, object_size, min_hits, expiry_on, stamp, path, new_mobile, extra_moving,
-        moving_known, defer_free, extent)
+        moving_known, defer_free, extent, free_fresh_after)
     return (replan, row0, row_end, col0, col_end, cell_input, new_mobile[:new_count].copy(),
             extent)

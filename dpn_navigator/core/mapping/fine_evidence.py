@@ -30,6 +30,13 @@ the last ``renewal / 2`` to ``renewal`` metres of travel. A pose with a fixed he
 the evidence's own margin (``radius`` less half a fine cell's diagonal, 0.13 m by default) a
 renewal of 6 m keeps a 1-degree error (0.10 m over 6 m) from showing walls moving.
 
+With ``burn_in`` > 0 a fine cell is marked only when no hit of an earlier scan has come within
+``radius`` of its centre in the last ``burn_in`` seconds (each cell keeps the time of the
+latest, ``hit_stamp``): the burn-in of Dynablox's ever-free space (Schmid et al., RA-L 2023,
+``burn_in_period``). A surface that returns an echo in some scans and none in others (weak
+echoes, read as no return) is seen empty between its hits; without the burn-in its next hit
+lands in space seen empty and looks like motion.
+
 """
 
 import math
@@ -40,8 +47,9 @@ from .label_update import surely_free_update
 from .map_growth import embed_at, subgrid_offset
 from .travel_generations import TravelGenerations
 from .._kernels import fine_evidence as fine_kernels
+from .._kernels.free_space import stamp_hits
 from .._kernels.motion_evidence import moving_hits
-from ..grid_geometry import GridGeometry
+from ..grid_geometry import GridGeometry, squared_bound
 
 
 class FineEvidence:
@@ -62,15 +70,21 @@ class FineEvidence:
     renewal : float
         Evidence is dropped after this much travel of the laser [m], in two generations; 0:
         never.
+    burn_in : float
+        A fine cell is marked only when no hit has been within ``radius`` of it for this long
+        [s]; 0: off.
 
     """
 
-    def __init__(self, geometry, resolution, radius, max_range, renewal=0.0):
+    def __init__(self, geometry, resolution, radius, max_range, renewal=0.0, burn_in=0.0):
         self.radius = float(radius)
         self.max_range = float(max_range)
         self.renewal = float(renewal)
+        self.burn_in = float(burn_in)
         if not (math.isfinite(self.renewal) and self.renewal >= 0.0):
             raise ValueError(f'renewal must be finite and >= 0, got {renewal!r} m')
+        if not (math.isfinite(self.burn_in) and self.burn_in >= 0.0):
+            raise ValueError(f'burn_in must be finite and >= 0, got {burn_in!r} s')
         if not self.radius > 0.0:
             raise ValueError(f'radius must be > 0, got {radius!r} m')
         if not self.max_range > 0.0:
@@ -83,6 +97,10 @@ class FineEvidence:
                        else None)
         self._generations = (TravelGenerations(0.5 * self.renewal) if self.renewal > 0.0
                              else None)
+        # With the burn-in: per fine cell, the latest time a hit lay within `radius` [s].
+        self.hit_stamp = (np.full(self.geometry.shape, -math.inf) if self.burn_in > 0.0
+                          else None)
+        self._last_stamp = -math.inf
 
     def grow(self, geometry):
         """
@@ -99,12 +117,17 @@ class FineEvidence:
         if self._older is not None:
             self._older = (np.zeros(new.shape, dtype=bool) if offset is None
                            else embed_at(self._older, new.shape, *offset, False))
+        if self.hit_stamp is not None:
+            # Without a whole offset the evidence starts again: so does its clock.
+            self.hit_stamp = (np.full(new.shape, -math.inf) if offset is None
+                              else embed_at(self.hit_stamp, new.shape, *offset, -math.inf))
         self.geometry = new
 
     @property
     def nbytes(self):
-        """Bytes held by the fine grid (both generations with renewal)."""
-        return self._seen_free.nbytes + (0 if self._older is None else self._older.nbytes)
+        """Bytes held by the fine grid (both generations with renewal, the burn-in's clock)."""
+        return (self._seen_free.nbytes + (0 if self._older is None else self._older.nbytes)
+                + (0 if self.hit_stamp is None else self.hit_stamp.nbytes))
 
     @property
     def seen_free(self):
@@ -191,7 +214,8 @@ class FineEvidence:
                                              int(rule.object_min_hits), float(vertices_x[0]),
                                              float(vertices_y[0]), vertices_x.shape[0] - 2)
 
-    def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max):
+    def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
+               stamp=0.0, hits=None):
         """
         Fold one checked scan into the fine evidence, up to ``max_range`` from the laser.
 
@@ -201,21 +225,40 @@ class FineEvidence:
         ``range_max`` capped at ``max_range`` (``label_update.surely_free_update``). With
         renewal, the laser's travel since the latest update (``pose``'s x and y) counts toward
         the next generation, which begins before this scan is marked.
+
+        With the burn-in, ``stamp`` is the scan's time [s] and ``hits`` its hit points
+        ``(hits_x, hits_y)`` [m] (the scan's returns, not the vertices of beams with none):
+        cells stamped after ``stamp - burn_in`` are not marked, then the hits stamp theirs.
         """
         if self._generations is not None and self._generations.step(pose):
             self._older, self._seen_free = self._seen_free, self._older
             self._seen_free[...] = False
+        stamp = float(stamp)
+        if self.hit_stamp is not None:
+            if stamp < self._last_stamp:
+                # Time went back (a restarted simulation, a bag played again): no hit is
+                # newer than now.
+                np.minimum(self.hit_stamp, stamp, out=self.hit_stamp)
+            self._last_stamp = stamp
         surely_free_update(self._seen_free, self.geometry, pose, ranges, angle_min,
                            angle_increment, range_min, self.capped_range_max(range_min, range_max),
-                           self.radius)
+                           self.radius, self.hit_stamp, stamp - self.burn_in)
+        if self.hit_stamp is not None and hits is not None:
+            x0, y0 = self.geometry.origin
+            stamp_hits(self.hit_stamp, np.ascontiguousarray(hits[0], dtype=np.float64),
+                       np.ascontiguousarray(hits[1], dtype=np.float64), x0, y0,
+                       self.geometry.resolution, squared_bound(self.radius), stamp)
 
     def capped_range_max(self, range_min, range_max):
         """Return the scan's ``range_max`` [m] as the fine evidence takes it: at most max_range."""
         return min(range_max, max(self.max_range, range_min))
 
     def reset(self):
-        """Forget all evidence (and the travel)."""
+        """Forget all evidence (and the travel, and the burn-in's clock)."""
         self._seen_free[...] = False
+        if self.hit_stamp is not None:
+            self.hit_stamp.fill(-math.inf)
+            self._last_stamp = -math.inf
         if self._older is not None:
             self._older[...] = False
             self._generations.reset()

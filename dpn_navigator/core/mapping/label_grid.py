@@ -278,6 +278,21 @@ class LabelRule:
     range_noise_fraction : float
         The part of that margin that grows with the range [1] (a laser whose noise is a share
         of the distance: 0.015 for an RPLIDAR A2's 0.5 %).
+    free_burn_in : float
+        Burn-in of the free evidence [s] (Dynablox's ``burn_in_period``): a fine cell is
+        marked surely free only when no hit of an earlier scan has come within
+        ``fine_evidence_radius`` of it in this long (``FineEvidence``), and a label cell only
+        when none has come within the safety radius (its ``last_hit``, the ghost expiry's
+        clock). A surface that returns an echo in some scans and none in others is seen empty
+        between its hits, and its next hit would show motion. 0 turns it off. Needs the fine
+        free evidence, ``mobile_expiry`` > 0 and a scan stamp.
+    object_min_width : float
+        Narrow things [m]: a free-standing scan segment (both ends open) whose first and last
+        hits lie less than this apart shows no motion of its own: its evidence is taken away
+        with that of the hits on known surfaces. A leg is 0.1-0.15 m wide; a thin or
+        intermittent thing a few centimetres wide that returns in some scans only (a cable,
+        a chair leg, one spot of a dark surface) is no object that can be seen to move,
+        however many beams hit it. 0 turns it off. Needs ``surface_time`` > 0.
 
     """
 
@@ -306,6 +321,8 @@ class LabelRule:
     veiling_angle: float = 0.0
     range_noise_margin: float = 0.0
     range_noise_fraction: float = 0.0
+    free_burn_in: float = 0.0
+    object_min_width: float = 0.0
 
     def __post_init__(self):
         for name in ('free_evidence_radius', 'moving_object_size', 'evidence_margin',
@@ -379,6 +396,18 @@ class LabelRule:
         if self.veiling_angle > 0.0 and self.surface_time == 0.0:
             raise ValueError('veiling_angle needs surface_time > 0: the veiling hits lose their '
                              'motion evidence with those on known surfaces')
+        for name in ('free_burn_in', 'object_min_width'):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value >= 0.0):
+                raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
+        if self.free_burn_in > 0.0 and (self.fine_evidence_radius == 0.0
+                                        or self.mobile_expiry == 0.0):
+            raise ValueError('free_burn_in needs fine_evidence_radius > 0 and mobile_expiry > '
+                             '0: it holds back the fine and the coarse free evidence by their '
+                             'hit clocks')
+        if self.object_min_width > 0.0 and self.surface_time == 0.0:
+            raise ValueError('object_min_width needs surface_time > 0: the narrow segments lose '
+                             'their motion evidence with those on known surfaces')
 
     def kernel_arguments(self):
         """
@@ -645,7 +674,7 @@ class LabelGrid(PlanningMap):
                               if rule.object_memory > 0.0 else None)
         self.fine_evidence = (FineEvidence(self.geometry, rule.fine_evidence_resolution,
                                            rule.fine_evidence_radius, rule.fine_evidence_range,
-                                           rule.free_evidence_renewal)
+                                           rule.free_evidence_renewal, rule.free_burn_in)
                               if rule.fine_evidence_radius > 0.0 else None)
         # Free evidence an update left for `settle`: (free window, fine scan), or None.
         self._deferred = None
@@ -727,7 +756,8 @@ class LabelGrid(PlanningMap):
             fine_ranges = no_return_as_reading(ranges, range_min, range_max,
                                                self.rule.no_return_reach)
             fine_scan = (pose, fine_ranges.copy() if defer_evidence and fine_ranges is ranges
-                         else fine_ranges, angle_min, angle_increment, range_min, range_max)
+                         else fine_ranges, angle_min, angle_increment, range_min, range_max,
+                         0.0 if stamp is None else stamp, (points[2], points[3]))
             if not defer_evidence:
                 self.fine_evidence.update(*fine_scan)
                 fine_scan = None
@@ -737,16 +767,18 @@ class LabelGrid(PlanningMap):
             _NO_BOOL if self._listed is None else self._listed, self.geometry, pose, ranges,
             angle_min, angle_increment, range_min, range_max, safety_radius, self._kernel_rule,
             stamp if expiring else 0.0, _NO_PATH if path is None else path, followed, points,
-            defer_free=defer_evidence)
+            defer_free=defer_evidence, free_fresh_after=self._free_fresh_after(stamp))
         if free_scan is not None or fine_scan is not None:
             self._deferred = (free_scan, fine_scan)
         if self._fresh_free is not None:
             # This generation's marks, at least as conservative as the kernel's (a safety
             # radius above the free one keeps more cells out): `seen_free` at the next renewal.
+            burning_in = self.rule.free_burn_in > 0.0
             surely_free_update(self._fresh_free, self.geometry, pose, no_return_as_reading(
                 ranges, range_min, range_max, self.rule.no_return_reach), angle_min,
                 angle_increment, range_min, range_max,
-                max(self.rule.free_evidence_radius, safety_radius))
+                max(self.rule.free_evidence_radius, safety_radius),
+                self.last_hit if burning_in else None, self._free_fresh_after(stamp))
         self._widen_trackers(self.last_window[0], self.last_window[1])
         if expiring:
             self._list_mobile(new_mobile, stamp)
@@ -771,9 +803,20 @@ class LabelGrid(PlanningMap):
         free_scan, fine_scan = self._deferred
         self._deferred = None
         if free_scan is not None:
-            mark_free_window(self.seen_free, self.geometry, free_scan)
+            mark_free_window(self.seen_free, self.geometry, free_scan, self.last_hit)
         if fine_scan is not None:
             self.fine_evidence.update(*fine_scan)
+
+    def _free_fresh_after(self, stamp):
+        """
+        Return the burn-in's bound for the scan at ``stamp`` [s]: ``-inf`` without it.
+
+        A cell whose hit clock (``last_hit``: a hit within ``r``) is later is not marked
+        surely free (``free_burn_in``).
+        """
+        if self.rule.free_burn_in > 0.0:
+            return stamp - self.rule.free_burn_in
+        return -math.inf
 
     def _follow(self, pose, ranges, angle_min, angle_increment, range_min, range_max, stamp):
         """
@@ -822,7 +865,8 @@ class LabelGrid(PlanningMap):
         `_follow` with the intermittent surfaces: no evidence nor track on known surfaces.
 
         The evidence of each hit (the coarse free space's and the fine's) is taken away on
-        known surfaces (and from veiling hits, with ``veiling_angle``) before the object rule
+        known surfaces (and from veiling hits, with ``veiling_angle``, and narrow segments,
+        with ``object_min_width``) before the object rule
         spreads it along the segments; then the scan's
         hits fill the surface memory, but those of objects followed and seen to move.
         """
@@ -847,6 +891,10 @@ class LabelGrid(PlanningMap):
             veiling = veiling_points(ranges, angle_increment, range_min, range_max,
                                      rule.veiling_angle)
             evidence = evidence & ~veiling[hit_beams]
+        if rule.object_min_width > 0.0 and hits_x.shape[0]:
+            evidence = evidence & ~motion_evidence.narrow_segments(
+                hits_x, hits_y, hit_beams, segment_gap, rule.object_min_width, vertices_x[0],
+                vertices_y[0], ranges.shape[0])
         moving = motion_evidence.moving_hits(hits_x, hits_y, hit_beams, evidence & ~on_surface,
                                              segment_gap, object_size, min_hits,
                                              vertices_x[0], vertices_y[0], ranges.shape[0])
@@ -935,10 +983,11 @@ class LabelGrid(PlanningMap):
         pose, ranges, safety_radius, path = check_update(
             self.geometry.shape, pose, ranges, angle_min, angle_increment, range_min, range_max,
             safety_radius, path, angle_max)
-        if self.rule.mobile_expiry > 0.0 or self.rule.track_confirm_time > 0.0:
+        if (self.rule.mobile_expiry > 0.0 or self.rule.track_confirm_time > 0.0
+                or self.rule.free_burn_in > 0.0):
             if stamp is None or not math.isfinite(stamp):
-                raise ValueError('the label rule (mobile_expiry, track_confirm_time) needs a '
-                                 f'finite scan stamp, got {stamp!r}')
+                raise ValueError('the label rule (mobile_expiry, track_confirm_time, '
+                                 f'free_burn_in) needs a finite scan stamp, got {stamp!r}')
             stamp = float(stamp)
         return pose, ranges, safety_radius, path, stamp
 

@@ -22,6 +22,8 @@ The work grows with the beams and the window's cells, never with the grid.
 
 """
 
+import math
+
 import numpy as np
 
 from .._kernels import free_space, motion_evidence, scan_window
@@ -38,15 +40,19 @@ if not ((TRANSITION[:, ScanInput.INSIDE] == CellLabel.EXPLORED).all()
 
 #: `scan_update` without extra moving hits.
 _NO_HITS = np.zeros(0, dtype=bool)
+#: `surely_free_update` without the burn-in.
+_NO_STAMPS = np.zeros((1, 1), dtype=np.float64)
 
 
 def surely_free_update(seen_free, geometry, pose, ranges, angle_min, angle_increment,
-                       range_min, range_max, radius):
+                       range_min, range_max, radius, hit_stamp=None, fresh_after=0.0):
     """
     Fold one checked scan into ``seen_free`` alone: the conservative free space of a grid.
 
     The same cells ``scan_update`` marks in ``seen_free`` under a ``LabelRule`` with only
-    ``free_evidence_radius = radius`` on and a safety radius of ``radius``, without the labels.
+    ``free_evidence_radius = radius`` on and a safety radius of ``radius``, without the labels;
+    with ``hit_stamp``, only those a hit has not come within ``radius`` of since
+    ``fresh_after`` (the burn-in, ``FineEvidence``).
 
     Parameters
     ----------
@@ -58,18 +64,25 @@ def surely_free_update(seen_free, geometry, pose, ranges, angle_min, angle_incre
         As in `scan_update`, checked.
     radius : float
         A cell is surely free when its disc of this radius lies inside the polygon [m], > 0.
+    hit_stamp : (rows, cols) ndarray of float64, optional
+        Per cell, the latest time a hit lay within ``radius`` of its centre [s]
+        (``_kernels.free_space.stamp_hits``); None: no burn-in.
+    fresh_after : float
+        With ``hit_stamp``: cells stamped later than this [s] are not marked.
 
     """
     x0, y0 = geometry.origin
     free_space.surely_free_update(
         seen_free, np.ascontiguousarray(ranges), pose[0], pose[1], pose[2], float(angle_min),
         float(angle_increment), float(range_min), float(range_max), x0, y0, geometry.resolution,
-        float(radius), squared_bound(float(radius)))
+        float(radius), squared_bound(float(radius)),
+        _NO_STAMPS if hit_stamp is None else hit_stamp, float(fresh_after))
 
 
 def scan_update(labels, seen_free, last_hit, listed, geometry, pose, ranges, angle_min,
                 angle_increment, range_min, range_max, safety_radius, rule_arguments, stamp,
-                path, extra_moving=None, points=None, defer_free=False):
+                path, extra_moving=None, points=None, defer_free=False,
+                free_fresh_after=-math.inf):
     """
     Fold one validated scan into the grid's state arrays in place.
 
@@ -112,6 +125,9 @@ def scan_update(labels, seen_free, last_hit, listed, geometry, pose, ranges, ang
         replan flag and the window are the same either way: no label of this scan depends on
         the cells it shows surely free (they are f2 cells; the rule reads ``seen_free`` only
         at f1 cells and at the hits, before the update).
+    free_fresh_after : float
+        The burn-in (``LabelRule.free_burn_in``): cells whose ``last_hit`` is later than this
+        [s] are not marked surely free; ``-inf`` (the default) turns it off.
 
     Returns
     -------
@@ -135,7 +151,8 @@ def scan_update(labels, seen_free, last_hit, listed, geometry, pose, ranges, ang
             float(angle_increment), float(range_min), float(range_max), x0, y0,
             geometry.resolution, reach, safety_radius, squared_bound(safety_radius),
             *rule_arguments, float(stamp), np.ascontiguousarray(path),
-            _NO_HITS if extra_moving is None else np.ascontiguousarray(extra_moving, dtype=bool))
+            _NO_HITS if extra_moving is None else np.ascontiguousarray(extra_moving, dtype=bool),
+            float(free_fresh_after))
         return (bool(replan), (slice(row0, row_end), slice(col0, col_end), cell_input),
                 new_mobile, None)
     if points is None:
@@ -156,16 +173,17 @@ def scan_update(labels, seen_free, last_hit, listed, geometry, pose, ranges, ang
         labels, seen_free, last_hit, listed, TRANSITION_BY_CODE, vertices_x, vertices_y, hits_x,
         hits_y, hit_beams, x0, y0, geometry.resolution, reach, safety_radius,
         squared_bound(safety_radius), *rule_arguments, float(stamp),
-        np.ascontiguousarray(path), moving, moving_known, defer_free)
+        np.ascontiguousarray(path), moving, moving_known, defer_free, float(free_fresh_after))
     deferred = None
     if defer_free:
         deferred = (row0, col0, cell_input, extent, vertices_x, vertices_y, hit_beams,
-                    float(safety_radius), float(free_radius), float(free_bound))
+                    float(safety_radius), float(free_radius), float(free_bound),
+                    float(free_fresh_after))
     return (bool(replan), (slice(row0, row_end), slice(col0, col_end), cell_input),
             new_mobile, deferred)
 
 
-def mark_free_window(seen_free, geometry, deferred):
+def mark_free_window(seen_free, geometry, deferred, last_hit=None):
     """
     Mark the surely-free cells that a `scan_update` with ``defer_free`` left unmarked.
 
@@ -177,14 +195,17 @@ def mark_free_window(seen_free, geometry, deferred):
         The grid's placement.
     deferred : tuple
         What that `scan_update` returned last.
+    last_hit : (rows, cols) ndarray of float64, optional
+        The grid's hit clock, read with the burn-in (that call's ``free_fresh_after``).
 
     """
     x0, y0 = geometry.origin
     (row0, col0, cell_input, extent, vertices_x, vertices_y, hit_beams, safety_radius,
-     free_radius, free_bound) = deferred
+     free_radius, free_bound, free_fresh_after) = deferred
     free_space.mark_free_window(seen_free, row0, col0, cell_input, extent, x0, y0,
                                 geometry.resolution, vertices_x, vertices_y, hit_beams,
-                                safety_radius, free_radius, free_bound)
+                                safety_radius, free_radius, free_bound,
+                                _NO_STAMPS if last_hit is None else last_hit, free_fresh_after)
 
 
 def scan_hits(seen_free, geometry, pose, ranges, angle_min, angle_increment, range_min,
