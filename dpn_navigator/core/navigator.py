@@ -227,10 +227,10 @@ class NavigatorConfig:
         'of it for this long, so that a surface that returns an echo in some scans only does '
         'not look like motion; 0: off (the paper); needs the fine free evidence', 0.0, 60.0)
     object_min_width: float = setting(
-        0.0, 'm', 'narrow things: a free-standing scan segment whose end hits lie less than '
-        'this apart shows no motion of its own (a leg is 0.1-0.15 m wide; a cable, chair leg '
-        'or spot of a dark surface a few centimetres wide is not a moving object); 0: off '
-        '(the paper); needs surface_time > 0', 0.0, 1.0)
+        0.0, 'm', 'narrow things: a scan segment whose end hits lie less than this apart '
+        'shows no motion of its own (a leg is 0.1-0.15 m wide; a cable, chair leg or spot of '
+        'a dark surface a few centimetres wide is not a moving object); 0: off (the paper); '
+        'needs surface_time > 0', 0.0, 1.0)
     robot_length: float = setting(
         0.99, 'm', "the robot's footprint along x, centred on the base (Husky A200 with "
         'bumpers); used by the turn sweep', 0.01, 10.0)

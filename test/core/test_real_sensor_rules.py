@@ -540,13 +540,8 @@ def test_the_burn_in_holds_through_deferred_evidence_and_time_going_back():
         assert eager.fine_evidence.hit_stamp.max() <= stamp
 
 
-def narrow_case(seed):
-    """
-    Compare `narrow_segments` with its twin on a random scan.
-
-    Returns whether a narrow segment was found, and whether one narrow by its width alone
-    did not stand free.
-    """
+@pytest.mark.parametrize('seed', range(8))
+def test_narrow_segments_equal_their_literal_twin(seed):
     from dpn_navigator.core._kernels.motion_evidence import narrow_segments
     from dpn_navigator.core._kernels.scan_window import scan_points
     from real_sensor_rules import literal_narrow
@@ -557,22 +552,11 @@ def narrow_case(seed):
         ranges[start:start + rng.integers(2, 5)] = rng.uniform(0.3, 6.0)
     increment = float(rng.choice([0.0044, 0.0065, 0.0175]))
     _, _, hits_x, hits_y, beams = scan_points(ranges, 0.0, 0.0, 0.0, -0.3, increment, 0.1, 5.5)
-    width = float(rng.choice([0.02, 0.05, 0.1]))
-    narrow = narrow_segments(hits_x, hits_y, beams, 0.3, width, 0.0, 0.0, ranges.size)
-    twin = literal_narrow(list(zip(hits_x, hits_y)), list(beams), 0.3, width, (0.0, 0.0),
-                          ranges.size)
-    assert_array_equal(narrow, twin)
-    by_width = literal_narrow(list(zip(hits_x, hits_y)), list(beams), 0.3, width, (0.0, 0.0),
-                              ranges.size, free_standing_only=False)
-    return narrow.any(), (np.array(by_width) & ~narrow).any()
-
-
-def test_narrow_segments_equal_their_literal_twin():
-    # Over the seeds, narrow segments are found, and narrow ones that do not stand free (a
-    # nearer neighbour hides one end) are not.
-    cases = [narrow_case(seed) for seed in range(8)]
-    assert any(found for found, _ in cases)
-    assert any(hidden for _, hidden in cases)
+    narrow = narrow_segments(hits_x, hits_y, beams, 0.3, 0.05)
+    assert_array_equal(narrow, literal_narrow(list(zip(hits_x, hits_y)), list(beams), 0.3,
+                                              0.05))
+    assert narrow.any() and not narrow.all()
+    assert not narrow_segments(hits_x, hits_y, beams, 0.3, 0.0).any()
 
 
 def test_bad_burn_in_and_width_parameters_raise():

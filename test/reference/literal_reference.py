@@ -296,9 +296,8 @@ def literal_update_with_rule(labels, seen_free, last_hit, origin, resolution, po
             veiling = literal_veiling(ranges, angle_increment, range_min, range_max,
                                       rule.veiling_angle)
             evidence = [e and not veiling[b] for e, b in zip(evidence, beams)]
-            # Narrow things: no evidence in a narrow free-standing segment.
-            narrow = literal_narrow(hits, beams, rule.segment_gap, rule.object_min_width,
-                                    vertices[0], len(ranges))
+            # Narrow things: no evidence in a narrow segment.
+            narrow = literal_narrow(hits, beams, rule.segment_gap, rule.object_min_width)
             evidence = [e and not n for e, n in zip(evidence, narrow)]
         moving = literal_moving_hits(hits, beams, evidence, rule.segment_gap,
                                      rule.moving_object_size, rule.object_min_hits,

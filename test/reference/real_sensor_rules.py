@@ -146,15 +146,12 @@ def literal_mixed(ranges, angle_increment, range_min, range_max, min_angle):
     return mixed
 
 
-def literal_narrow(hits, beams, segment_gap, min_width, laser, beam_count,
-                   free_standing_only=True):
+def literal_narrow(hits, beams, segment_gap, min_width):
     """
-    Return, hit by hit, whether its segment stands free and its end hits lie < ``min_width`` apart.
+    Return, hit by hit, whether the end hits of its segment lie less than ``min_width`` apart.
 
     A hit's segment: the hits reached from it through neighbouring beams whose hits lie at
-    most ``segment_gap`` apart. It stands free when, at each end, the beam just outside
-    exists and returns nothing, or returns farther from ``laser`` than that end
-    (``free_standing_only`` False: by the width alone).
+    most ``segment_gap`` apart.
     """
     if min_width <= 0.0:
         return [False] * len(hits)
@@ -164,9 +161,6 @@ def literal_narrow(hits, beams, segment_gap, min_width, laser, beam_count,
                 and math.sqrt((hits[b][0] - hits[a][0]) ** 2
                               + (hits[b][1] - hits[a][1]) ** 2) <= segment_gap)
 
-    def away(k):
-        return math.hypot(hits[k][0] - laser[0], hits[k][1] - laser[1])
-
     narrow = []
     for k in range(len(hits)):
         first = last = k
@@ -174,15 +168,6 @@ def literal_narrow(hits, beams, segment_gap, min_width, laser, beam_count,
             first -= 1
         while last + 1 < len(hits) and joined(last, last + 1):
             last += 1
-        if first > 0 and beams[first - 1] == beams[first] - 1:
-            open_before = away(first - 1) > away(first)
-        else:
-            open_before = beams[first] > 0
-        if last + 1 < len(hits) and beams[last + 1] == beams[last] + 1:
-            open_after = away(last + 1) > away(last)
-        else:
-            open_after = beams[last] < beam_count - 1
         width = math.hypot(hits[last][0] - hits[first][0], hits[last][1] - hits[first][1])
-        standing = (open_before and open_after) or not free_standing_only
-        narrow.append(standing and width < min_width)
+        narrow.append(width < min_width)
     return narrow

@@ -55,15 +55,13 @@ def moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_size, m
 
 
 @kernel
-def narrow_segments(hits_x, hits_y, hit_beams, segment_gap, min_width, laser_x, laser_y,
-                    beam_count):
+def narrow_segments(hits_x, hits_y, hit_beams, segment_gap, min_width):
     """
-    Tell for each hit whether it lies in a narrow free-standing segment (``object_min_width``).
+    Tell for each hit whether it lies in a narrow segment (``object_min_width``).
 
     Segments as in `moving_hits` (a cut where consecutive hits lie more than ``segment_gap``
-    apart or their beams are not neighbours); a segment is narrow when it stands free
-    (`free_standing`) and its first and last hits lie less than ``min_width`` [m] apart.
-    Returns the (K,) bool array.
+    apart or their beams are not neighbours); a segment is narrow when its first and last hits
+    lie less than ``min_width`` [m] apart. Returns the (K,) bool array.
     """
     count = hits_x.shape[0]
     narrow = np.zeros(count, dtype=np.bool_)
@@ -72,11 +70,11 @@ def narrow_segments(hits_x, hits_y, hit_beams, segment_gap, min_width, laser_x, 
         if k < count:
             dx = hits_x[k] - hits_x[k - 1]
             dy = hits_y[k] - hits_y[k - 1]
-            if math.sqrt(dx * dx + dy * dy) <= segment_gap and hit_beams[k] - hit_beams[k - 1] == 1:
+            step = math.sqrt(dx * dx + dy * dy)
+            if step <= segment_gap and hit_beams[k] - hit_beams[k - 1] == 1:
                 continue
         width = math.hypot(hits_x[k - 1] - hits_x[start], hits_y[k - 1] - hits_y[start])
-        if width < min_width and free_standing(hits_x, hits_y, hit_beams, start, k, laser_x,
-                                               laser_y, beam_count):
+        if width < min_width:
             narrow[start:k] = True
         start = k
     return narrow

@@ -287,12 +287,13 @@ class LabelRule:
         between its hits, and its next hit would show motion. 0 turns it off. Needs the fine
         free evidence, ``mobile_expiry`` > 0 and a scan stamp.
     object_min_width : float
-        Narrow things [m]: a free-standing scan segment (both ends open) whose first and last
-        hits lie less than this apart shows no motion of its own: its evidence is taken away
-        with that of the hits on known surfaces. A leg is 0.1-0.15 m wide; a thin or
-        intermittent thing a few centimetres wide that returns in some scans only (a cable,
-        a chair leg, one spot of a dark surface) is no object that can be seen to move,
-        however many beams hit it. 0 turns it off. Needs ``surface_time`` > 0.
+        Narrow things [m]: a scan segment whose first and last hits lie less than this apart
+        shows no motion of its own: its evidence is taken away with that of the hits on known
+        surfaces. A leg is 0.1-0.15 m wide; a thin or intermittent thing a few centimetres
+        wide that returns in some scans only (a cable, a chair leg, one spot of a dark
+        surface) is no object that can be seen to move, however many beams hit it, and a
+        sliver of an object peeking past a nearer one shows too little of it. 0 turns it off.
+        Needs ``surface_time`` > 0.
 
     """
 
@@ -893,8 +894,7 @@ class LabelGrid(PlanningMap):
             evidence = evidence & ~veiling[hit_beams]
         if rule.object_min_width > 0.0 and hits_x.shape[0]:
             evidence = evidence & ~motion_evidence.narrow_segments(
-                hits_x, hits_y, hit_beams, segment_gap, rule.object_min_width, vertices_x[0],
-                vertices_y[0], ranges.shape[0])
+                hits_x, hits_y, hit_beams, segment_gap, rule.object_min_width)
         moving = motion_evidence.moving_hits(hits_x, hits_y, hit_beams, evidence & ~on_surface,
                                              segment_gap, object_size, min_hits,
                                              vertices_x[0], vertices_y[0], ranges.shape[0])
