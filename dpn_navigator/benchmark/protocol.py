@@ -51,9 +51,11 @@ NOT_GETTING_STUCK_OFF = {'stale_obstacle_age': 0.0, 'path_trust_time': 0.0,
 #: laser: beams with no return clear nothing (a wall at grazing incidence returns nothing, and
 #: its beams would show it empty), mixed pixels are invalid, veiling hits show no motion
 #: (``REAL_LASER``, docs/real_data.md); a hit shows motion only beyond three sigma of the range
-#: noise.
+#: noise; space is surely free only after 0.5 s without a hit near it (the burn-in), and a
+#: scan segment narrower than 5 cm shows no motion.
 REAL_LASER = {'no_return_reach': 0.0, 'mixed_pixel_angle': 0.1745, 'veiling_angle': 0.1745,
-              'range_noise_margin': 0.05, 'range_noise_fraction': 0.03}
+              'range_noise_margin': 0.05, 'range_noise_fraction': 0.03, 'free_burn_in': 0.5,
+              'object_min_width': 0.05}
 NAVIGATORS = {
     'dpn': {},
     'dpn_no_sweep': {'turn_sweep_memory': 0.0},

@@ -191,6 +191,7 @@ def test_the_paper_keeps_every_real_sensor_rule_off():
     assert not paper.no_echo_below_range_min and paper.no_return_reach == 1.0
     assert paper.surface_time == 0.0
     assert paper.mixed_pixel_angle == paper.veiling_angle == 0.0
+    assert paper.free_burn_in == paper.object_min_width == 0.0
 
 
 # --- Mixed pixels and veiling hits (`mixed_pixel_angle`, `veiling_angle`).
@@ -413,6 +414,7 @@ def test_the_real_laser_navigator_is_its_params_file():
     rule = dpn_rule(**overlay)
     assert rule.no_return_reach == 0.0 and rule.mixed_pixel_angle > 0.0
     assert rule.veiling_angle > 0.0
+    assert rule.free_burn_in > 0.0 and rule.object_min_width > 0.0
     # The shipped dpn keeps both off.
     assert dpn_rule().mixed_pixel_angle == dpn_rule().veiling_angle == 0.0
 
