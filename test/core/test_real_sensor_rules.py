@@ -482,16 +482,17 @@ def test_a_narrow_flickering_post_shows_no_motion_and_a_walker_still_moves(
 
 @pytest.mark.parametrize('scene', ['board', 'post', 'wide'])
 def test_the_burn_in_and_narrow_things_equal_their_literal_twin(scene):
-    # 'wide': a thing 2 m across, its echo 0.8 s apart: seen empty in between long enough for
-    # the label cells' discs, and longer than the burn-in.
+    # 'post' and 'wide': echoes 0.8 s apart, longer than the burn-in, of a thing 6 cm across
+    # (the narrow things keep it) and one 2 m across (seen empty long enough for the label
+    # cells' discs too).
     rule = LabelRule(free_evidence_radius=0.5, moving_object_size=0.7, segment_gap=0.6,
                      fine_evidence_resolution=0.1, fine_evidence_radius=0.2,
                      fine_evidence_range=8.0, mobile_expiry=3.0, surface_time=100.0,
                      surface_memory=200.0, noise_margin=0.1, free_burn_in=0.5,
                      object_min_width=0.05)
-    scans = {'board': flickering_scans(40),
-             'post': flickering_scans(40, thing_x=1.0, thing_radius=0.03),
-             'wide': flickering_scans(40, thing_radius=1.0, period=8)}[scene]
+    scans = {'board': flickering_scans(12, walker_from=6),
+             'post': flickering_scans(20, thing_x=1.0, thing_radius=0.03, period=8),
+             'wide': flickering_scans(20, thing_radius=1.0, period=8)}[scene]
     side = 8.0
     grid = grid_for(rule, side)
     origin = (-side / 2, -side / 2)
