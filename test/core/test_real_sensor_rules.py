@@ -354,6 +354,46 @@ def test_range_noise_is_no_motion_and_a_walker_still_moves(margin, fraction, wal
     assert walker_mobile
 
 
+def twin_run(rule, plain_rule, scans, side=8.0):
+    """
+    Update a grid with ``rule`` and the literal twin from the origin, scan by scan.
+
+    Asserts they agree after every scan (labels, surely-free cells, the fine evidence and its
+    burn-in clock); returns whether a grid with ``plain_rule`` ever differed from them (the
+    scene exercises the rule).
+    """
+    grid = grid_for(rule, side)
+    plain = grid_for(plain_rule, side)
+    origin = (-side / 2, -side / 2)
+    labels = np.zeros(grid.labels.shape, dtype=np.uint8)
+    seen_free = np.zeros(grid.labels.shape, dtype=bool)
+    last_hit = np.full(grid.labels.shape, -math.inf)
+    fine_seen_free = np.zeros(grid.fine_evidence.seen_free.shape, dtype=bool)
+    fine_hit_stamp = np.full(fine_seen_free.shape, -math.inf)
+    surfaces = LiteralSurfaceMemory(origin, rule.noise_margin, rule.surface_time,
+                                    rule.surface_memory)
+    last_stamp = -math.inf
+    differs = False
+    for stamp, ranges, _ in scans:
+        scan = (ANGLE_MIN, INCREMENT, 0.1, 8.0, 0.6)
+        _, last_stamp = literal_update_with_rule(
+            labels, seen_free, last_hit, origin, 0.5, (0.0, 0.0, 0.0), ranges, *scan, rule=rule,
+            stamp=stamp, last_stamp=last_stamp, fine_seen_free=fine_seen_free,
+            surfaces=surfaces, fine_hit_stamp=fine_hit_stamp)
+        grid.update((0.0, 0.0, 0.0), ranges, *scan, stamp=stamp)
+        plain.update((0.0, 0.0, 0.0), ranges, *scan, stamp=stamp)
+        assert_array_equal(grid.labels, labels)
+        assert_array_equal(grid.seen_free, seen_free)
+        assert_array_equal(grid.fine_evidence.seen_free, fine_seen_free)
+        if grid.fine_evidence.hit_stamp is not None:
+            assert_array_equal(grid.fine_evidence.hit_stamp, fine_hit_stamp)
+        differs |= not (np.array_equal(grid.labels, plain.labels)
+                        and np.array_equal(grid.seen_free, plain.seen_free)
+                        and np.array_equal(grid.fine_evidence.seen_free,
+                                           plain.fine_evidence.seen_free))
+    return differs
+
+
 @pytest.mark.parametrize('margin, fraction, walker_x', [(0.24, 0.0, 2.5), (0.08, 0.05, 2.6)])
 def test_range_noise_equals_its_literal_twin(margin, fraction, walker_x):
     # The person crosses 0.4-0.5 m in front of the wall: twice the margin would take its
@@ -363,31 +403,8 @@ def test_range_noise_equals_its_literal_twin(margin, fraction, walker_x):
                      fine_evidence_radius=0.2, fine_evidence_range=8.0, surface_time=100.0,
                      surface_memory=200.0, noise_margin=0.1, range_noise_margin=margin,
                      range_noise_fraction=fraction)
-    side = 8.0
-    grid = grid_for(rule, side)
-    origin = (-side / 2, -side / 2)
-    labels = np.zeros(grid.labels.shape, dtype=np.uint8)
-    seen_free = np.zeros(grid.labels.shape, dtype=bool)
-    last_hit = np.full(grid.labels.shape, -math.inf)
-    fine_seen_free = np.zeros(grid.fine_evidence.seen_free.shape, dtype=bool)
-    surfaces = LiteralSurfaceMemory(origin, rule.noise_margin, rule.surface_time,
-                                    rule.surface_memory)
-    plain = grid_for(dataclasses.replace(rule, range_noise_margin=0.0,
-                                         range_noise_fraction=0.0), side)
-    last_stamp = -math.inf
-    differs = False
-    for stamp, ranges, _ in noisy_wall_scans(16, 0.08, walker_x=walker_x):
-        scan = (ANGLE_MIN, INCREMENT, 0.1, 8.0, 0.6)
-        _, last_stamp = literal_update_with_rule(
-            labels, seen_free, last_hit, origin, 0.5, (0.0, 0.0, 0.0), ranges, *scan, rule=rule,
-            stamp=stamp, last_stamp=last_stamp, fine_seen_free=fine_seen_free,
-            surfaces=surfaces)
-        grid.update((0.0, 0.0, 0.0), ranges, *scan, stamp=stamp)
-        plain.update((0.0, 0.0, 0.0), ranges, *scan, stamp=stamp)
-        assert_array_equal(grid.labels, labels)
-        assert_array_equal(grid.fine_evidence.seen_free, fine_seen_free)
-        differs |= not np.array_equal(grid.labels, plain.labels)
-    assert differs                  # the scene exercises the rule
+    plain = dataclasses.replace(rule, range_noise_margin=0.0, range_noise_fraction=0.0)
+    assert twin_run(rule, plain, noisy_wall_scans(16, 0.08, walker_x=walker_x))
 
 
 def test_bad_edge_pixel_parameters_raise():
@@ -493,36 +510,8 @@ def test_the_burn_in_and_narrow_things_equal_their_literal_twin(scene):
     scans = {'board': flickering_scans(12, walker_from=6),
              'post': flickering_scans(20, thing_x=1.0, thing_radius=0.03, period=8),
              'wide': flickering_scans(20, thing_radius=1.0, period=8)}[scene]
-    side = 8.0
-    grid = grid_for(rule, side)
-    origin = (-side / 2, -side / 2)
-    labels = np.zeros(grid.labels.shape, dtype=np.uint8)
-    seen_free = np.zeros(grid.labels.shape, dtype=bool)
-    last_hit = np.full(grid.labels.shape, -math.inf)
-    fine_seen_free = np.zeros(grid.fine_evidence.seen_free.shape, dtype=bool)
-    fine_hit_stamp = np.full(fine_seen_free.shape, -math.inf)
-    surfaces = LiteralSurfaceMemory(origin, rule.noise_margin, rule.surface_time,
-                                    rule.surface_memory)
-    plain = grid_for(dataclasses.replace(rule, free_burn_in=0.0, object_min_width=0.0), side)
-    last_stamp = -math.inf
-    differs = False
-    for stamp, ranges, _ in scans:
-        scan = (ANGLE_MIN, INCREMENT, 0.1, 8.0, 0.6)
-        _, last_stamp = literal_update_with_rule(
-            labels, seen_free, last_hit, origin, 0.5, (0.0, 0.0, 0.0), ranges, *scan, rule=rule,
-            stamp=stamp, last_stamp=last_stamp, fine_seen_free=fine_seen_free,
-            surfaces=surfaces, fine_hit_stamp=fine_hit_stamp)
-        grid.update((0.0, 0.0, 0.0), ranges, *scan, stamp=stamp)
-        plain.update((0.0, 0.0, 0.0), ranges, *scan, stamp=stamp)
-        assert_array_equal(grid.labels, labels)
-        assert_array_equal(grid.seen_free, seen_free)
-        assert_array_equal(grid.fine_evidence.seen_free, fine_seen_free)
-        assert_array_equal(grid.fine_evidence.hit_stamp, fine_hit_stamp)
-        differs |= not (np.array_equal(grid.labels, plain.labels)
-                        and np.array_equal(grid.seen_free, plain.seen_free)
-                        and np.array_equal(grid.fine_evidence.seen_free,
-                                           plain.fine_evidence.seen_free))
-    assert differs                  # the scene exercises the rules
+    plain = dataclasses.replace(rule, free_burn_in=0.0, object_min_width=0.0)
+    assert twin_run(rule, plain, scans)
 
 
 def test_the_burn_in_holds_through_deferred_evidence_and_time_going_back():
