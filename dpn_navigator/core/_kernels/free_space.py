@@ -355,7 +355,8 @@ def stamp_hits(hit_stamp, hits_x, hits_y, x0, y0, resolution, bound, stamp):
     cells stamped are those a hit's disc keeps from being surely free in its own scan.
     """
     rows, cols = hit_stamp.shape
-    reach = int(math.ceil(math.sqrt(bound) / resolution)) + 1
+    # A centre k rows (or columns) from the hit's cell lies at least (k - 0.5) cells from it.
+    reach = int(math.floor(math.sqrt(bound) / resolution + 0.5))
     for k in range(hits_x.shape[0]):
         row = int(math.floor((hits_y[k] - y0) / resolution))
         col = int(math.floor((hits_x[k] - x0) / resolution))
