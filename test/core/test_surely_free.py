@@ -192,3 +192,26 @@ def test_real_recordings_mark_the_cells_of_the_marks(name):
         fast, _ = both_updates(np.zeros(shape, dtype=bool), scans, config.origin,
                                rule.fine_evidence_resolution, rule.fine_evidence_radius)
         assert fast.sum() > 1000                  # the recordings show much free space
+
+
+@pytest.mark.parametrize('resolution, radius', [(0.1, 0.2), (0.25, 0.3), (0.1, 0.25),
+                                                (0.05, 0.2), (0.5, 0.6), (0.1, 0.05)])
+def test_stamp_hits_stamps_every_centre_within_the_radius(resolution, radius):
+    # The burn-in's clock: every cell whose centre passes a hit's disc test, and no other,
+    # hits on cell sides included (the box searched around each hit must reach them all).
+    rng = np.random.default_rng(int(radius * 1000 + resolution * 100))
+    cells = 40
+    hits = rng.uniform(-0.5, cells * resolution + 0.5, (200, 2))
+    hits[:40] = np.round(hits[:40] / resolution) * resolution
+    stamps = np.full((cells, cells), -math.inf)
+    bound = squared_bound(radius)
+    free_space.stamp_hits(stamps, hits[:, 0].copy(), hits[:, 1].copy(), 0.0, 0.0, resolution,
+                          bound, 2.5)
+    centre = (np.arange(cells) + 0.5) * resolution
+    cy, cx = np.meshgrid(centre, centre, indexing='ij')
+    near = np.zeros((cells, cells), dtype=bool)
+    for x, y in hits:
+        near |= (cx - x) ** 2 + (cy - y) ** 2 <= bound
+    assert near.any() and not near.all()
+    assert_array_equal(stamps == 2.5, near)
+    assert_array_equal(stamps[~near], -math.inf)
