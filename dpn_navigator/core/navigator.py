@@ -26,6 +26,7 @@ from .mapping.label_grid import LabelGrid, LabelRule, warm_up_label_update
 from .mapping.map_growth import growth_to_cover, MAX_MAP_CELLS, scan_hit_box, scan_reach
 from .mapping.stale_obstacles import ObstacleConfirmations
 from .mapping.surface_memory import MAX_CELLS as MAX_SURFACE_CELLS
+from .mapping.wall_continuation import continued_walls, warm_up_wall_continuation
 from .planning.astar_search import warm_up_astar
 from .planning.exploration_memory import ExplorationMemory
 from .planning.give_way import FACE_TOLERANCE, GiveWay
@@ -299,6 +300,19 @@ class NavigatorConfig:
         20.0, 'cells', 'exploration memory: extra A\\* cost of entering a non-explored cell '
         'once an obstacle (a forgotten wall of an explored dead end), instead of '
         '`unknown_cell_cost`: passable as a last resort; 0: off (the paper)', 0.0, 1000.0)
+    wall_continuation_angle: float = setting(
+        0.0, 'rad', 'walls that go on (for real lasers, which return nothing from a wall met '
+        "at a grazing angle): when the beam of a wall's last hit next to beams with no return "
+        "meets it at more than this from its normal, the non-explored cells along the wall's "
+        'line, as far as those beams would meet it, cost `wall_continuation_cost` to enter; 0: '
+        'off (the paper; [method](method.md#walls-that-go-on))', 0.0, 1.5)
+    wall_continuation_reach: float = setting(
+        8.0, 'm', 'walls that go on: the longest continuation past the last hit (read only with '
+        '`wall_continuation_angle` > 0)', 0.5, 100.0)
+    wall_continuation_cost: float = setting(
+        100.0, 'cells', 'walls that go on: extra A\\* cost of entering a non-explored cell on a '
+        "wall's continuation (instead of `unknown_cell_cost` or `forgotten_obstacle_cost` when "
+        'larger; read only with `wall_continuation_angle` > 0)', 0.0, 10000.0)
     map_growth_step: float = setting(
         0.0, 'm', 'maps that grow: when the robot comes within `map_growth_margin` of an edge '
         'of the map, a laser hit falls beyond one, or a goal lies off the map, the map grows on '
@@ -322,7 +336,8 @@ class NavigatorConfig:
                      'path_trust_time', 'route_block_distance', 'route_switch_margin',
                      'mobile_wait_time', 'give_way_time', 'give_way_distance',
                      'give_way_hold', 'unknown_cell_cost', 'forgotten_obstacle_cost',
-                     'map_growth_step', 'map_growth_margin', 'map_memory_limit'):
+                     'wall_continuation_angle', 'wall_continuation_cost', 'map_growth_step',
+                     'map_growth_margin', 'map_memory_limit'):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0.0):
                 raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
@@ -333,6 +348,13 @@ class NavigatorConfig:
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0.0):
                 raise ValueError(f'{name} must be positive and finite, got {value!r}')
+        if not self.wall_continuation_angle < 0.5 * math.pi:
+            raise ValueError('wall_continuation_angle must be below pi / 2, got '
+                             f'{self.wall_continuation_angle!r}')
+        if not (math.isfinite(self.wall_continuation_reach)
+                and self.wall_continuation_reach > 0.0):
+            raise ValueError('wall_continuation_reach must be positive and finite, got '
+                             f'{self.wall_continuation_reach!r}')
         check_pose(self.laser_offset, 'laser_offset')
         self.label_rule()                        # validates the label rule's fields
 
@@ -448,10 +470,13 @@ class Navigator:
         self.stale_drops = 0
         self._confirmations = (ObstacleConfirmations(shape)
                                if config.stale_obstacle_age > 0.0 and windowed else None)
+        continued = (config.wall_continuation_cost if config.wall_continuation_angle > 0.0
+                     else 0.0)
         self._exploration = (ExplorationMemory(shape, config.unknown_cell_cost,
-                                               config.forgotten_obstacle_cost)
+                                               config.forgotten_obstacle_cost, continued)
                              if windowed and (config.unknown_cell_cost > 0.0
-                                              or config.forgotten_obstacle_cost > 0.0)
+                                              or config.forgotten_obstacle_cost > 0.0
+                                              or continued > 0.0)
                              else None)
         self.commitment = None if config.route_block_distance == 0.0 else RouteCommitment(
             config.route_block_distance, config.route_switch_margin, config.mobile_wait_time,
@@ -580,6 +605,8 @@ class Navigator:
         self._sweep_last_scan()
         self._replan_requested |= replan
         self._remember_scan(stamp)
+        self._continue_walls(laser_pose, ranges, angle_min, angle_increment, range_min,
+                             range_max)
         self._last_scan = (laser_pose, np.array(ranges, dtype=np.float64), angle_min,
                            angle_increment, range_min, range_max, angle_max, stamp)
         self._unswept_pose = pose if self.turn_sweep is not None else None
@@ -693,6 +720,24 @@ class Navigator:
         if self.path is not None:
             self.path = self.path + np.array([growth.below, growth.left], dtype=np.int64)
         self.map_growths += 1
+
+    def _continue_walls(self, laser_pose, ranges, angle_min, angle_increment, range_min,
+                        range_max):
+        """Mark the non-explored cells on the continuations of walls the scan grazes."""
+        if self._exploration is None or self._exploration.continued is None:
+            return
+        points = continued_walls(ranges, angle_min, angle_increment, range_min, range_max,
+                                 self.config.wall_continuation_angle,
+                                 self.config.wall_continuation_reach)
+        if points.shape[0] == 0:
+            return
+        cos_yaw, sin_yaw = math.cos(laser_pose[2]), math.sin(laser_pose[2])
+        x = laser_pose[0] + cos_yaw * points[:, 0] - sin_yaw * points[:, 1]
+        y = laser_pose[1] + sin_yaw * points[:, 0] + cos_yaw * points[:, 1]
+        geometry = self.grid.geometry
+        rows, cols = geometry.world_to_cell(x, y)
+        inside = geometry.contains_cell(rows, cols)
+        self._exploration.continue_walls(self.grid.labels, rows[inside], cols[inside])
 
     def _remember_scan(self, stamp):
         """Record the latest update's hits, obstacles and mobile cells (issue 31's parts)."""
@@ -1115,8 +1160,8 @@ def warm_up_navigator():
     """
     Compile (or load from the cache) the kernels a `Navigator` on a ``LabelGrid`` runs.
 
-    The label update (every rule part), the planning masks and A*; a process calls it once at
-    start, so that its first scan does not wait for them.
+    The label update (every rule part), the walls that go on, the planning masks and A*; a
+    process calls it once at start, so that its first scan does not wait for them.
 
     Returns
     -------
@@ -1127,6 +1172,7 @@ def warm_up_navigator():
     """
     started = time.perf_counter()
     warm_up_label_update()
+    warm_up_wall_continuation()
     warm_up_planning_masks()
     warm_up_astar()
     return time.perf_counter() - started

@@ -32,10 +32,11 @@ def warm_up_all():
     from ..benchmark.baselines.costmap_grid import warm_up_costmap
     from ..core.mapping.label_grid import warm_up_label_update
     from ..core.mapping.map_values import warm_up_map_values
+    from ..core.mapping.wall_continuation import warm_up_wall_continuation
     from ..core.planning.planning_masks import warm_up_planning_masks
     started = time.perf_counter()
     for warm_up in (warm_up_astar, warm_up_label_update, warm_up_costmap, warm_up_map_values,
-                    warm_up_planning_masks):
+                    warm_up_planning_masks, warm_up_wall_continuation):
         warm_up()
     return time.perf_counter() - started
 

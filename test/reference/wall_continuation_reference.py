@@ -1,0 +1,69 @@
+"""
+The slow, obvious twin of ``mapping.wall_continuation.continued_walls``.
+
+One run, one side and one beam at a time, in plain Python.
+"""
+
+import math
+
+
+def reference_continued_walls(ranges, angle_min, angle_increment, range_min, range_max,
+                              min_incidence, reach, fit_hits=4, max_gap=0.3, step=0.1):
+    """Return the continuation points as a list of ``(x, y)`` [m], in the laser frame."""
+    n = len(ranges)
+    angle = [angle_min + angle_increment * i for i in range(n)]
+
+    def is_hit(i):
+        r = ranges[i]
+        return math.isfinite(r) and range_min <= r < range_max
+
+    def no_return(i):
+        return not math.isnan(ranges[i]) and ranges[i] >= range_max
+
+    def point(i):
+        return ranges[i] * math.cos(angle[i]), ranges[i] * math.sin(angle[i])
+
+    runs, i = [], 0
+    while i < n:
+        if not no_return(i):
+            i += 1
+            continue
+        first = i
+        while i < n and no_return(i):
+            i += 1
+        runs.append((first, i - 1))
+    out = []
+    for side in (-1, 1):
+        for first, last in runs:
+            nearest = first - 1 if side == -1 else last + 1
+            fit = [nearest + side * k for k in range(fit_hits)]
+            if min(fit) < 0 or max(fit) >= n or not all(is_hit(k) for k in fit):
+                continue
+            points = [point(k) for k in fit]
+            if any(math.dist(a, b) > max_gap for a, b in zip(points, points[1:])):
+                continue
+            (px, py), (fx, fy) = points[0], points[-1]
+            length = math.hypot(px - fx, py - fy)
+            if length == 0.0:
+                continue
+            ux, uy = (px - fx) / length, (py - fy) / length
+            beam = (math.cos(angle[nearest]), math.sin(angle[nearest]))
+            if abs(-uy * beam[0] + ux * beam[1]) >= math.cos(min_incidence):
+                continue                                   # seen squarely enough
+            order = range(first, last + 1) if side == -1 else range(last, first - 1, -1)
+            end = 0.0
+            for m in order:
+                vx, vy = math.cos(angle[m]), math.sin(angle[m])
+                det = -vx * uy + vy * ux
+                if det == 0.0:
+                    break
+                t = (-px * uy + py * ux) / det
+                s = (vx * py - vy * px) / det
+                if not (t > 0.0 and s > 0.0 and t < range_max and s <= reach):
+                    break
+                end = max(end, s)
+            k = 1
+            while k * step <= end + 1e-9 * step:
+                out.append((px + k * step * ux, py + k * step * uy))
+                k += 1
+    return out
