@@ -601,11 +601,13 @@ to 1.26 per scan.
 invalid (`mixed_pixel_angle`, 10 deg), veiling hits without motion evidence of their own
 (`veiling_angle`, 10 deg; ROS `laser_filters`' shadow filter), the range noise rule above
 (0.05 m + 3 %; set it to three sigma of your laser's range noise and of your localiser's
-heading error), the burn-in (0.5 s) and narrow things (5 cm). A moving robot sees walls at
-grazing incidence, where real lasers return nothing; with dpn's reach the beams past such a
-wall show it empty, and it seems to move when the robot later sees it squarely, and a mixed
-pixel floats in space seen empty. In the simulator with the SICK LMS1xx profile (smoke
-profile, 9 episodes) dpn reaches 0 of 9 goals with 26 % of the wall cells ever mobile,
+heading error), the burn-in (0.5 s), narrow things (5 cm) and, for planning, walls that go
+on past the grazing cut-off (60 deg; [method](method.md#walls-that-go-on)). A moving robot
+sees walls at grazing incidence, where real lasers return nothing; with dpn's reach the
+beams past such a wall show it empty, and it seems to move when the robot later sees it
+squarely, and a mixed pixel floats in space seen empty. In the simulator with the SICK
+LMS1xx profile (smoke profile, 9 episodes) dpn reaches 0 of 9 goals with 26 % of the wall
+cells ever mobile,
 `dpn_real_laser` 6 of 9 with 0.4 % ([benchmark](benchmark.md#realistic-lasers)). For a laser
 standing still it is the wrong file: the walkers of these recordings walk where the background
 returns nothing, so with no-return beams clearing nothing their place is never seen empty and
