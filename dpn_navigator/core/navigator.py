@@ -24,6 +24,7 @@ from .control.path_follower import follow_path, FollowerConfig, STOP, VelocityCo
 from .control.turn_sweep import TurnSweep
 from .mapping.label_grid import LabelGrid, LabelRule, warm_up_label_update
 from .mapping.map_growth import growth_to_cover, MAX_MAP_CELLS, scan_hit_box, scan_reach
+from .mapping.scan_reading import read_no_echo
 from .mapping.stale_obstacles import ObstacleConfirmations
 from .mapping.surface_memory import MAX_CELLS as MAX_SURFACE_CELLS
 from .mapping.wall_continuation import continued_walls, warm_up_wall_continuation
@@ -726,6 +727,8 @@ class Navigator:
         """Mark the non-explored cells on the continuations of walls the scan grazes."""
         if self._exploration is None or self._exploration.continued is None:
             return
+        ranges = read_no_echo(np.asarray(ranges, dtype=np.float64), range_min,
+                              self.config.no_echo_below_range_min)
         points = continued_walls(ranges, angle_min, angle_increment, range_min, range_max,
                                  self.config.wall_continuation_angle,
                                  self.config.wall_continuation_reach)

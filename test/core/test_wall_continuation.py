@@ -218,3 +218,19 @@ def test_bad_arguments_are_refused(min_incidence, reach, match):
     ranges, angle_min, increment, range_max = corridor_scan()
     with pytest.raises(ValueError, match=match):
         continued_walls(ranges, angle_min, increment, 0.1, range_max, min_incidence, reach)
+
+
+def test_a_driver_s_no_echo_codes_count_as_no_return_when_read_so():
+    """With ``no_echo_below_range_min`` the tiny no-echo codes are beams with no return."""
+    ranges, angle_min, increment, range_max = corridor_scan()
+    coded = np.where(np.isfinite(ranges), ranges, 0.005)            # the old Hokuyo driver
+    marked = {}
+    for no_echo in (False, True):
+        config = NavigatorConfig(width=30.0, height=10.0, forget_obstacles_after=0.0,
+                                 no_return_reach=0.0, no_echo_below_range_min=no_echo,
+                                 wall_continuation_angle=math.radians(60.0))
+        navigator = Navigator(config)
+        navigator.set_goal(8.0, 8.5)
+        navigator.step(0.0, (2.0, 5.0, 0.0), coded, angle_min, increment, 0.1, range_max)
+        marked[no_echo] = int(navigator._exploration.continued.sum())
+    assert marked[False] == 0 and marked[True] > 0
