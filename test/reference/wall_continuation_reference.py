@@ -1,7 +1,10 @@
 """
 The slow, obvious twin of ``mapping.wall_continuation.continued_walls``.
 
-One run, one side and one beam at a time, in plain Python.
+One run, one side and one beam at a time, in plain Python; the meeting point of a beam and a
+wall's line from the line's normal form (distance along the beam = the line's distance from the
+laser over the cosine of the beam to the normal, then projected on the line), not from the
+kernel's 2x2 solve, so that an error in either's arithmetic shows.
 """
 
 import math
@@ -47,21 +50,28 @@ def reference_continued_walls(ranges, angle_min, angle_increment, range_min, ran
             if length == 0.0:
                 continue
             ux, uy = (px - fx) / length, (py - fy) / length
-            beam = (math.cos(angle[nearest]), math.sin(angle[nearest]))
-            if abs(-uy * beam[0] + ux * beam[1]) >= math.cos(min_incidence):
+            # The wall's line in normal form: n . q = c, n its unit normal.
+            nx, ny = -uy, ux
+            c = nx * px + ny * py
+            # Grazing: the nearest hit's beam lies more than min_incidence from the normal.
+            incidence = math.acos(min(1.0, abs(nx * math.cos(angle[nearest])
+                                               + ny * math.sin(angle[nearest]))))
+            if incidence <= min_incidence:
                 continue                                   # seen squarely enough
             order = range(first, last + 1) if side == -1 else range(last, first - 1, -1)
             end = 0.0
             for m in order:
                 vx, vy = math.cos(angle[m]), math.sin(angle[m])
-                det = -vx * uy + vy * ux
-                if det == 0.0:
+                facing = nx * vx + ny * vy                 # cosine of the beam to the normal
+                if facing == 0.0:
+                    break                                  # parallel: never meets the line
+                distance = c / facing                      # along the beam, to the line
+                meet_x, meet_y = distance * vx, distance * vy
+                along = (meet_x - px) * ux + (meet_y - py) * uy   # past the nearest hit
+                if not (distance > 0.0 and along > 0.0 and distance < range_max
+                        and along <= reach):
                     break
-                t = (-px * uy + py * ux) / det
-                s = (vx * py - vy * px) / det
-                if not (t > 0.0 and s > 0.0 and t < range_max and s <= reach):
-                    break
-                end = max(end, s)
+                end = max(end, along)
             k = 1
             while k * step <= end + 1e-9 * step:
                 out.append((px + k * step * ux, py + k * step * uy))
