@@ -97,3 +97,33 @@ def test_the_tool_writes_the_page_and_the_real_sensor_rules_help(annotated_bag, 
 def test_no_recordings_exit_2(tmp_path, capsys):
     assert real_data.main(['--data', str(tmp_path), '--out', str(tmp_path / 'x')]) == 2
     assert 'no recordings' in capsys.readouterr().err
+
+
+def _walker_recording(scans=12, beams=181):
+    """Return a synthetic standing laser: a wall at 4 m, a box walking across in front."""
+    angle_min, increment = -0.5 * np.pi, np.pi / (beams - 1)
+    angles = angle_min + increment * np.arange(beams)
+    records = []
+    for k in range(scans):
+        ranges = np.full(beams, 4.0)
+        centre = -0.6 + 0.1 * k                               # the walker's bearing [rad]
+        ranges[np.abs(angles - centre) < 0.08] = 2.0
+        records.append((0.1 * k, ranges, angle_min, increment, 0.05, 10.0))
+    return real_data.Recording('walker', records, [None] * scans, False)
+
+
+def test_update_cost_times_labels_ready_and_the_whole_update_of_every_rule_set():
+    cost = real_data.update_cost(_walker_recording(), beams=241, rounds=1)
+    assert set(cost) == {name for name, _, _ in real_data.TABLE_RULES}
+    for ready, whole in cost.values():
+        assert 0.0 < ready <= whole
+    lines = []
+    real_data.write_page_cost(lines, [('walker, 241 beams', cost)])
+    rows = [line for line in lines if line.startswith('| walker, 241 beams |')]
+    assert len(rows) == 2                                     # to the labels, whole
+    paper_whole = cost['paper'][1]
+    for row, index in zip(rows, (0, 1)):
+        cells = [cell.strip() for cell in row.strip('|').split('|')]
+        assert float(cells[1]) == pytest.approx(1e3 * cost['paper'][index], abs=6e-4)
+        assert float(cells[-1]) == pytest.approx(
+            cost['dpn_real_laser'][index] / paper_whole, abs=0.051)
