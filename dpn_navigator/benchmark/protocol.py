@@ -49,12 +49,13 @@ NOT_GETTING_STUCK_OFF = {'stale_obstacle_age': 0.0, 'path_trust_time': 0.0,
 #: by default), as shipped before 25 November; paper turns it off too.
 #: ``dpn_real_laser`` is dpn with ``config/dpn_real_laser.yaml``, for a moving robot with a real
 #: laser: beams with no return clear nothing (a wall at grazing incidence returns nothing, and
-#: its beams would show it empty), mixed pixels are invalid, veiling hits show no motion
+#: its beams would show it empty), mixed pixels and spikes are invalid, veiling hits show no motion
 #: (``REAL_LASER``, docs/real_data.md); a hit shows motion only beyond three sigma of the range
 #: noise; space is surely free only after 0.5 s without a hit near it (the burn-in), a scan
 #: segment narrower than 5 cm shows no motion, and a wall seen at more than 60 deg from its
 #: normal next to beams with no return goes on (its unknown cells cost 100 cells more).
-REAL_LASER = {'no_return_reach': 0.0, 'mixed_pixel_angle': 0.1745, 'veiling_angle': 0.1745,
+REAL_LASER = {'no_return_reach': 0.0, 'mixed_pixel_angle': 0.1745, 'spike_angle': 0.1745,
+              'veiling_angle': 0.1745,
               'range_noise_margin': 0.05, 'range_noise_fraction': 0.03, 'free_burn_in': 0.5,
               'object_min_width': 0.05, 'wall_continuation_angle': 1.0472}
 NAVIGATORS = {

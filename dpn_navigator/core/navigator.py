@@ -207,6 +207,11 @@ class NavigatorConfig:
         'both within this angle of its beam, is read as invalid (a spot that fell on both '
         "sides of a depth edge; 0.17 rad = 10 deg, as laser_filters' shadow filter); 0: off "
         '(the paper)', 0.0, 1.5707963267948966)
+    spike_angle: float = setting(
+        0.0, 'rad', 'spikes: a hit whose two neighbours both lie nearer, or both farther, the '
+        'segments to both within this angle of its beam, is read as invalid (two mixed pixels '
+        "side by side at a depth edge, speckle, a thing one beam wide; laser_filters' speckle "
+        'filter drops them by range difference); 0: off (the paper)', 0.0, 1.5707963267948966)
     veiling_angle: float = setting(
         0.0, 'rad', "veiling hits (laser_filters' shadow filter): a hit whose segment to a "
         'neighbour lies within this angle of its beam (beside a depth edge, or on a surface '

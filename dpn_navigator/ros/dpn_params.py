@@ -197,7 +197,7 @@ PARAMETERS = (
                 'track_exclusive', 'trail_distance', 'object_memory',
                 'object_memory_short_segments', 'no_echo_below_range_min',
                 'no_return_reach', 'surface_time', 'surface_memory', 'noise_margin',
-                'mixed_pixel_angle', 'veiling_angle', 'range_noise_margin',
+                'mixed_pixel_angle', 'spike_angle', 'veiling_angle', 'range_noise_margin',
                 'range_noise_fraction', 'free_burn_in', 'object_min_width',
                 'robot_length', 'robot_width',
                 'turn_sweep_memory', 'turn_sweep_margin', 'turn_sweep_spot_distance',

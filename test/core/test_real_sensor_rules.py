@@ -7,7 +7,8 @@ from pathlib import Path
 from dpn_navigator.core.cell_label import CellLabel
 from dpn_navigator.core.grid_geometry import GridGeometry
 from dpn_navigator.core.mapping.label_grid import LabelGrid, LabelRule
-from dpn_navigator.core.mapping.scan_reading import mixed_pixels, read_no_echo, veiling_points
+from dpn_navigator.core.mapping.scan_reading import (mixed_pixels, read_no_echo, spikes,
+                                                     veiling_points)
 from dpn_navigator.core.mapping.surface_memory import SurfaceMemory
 from dpn_navigator.core.navigator import NavigatorConfig
 from literal_reference import literal_update_with_rule
@@ -238,6 +239,59 @@ def test_a_mixed_pixel_veils_towards_both_sides_and_an_object_edge_one():
     assert not mixed_pixels(edge, increment, 0.1, 10.0, 0.1745).any()
     # A surface facing the laser does not veil.
     assert not veiling_points(np.full(7, 2.0), increment, 0.1, 10.0, 0.1745).any()
+
+
+@pytest.mark.parametrize('seed', range(40))
+def test_spikes_equal_their_literal_twin_and_are_the_rest_of_the_two_sided_veils(seed):
+    from real_sensor_rules import literal_spikes, literal_veils
+    rng = np.random.default_rng(1000 + seed)
+    ranges = random_edge_scan(rng)
+    lone = rng.choice(ranges.shape[0], 6, replace=False)      # speckle, nearer or farther
+    ranges[lone] = ranges[lone] + rng.choice([-1.0, 1.0], 6) * rng.uniform(0.3, 1.5, 6)
+    increment = float(rng.choice([0.0044, 0.0065, 0.0175, 0.1]))
+    angle = float(rng.choice([0.1, 0.1745, 0.3]))
+    spiked = spikes(ranges, increment, 0.1, 5.5, angle)
+    assert_array_equal(spiked, literal_spikes(ranges, increment, 0.1, 5.5, angle))
+    # With the mixed pixels: exactly the hits that veil towards both neighbours.
+    both = [0 < i < ranges.shape[0] - 1
+            and literal_veils(ranges, i, i - 1, increment, 0.1, 5.5, angle)
+            and literal_veils(ranges, i, i + 1, increment, 0.1, 5.5, angle)
+            for i in range(ranges.shape[0])]
+    mixed = mixed_pixels(ranges, increment, 0.1, 5.5, angle)
+    assert not (spiked & mixed).any()
+    assert_array_equal(spiked | mixed, both)
+    assert not spikes(ranges, increment, 0.1, 5.5, 0.0).any()
+
+
+def test_two_mixed_pixels_side_by_side_are_spikes_and_a_wall_is_not():
+    increment = math.radians(0.25)
+    # A box 2 m away, its edge beam and the background's edge beam both mixed (3.6 and
+    # 2.9 m: each between the surfaces, out of order), the background 5 m away.
+    ranges = np.array([2.0, 2.0, 2.0, 3.6, 2.9, 5.0, 5.0, 5.0])
+    assert not mixed_pixels(ranges, increment, 0.1, 10.0, 0.1745).any()
+    assert_array_equal(spikes(ranges, increment, 0.1, 10.0, 0.1745),
+                       [False, False, False, True, True, False, False, False])
+    # A wall seen at 70 deg from its normal, and a box's edge, have none.
+    angles = np.arange(40) * increment
+    wall = 1.0 / np.cos(math.radians(70.0) - angles)
+    assert not spikes(wall, increment, 0.1, 10.0, 0.1745).any()
+    assert not spikes(np.array([2.0, 2.0, 2.0, 5.0, 5.0]), increment, 0.1, 10.0,
+                      0.1745).any()
+
+
+def test_spikes_read_as_invalid_leave_no_obstacle():
+    ranges = np.full(BEAMS, 6.0)
+    ranges[90] = 3.0                                          # a lone return off nothing
+    kept = grid_for(LabelRule())
+    dropped = grid_for(LabelRule(spike_angle=0.1745))
+    for grid in (kept, dropped):
+        grid.update((0.0, 0.0, 0.0), ranges, ANGLE_MIN, INCREMENT, 0.1, 8.0, 0.6)
+    cell = kept.geometry.world_to_cell(3.0, 0.0)
+    assert kept.labels[cell] == CellLabel.STEADY_OBSTACLE
+    assert dropped.labels[cell] != CellLabel.STEADY_OBSTACLE
+    with pytest.raises(ValueError, match='spike_angle'):
+        LabelRule(spike_angle=-0.1)
+    assert dpn_rule().spike_angle == 0.0
 
 
 def edge_scan(laser_y, mixed=False):

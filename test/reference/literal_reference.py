@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 from real_sensor_rules import (literal_fine_ranges, literal_mixed, literal_narrow, literal_read,
-                               literal_shorten, literal_veiling)
+                               literal_shorten, literal_spikes, literal_veiling)
 
 NON_EXPLORED, EXPLORED, STEADY, MOBILE = 0, 1, 2, 3
 
@@ -249,6 +249,8 @@ def literal_update_with_rule(labels, seen_free, last_hit, origin, resolution, po
     """
     ranges = literal_read(ranges, range_min, rule.no_echo_below_range_min)
     mixed = literal_mixed(ranges, angle_increment, range_min, range_max, rule.mixed_pixel_angle)
+    spiked = literal_spikes(ranges, angle_increment, range_min, range_max, rule.spike_angle)
+    mixed = [m or k for m, k in zip(mixed, spiked)]
     ranges = [math.nan if m else r for r, m in zip(ranges, mixed)]
     vertices, hits = literal_scan_points(
         pose, ranges, angle_min, angle_increment, range_min, range_max)

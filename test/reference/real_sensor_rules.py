@@ -146,6 +146,23 @@ def literal_mixed(ranges, angle_increment, range_min, range_max, min_angle):
     return mixed
 
 
+def literal_spikes(ranges, angle_increment, range_min, range_max, min_angle):
+    """Return, beam by beam, whether a hit lies past or before both neighbours, veiling to both."""
+    spiked = [False] * len(ranges)
+    if min_angle <= 0.0:
+        return spiked
+    for i in range(1, len(ranges) - 1):
+        before, middle, after = (float(ranges[i - 1]), float(ranges[i]),
+                                 float(ranges[i + 1]))
+        alone = (middle > before and middle > after) or (middle < before and middle < after)
+        spiked[i] = (alone
+                     and literal_veils(ranges, i, i - 1, angle_increment, range_min, range_max,
+                                       min_angle)
+                     and literal_veils(ranges, i, i + 1, angle_increment, range_min, range_max,
+                                       min_angle))
+    return spiked
+
+
 def literal_narrow(hits, beams, segment_gap, min_width):
     """
     Return, hit by hit, whether the end hits of its segment lie less than ``min_width`` apart.

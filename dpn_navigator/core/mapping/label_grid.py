@@ -24,7 +24,7 @@ from .label_update import (expire_listed, mark_free_window, scan_hits, scan_upda
 from .motion_tracks import MotionTracks, TrackConfig
 from .object_memory import ObjectMemory
 from .scan_reading import (mixed_pixels, no_return_as_reading, read_no_echo,
-                           shorten_no_returns, veiling_points)
+                           shorten_no_returns, spikes, veiling_points)
 from .surface_memory import SurfaceMemory
 from .trail_marks import update_trails
 from .travel_generations import TravelGenerations
@@ -260,6 +260,12 @@ class LabelRule:
         neighbours in depth, the segments to both within this angle of its beam, is read as
         invalid (no hit, no free space): the spot of a beam at a depth edge fell on both
         surfaces and its range lies between them, on nothing. 0 turns it off.
+    spike_angle : float
+        Spikes [rad] (``scan_reading.spikes``): a hit whose neighbours both lie nearer, or
+        both farther, the segments to both within this angle of its beam, is read as invalid:
+        a lone point in depth (two mixed pixels side by side at a depth edge, speckle, a thing
+        one beam wide). With ``mixed_pixel_angle`` at the same angle, every hit that veils
+        towards both sides is invalid. 0 turns it off.
     veiling_angle : float
         Veiling hits [rad] (``scan_reading.veiling_points``, ROS ``laser_filters``' shadow
         filter): a hit whose segment to a neighbour lies within this angle of its beam (beside
@@ -319,6 +325,7 @@ class LabelRule:
     surface_memory: float = 10.0
     noise_margin: float = 0.1
     mixed_pixel_angle: float = 0.0
+    spike_angle: float = 0.0
     veiling_angle: float = 0.0
     range_noise_margin: float = 0.0
     range_noise_fraction: float = 0.0
@@ -382,7 +389,7 @@ class LabelRule:
         if self.moving_object_size > 0.0 and self.free_evidence_radius == 0.0:
             raise ValueError('moving_object_size needs free_evidence_radius > 0: motion is '
                              'shown by hits in space surely seen free')
-        for name in ('mixed_pixel_angle', 'veiling_angle'):
+        for name in ('mixed_pixel_angle', 'spike_angle', 'veiling_angle'):
             value = getattr(self, name)
             if not (math.isfinite(value) and 0.0 <= value <= 0.5 * math.pi):
                 raise ValueError(f'{name} must lie in [0, pi / 2] rad, got {value!r}')
@@ -736,9 +743,12 @@ class LabelGrid(PlanningMap):
         if expiring:
             self._restart_clocks_if_time_went_back(stamp)
         ranges = read_no_echo(ranges, range_min, self.rule.no_echo_below_range_min)
-        if self.rule.mixed_pixel_angle > 0.0:
+        if self.rule.mixed_pixel_angle > 0.0 or self.rule.spike_angle > 0.0:
             mixed = mixed_pixels(ranges, angle_increment, range_min, range_max,
                                  self.rule.mixed_pixel_angle)
+            if self.rule.spike_angle > 0.0:
+                mixed |= spikes(ranges, angle_increment, range_min, range_max,
+                                self.rule.spike_angle)
             if mixed.any():
                 ranges = ranges.copy()
                 ranges[mixed] = math.nan

@@ -14,7 +14,9 @@ as no return, which shows the whole beam out to ``range_max`` empty. Real lasers
   *mixed pixel*), a point floating in free space (`mixed_pixels`, read as invalid with
   ``LabelRule.mixed_pixel_angle``); the hits beside a depth edge and those of surfaces seen at
   grazing incidence veil (`veiling_points`, as ROS ``laser_filters``' shadow filter), and show
-  no motion with ``LabelRule.veiling_angle``.
+  no motion with ``LabelRule.veiling_angle``; a lone hit that veils towards both neighbours,
+  both nearer or both farther than it (`spikes`: a mixed pixel beside another, a speckle), is
+  read as invalid with ``LabelRule.spike_angle``.
 
 """
 
@@ -182,6 +184,30 @@ def mixed_pixels(ranges, angle_increment, range_min, range_max, min_angle):
         between = (ranges[:-2] - ranges[1:-1]) * (ranges[1:-1] - ranges[2:]) > 0.0
     mixed[1:-1] = to_before[:-1] & to_after[1:] & between
     return mixed
+
+
+def spikes(ranges, angle_increment, range_min, range_max, min_angle):
+    """
+    Find the spikes of a scan: hits that veil towards both neighbours, which lie on one side.
+
+    A spike stands alone in depth: both neighbouring hits are nearer than it, or both farther,
+    and the segments to both lie within ``min_angle`` of its beam (`veiling_points`). Two
+    mixed pixels side by side at a depth edge (each between the surfaces, the nearer one's
+    neighbour is the farther one) and speckle (a lone return off nothing) are spikes; so is a
+    thing one beam wide, which a laser cannot tell from them (ROS ``laser_filters``' speckle
+    filter drops them too, by their range difference). Together with `mixed_pixels` these are
+    the hits that veil towards both sides. Parameters and result as `veiling_points`'s: the
+    (L,) bool array of the spikes.
+    """
+    ranges, found, sides = _edge_test(ranges, angle_increment, range_min, range_max,
+                                      min_angle, 3)
+    if sides is None:
+        return found
+    to_before, to_after = sides
+    with np.errstate(invalid='ignore'):
+        alone = (ranges[:-2] - ranges[1:-1]) * (ranges[1:-1] - ranges[2:]) < 0.0
+    found[1:-1] = to_before[:-1] & to_after[1:] & alone
+    return found
 
 
 def _edge_test(ranges, angle_increment, range_min, range_max, min_angle, min_beams):
