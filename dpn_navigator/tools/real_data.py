@@ -607,9 +607,10 @@ to 1.26 per scan.
 
 **`dpn_real_laser`, for a moving robot.** `config/dpn_real_laser.yaml` (the benchmark's
 `--navigator dpn_real_laser`) is dpn with beams that return nothing clearing nothing
-(`no_return_reach` 0: Nav2's obstacle layer with `inf_is_valid` false), mixed pixels read as
-invalid (`mixed_pixel_angle`, 10 deg), veiling hits without motion evidence of their own
-(`veiling_angle`, 10 deg; ROS `laser_filters`' shadow filter), the range noise rule above
+(`no_return_reach` 0: Nav2's obstacle layer with `inf_is_valid` false), mixed pixels and
+spikes read as invalid (`mixed_pixel_angle`, `spike_angle`, 10 deg), veiling hits without
+motion evidence of their own (`veiling_angle`, 10 deg; ROS `laser_filters`' shadow filter),
+the range noise rule above
 (0.05 m + 3 %; set it to three sigma of your laser's range noise and of your localiser's
 heading error), the burn-in (0.5 s), narrow things (5 cm) and, for planning, walls that go
 on past the grazing cut-off (60 deg; [method](method.md#walls-that-go-on)). A moving robot

@@ -7,8 +7,8 @@ from pathlib import Path
 from dpn_navigator.core.cell_label import CellLabel
 from dpn_navigator.core.grid_geometry import GridGeometry
 from dpn_navigator.core.mapping.label_grid import LabelGrid, LabelRule
-from dpn_navigator.core.mapping.scan_reading import (mixed_pixels, read_no_echo, spikes,
-                                                     veiling_points)
+from dpn_navigator.core.mapping.scan_reading import (edge_pixels, mixed_pixels, read_no_echo,
+                                                     spikes, veiling_points)
 from dpn_navigator.core.mapping.surface_memory import SurfaceMemory
 from dpn_navigator.core.navigator import NavigatorConfig
 from literal_reference import literal_update_with_rule
@@ -260,6 +260,10 @@ def test_spikes_equal_their_literal_twin_and_are_the_rest_of_the_two_sided_veils
     mixed = mixed_pixels(ranges, increment, 0.1, 5.5, angle)
     assert not (spiked & mixed).any()
     assert_array_equal(spiked | mixed, both)
+    assert_array_equal(edge_pixels(ranges, increment, 0.1, 5.5, angle, angle), both)
+    other = 0.5 * angle
+    assert_array_equal(edge_pixels(ranges, increment, 0.1, 5.5, angle, other),
+                       mixed | spikes(ranges, increment, 0.1, 5.5, other))
     assert not spikes(ranges, increment, 0.1, 5.5, 0.0).any()
 
 

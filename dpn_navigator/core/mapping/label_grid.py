@@ -23,8 +23,8 @@ from .label_update import (expire_listed, mark_free_window, scan_hits, scan_upda
                            squared_bound, surely_free_update)
 from .motion_tracks import MotionTracks, TrackConfig
 from .object_memory import ObjectMemory
-from .scan_reading import (mixed_pixels, no_return_as_reading, read_no_echo,
-                           shorten_no_returns, spikes, veiling_points)
+from .scan_reading import (edge_pixels, no_return_as_reading, read_no_echo,
+                           shorten_no_returns, veiling_points)
 from .surface_memory import SurfaceMemory
 from .trail_marks import update_trails
 from .travel_generations import TravelGenerations
@@ -744,11 +744,8 @@ class LabelGrid(PlanningMap):
             self._restart_clocks_if_time_went_back(stamp)
         ranges = read_no_echo(ranges, range_min, self.rule.no_echo_below_range_min)
         if self.rule.mixed_pixel_angle > 0.0 or self.rule.spike_angle > 0.0:
-            mixed = mixed_pixels(ranges, angle_increment, range_min, range_max,
-                                 self.rule.mixed_pixel_angle)
-            if self.rule.spike_angle > 0.0:
-                mixed |= spikes(ranges, angle_increment, range_min, range_max,
-                                self.rule.spike_angle)
+            mixed = edge_pixels(ranges, angle_increment, range_min, range_max,
+                                self.rule.mixed_pixel_angle, self.rule.spike_angle)
             if mixed.any():
                 ranges = ranges.copy()
                 ranges[mixed] = math.nan

@@ -210,6 +210,27 @@ def spikes(ranges, angle_increment, range_min, range_max, min_angle):
     return found
 
 
+def edge_pixels(ranges, angle_increment, range_min, range_max, mixed_angle, spike_angle):
+    """
+    Return the hits read as invalid at depth edges: `mixed_pixels` or `spikes`, (L,) bool.
+
+    One veiling test serves both when their angles are equal (``dpn_real_laser``'s): the
+    hits that veil towards both neighbours, in depth between them or not.
+    """
+    if mixed_angle != spike_angle:
+        return (mixed_pixels(ranges, angle_increment, range_min, range_max, mixed_angle)
+                | spikes(ranges, angle_increment, range_min, range_max, spike_angle))
+    ranges, found, sides = _edge_test(ranges, angle_increment, range_min, range_max,
+                                      mixed_angle, 3)
+    if sides is None:
+        return found
+    to_before, to_after = sides
+    with np.errstate(invalid='ignore'):
+        ordered = (ranges[:-2] - ranges[1:-1]) * (ranges[1:-1] - ranges[2:]) != 0.0
+    found[1:-1] = to_before[:-1] & to_after[1:] & ordered
+    return found
+
+
 def _edge_test(ranges, angle_increment, range_min, range_max, min_angle, min_beams):
     """
     Return the float64 ranges, an all-False (L,) bool result and `_veiling_sides`'s pair.
