@@ -131,36 +131,32 @@ def literal_veiling(ranges, angle_increment, range_min, range_max, min_angle):
 
 def literal_mixed(ranges, angle_increment, range_min, range_max, min_angle):
     """Return, beam by beam, whether a hit lies between both neighbours, veiling to both."""
-    mixed = [False] * len(ranges)
-    if min_angle <= 0.0:
-        return mixed
-    for i in range(1, len(ranges) - 1):
-        before, middle, after = (float(ranges[i - 1]), float(ranges[i]),
-                                 float(ranges[i + 1]))
-        between = (before < middle < after) or (before > middle > after)
-        mixed[i] = (between
-                    and literal_veils(ranges, i, i - 1, angle_increment, range_min, range_max,
-                                      min_angle)
-                    and literal_veils(ranges, i, i + 1, angle_increment, range_min, range_max,
-                                      min_angle))
-    return mixed
+    return _literal_both_ways(ranges, angle_increment, range_min, range_max, min_angle,
+                              lambda before, middle, after: (before < middle < after)
+                              or (before > middle > after))
 
 
 def literal_spikes(ranges, angle_increment, range_min, range_max, min_angle):
     """Return, beam by beam, whether a hit lies past or before both neighbours, veiling to both."""
-    spiked = [False] * len(ranges)
+    return _literal_both_ways(ranges, angle_increment, range_min, range_max, min_angle,
+                              lambda before, middle, after: (middle > max(before, after))
+                              or (middle < min(before, after)))
+
+
+def _literal_both_ways(ranges, angle_increment, range_min, range_max, min_angle, placed):
+    """Return, beam by beam, whether a hit ``placed(before, middle, after)`` veils to both."""
+    found = [False] * len(ranges)
     if min_angle <= 0.0:
-        return spiked
+        return found
     for i in range(1, len(ranges) - 1):
         before, middle, after = (float(ranges[i - 1]), float(ranges[i]),
                                  float(ranges[i + 1]))
-        alone = (middle > before and middle > after) or (middle < before and middle < after)
-        spiked[i] = (alone
-                     and literal_veils(ranges, i, i - 1, angle_increment, range_min, range_max,
-                                       min_angle)
-                     and literal_veils(ranges, i, i + 1, angle_increment, range_min, range_max,
-                                       min_angle))
-    return spiked
+        found[i] = (placed(before, middle, after)
+                    and literal_veils(ranges, i, i - 1, angle_increment, range_min, range_max,
+                                      min_angle)
+                    and literal_veils(ranges, i, i + 1, angle_increment, range_min, range_max,
+                                      min_angle))
+    return found
 
 
 def literal_narrow(hits, beams, segment_gap, min_width):

@@ -175,15 +175,7 @@ def mixed_pixels(ranges, angle_increment, range_min, range_max, min_angle):
     veils only towards the far side, and is kept. Parameters and result as `veiling_points`'s:
     the (L,) bool array of the mixed pixels.
     """
-    ranges, mixed, sides = _edge_test(ranges, angle_increment, range_min, range_max,
-                                      min_angle, 3)
-    if sides is None:
-        return mixed
-    to_before, to_after = sides
-    with np.errstate(invalid='ignore'):
-        between = (ranges[:-2] - ranges[1:-1]) * (ranges[1:-1] - ranges[2:]) > 0.0
-    mixed[1:-1] = to_before[:-1] & to_after[1:] & between
-    return mixed
+    return _veiling_both_ways(ranges, angle_increment, range_min, range_max, min_angle, 1)
 
 
 def spikes(ranges, angle_increment, range_min, range_max, min_angle):
@@ -199,15 +191,7 @@ def spikes(ranges, angle_increment, range_min, range_max, min_angle):
     the hits that veil towards both sides. Parameters and result as `veiling_points`'s: the
     (L,) bool array of the spikes.
     """
-    ranges, found, sides = _edge_test(ranges, angle_increment, range_min, range_max,
-                                      min_angle, 3)
-    if sides is None:
-        return found
-    to_before, to_after = sides
-    with np.errstate(invalid='ignore'):
-        alone = (ranges[:-2] - ranges[1:-1]) * (ranges[1:-1] - ranges[2:]) < 0.0
-    found[1:-1] = to_before[:-1] & to_after[1:] & alone
-    return found
+    return _veiling_both_ways(ranges, angle_increment, range_min, range_max, min_angle, -1)
 
 
 def edge_pixels(ranges, angle_increment, range_min, range_max, mixed_angle, spike_angle):
@@ -220,13 +204,24 @@ def edge_pixels(ranges, angle_increment, range_min, range_max, mixed_angle, spik
     if mixed_angle != spike_angle:
         return (mixed_pixels(ranges, angle_increment, range_min, range_max, mixed_angle)
                 | spikes(ranges, angle_increment, range_min, range_max, spike_angle))
+    return _veiling_both_ways(ranges, angle_increment, range_min, range_max, mixed_angle, 0)
+
+
+def _veiling_both_ways(ranges, angle_increment, range_min, range_max, min_angle, order):
+    """
+    Return the hits that veil towards both neighbours, by their order in depth, (L,) bool.
+
+    ``order`` 1: between the neighbours (`mixed_pixels`); -1: both neighbours on one side
+    (`spikes`); 0: either.
+    """
     ranges, found, sides = _edge_test(ranges, angle_increment, range_min, range_max,
-                                      mixed_angle, 3)
+                                      min_angle, 3)
     if sides is None:
         return found
     to_before, to_after = sides
     with np.errstate(invalid='ignore'):
-        ordered = (ranges[:-2] - ranges[1:-1]) * (ranges[1:-1] - ranges[2:]) != 0.0
+        product = (ranges[:-2] - ranges[1:-1]) * (ranges[1:-1] - ranges[2:])
+    ordered = product != 0.0 if order == 0 else np.sign(product) == order
     found[1:-1] = to_before[:-1] & to_after[1:] & ordered
     return found
 
