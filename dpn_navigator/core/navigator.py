@@ -190,6 +190,17 @@ class NavigatorConfig:
         '(weak echoes of dark or far surfaces drop out before range_max); 1: to range_max '
         "(the paper, REP 117; Nav2's inf_is_valid true); 0: it clears nothing (inf_is_valid "
         'false)', 0.0, 1.0)
+    no_return_standing_distance: float = setting(
+        0.0, 'm', 'beams with no return clear (out to `no_return_reach`) only while the laser '
+        'stands, within this distance of one place for `no_return_standing_time`; while it '
+        'moves they clear nothing, and when it starts to move the free evidence is dropped '
+        '(a wall at grazing incidence returns nothing, and turns towards a moving laser: its '
+        'echo would land in space shown empty; [real data](real_data.md)); 0: off, '
+        '`no_return_reach` always', 0.0, 10.0)
+    no_return_standing_time: float = setting(
+        0.5, 's', 'how long the laser must stay within `no_return_standing_distance` of a '
+        'place before it stands (read only with `no_return_standing_distance` > 0)',
+        0.0, 3600.0)
     surface_time: float = setting(
         2.0, 's', 'intermittent surfaces: a place (a cell of `noise_margin`) hit for this '
         'long in all is a known surface; hits within one place of it show no motion and '

@@ -1,4 +1,4 @@
-"""The label rules for real lasers: no-echo codes, no-return reach, surfaces, edge pixels."""
+"""The label rules for real lasers: no-echo codes and reach, standing, surfaces, edge pixels."""
 
 import dataclasses
 import math
@@ -7,6 +7,7 @@ from pathlib import Path
 from dpn_navigator.core.cell_label import CellLabel
 from dpn_navigator.core.grid_geometry import GridGeometry
 from dpn_navigator.core.mapping.label_grid import LabelGrid, LabelRule
+from dpn_navigator.core.mapping.laser_standing import LaserStanding
 from dpn_navigator.core.mapping.scan_reading import (edge_pixels, mixed_pixels, read_no_echo,
                                                      spikes, veiling_points)
 from dpn_navigator.core.mapping.surface_memory import SurfaceMemory
@@ -15,7 +16,7 @@ from literal_reference import literal_update_with_rule
 import numpy as np
 from numpy.testing import assert_array_equal
 import pytest
-from real_sensor_rules import LiteralSurfaceMemory
+from real_sensor_rules import LiteralStanding, LiteralSurfaceMemory
 
 BEAMS = 181
 ANGLE_MIN = -math.pi / 2
@@ -193,6 +194,7 @@ def test_the_paper_keeps_every_real_sensor_rule_off():
     assert paper.surface_time == 0.0
     assert paper.mixed_pixel_angle == paper.veiling_angle == 0.0
     assert paper.free_burn_in == paper.object_min_width == 0.0
+    assert paper.no_return_standing_distance == 0.0
 
 
 # --- Mixed pixels and veiling hits (`mixed_pixel_angle`, `veiling_angle`).
@@ -619,5 +621,154 @@ def test_bad_burn_in_and_width_parameters_raise():
     with pytest.raises(ValueError, match='object_min_width needs surface_time'):
         LabelRule(free_evidence_radius=0.5, moving_object_size=0.7, object_min_width=0.05)
     grid = grid_for(real_rule(free_burn_in=0.5))
-    with pytest.raises(ValueError, match='free_burn_in. needs a finite scan stamp'):
+    with pytest.raises(ValueError, match='no_return_standing_distance. needs a finite scan stamp'):
         grid.update((0.0, 0.0, 0.0), np.full(BEAMS, 3.0), ANGLE_MIN, INCREMENT, 0.1, 8.0, 0.6)
+
+
+# --- Beams with no return clear only while the laser stands (`no_return_standing_distance`).
+
+WALL_Y = 1.25
+
+
+def grazing_wall_scans(start_x=-3.0, stand=12, moves=16, step=0.25, cutoff=math.radians(75)):
+    """
+    Yield ``(stamp, pose, ranges)`` of a laser beside a wall it drives along.
+
+    The laser faces +x at y = 0; the wall runs along y = ``WALL_Y`` and returns nothing where
+    a beam meets it more than ``cutoff`` from its normal (a real laser at grazing incidence).
+    The laser stands at ``start_x`` for ``stand`` scans, then drives ``step`` per scan; 10 Hz.
+    """
+    x = start_x
+    for k in range(stand + moves):
+        if k >= stand:
+            x += step
+        yield 0.1 * k, (x, 0.0, 0.0), grazing_wall_ranges(0.0, cutoff)
+
+
+def grazing_wall_ranges(yaw, cutoff=math.radians(75)):
+    """Ranges to the wall of `grazing_wall_scans` from a laser at y = 0 heading ``yaw``."""
+    ranges = np.full(BEAMS, np.inf)
+    for i in range(BEAMS):
+        theta = yaw + ANGLE_MIN + i * INCREMENT
+        if math.sin(theta) > 1e-9 and abs(math.pi / 2 - theta) <= cutoff:
+            ranges[i] = WALL_Y / math.sin(theta)
+    ranges[ranges >= 8.0] = np.inf
+    return ranges
+
+
+def wall_cells_ever_mobile(grid, scans):
+    """Return how many cells of the wall's row were ever labelled mobile."""
+    row, _ = grid.geometry.world_to_cell(0.0, WALL_Y)
+    ever = np.zeros(grid.labels.shape[1], dtype=bool)
+    for stamp, pose, ranges in scans:
+        grid.update(pose, ranges, ANGLE_MIN, INCREMENT, 0.1, 8.0, 0.6, stamp=stamp)
+        ever |= grid.labels[row] == CellLabel.MOBILE_OBSTACLE
+    return int(np.count_nonzero(ever))
+
+
+@pytest.mark.parametrize('standing_distance, wall_ever_mobile', [(0.0, True), (0.1, False)])
+def test_a_wall_at_grazing_incidence_stays_steady_when_no_return_beams_clear_only_standing(
+        standing_distance, wall_ever_mobile):
+    # Standing, the beams past the wall's grazing cut-off return nothing and show its far
+    # part empty; driving along it, the wall turns towards the laser and its echoes land there.
+    grid = grid_for(real_rule(no_return_reach=0.8, no_return_standing_distance=standing_distance,
+                              no_return_standing_time=0.5))
+    assert (wall_cells_ever_mobile(grid, grazing_wall_scans()) > 0) == wall_ever_mobile
+
+
+def test_a_standing_laser_still_sees_a_walker_in_open_space_move():
+    # Nothing behind the walker returns an echo: only beams with no return show its path
+    # empty. Standing, they do (after the standing time); from a moving laser they do not.
+    rule = real_rule(no_return_reach=0.8, no_return_standing_distance=0.1,
+                     no_return_standing_time=0.5)
+    walker = [(0.1 * k, cast(0.0, 100.0, [(2.5, -1.5 + 0.15 * k)]),
+               [(2.5, -1.5 + 0.15 * k)]) for k in range(25)]
+    assert ever_mobile(grid_for(rule), walker, [])[1]
+    grid = grid_for(rule)
+    for k, (stamp, ranges, _) in enumerate(walker):
+        grid.update((-0.2 * k, 0.0, 0.0), cast(-0.2 * k, 100.0, [(2.5, -1.5 + 0.15 * k)]),
+                    ANGLE_MIN, INCREMENT, 0.1, 8.0, 0.6, stamp=stamp)
+        assert not grid.laser_standing.standing
+        assert not (grid.labels == CellLabel.MOBILE_OBSTACLE).any()
+
+
+def test_no_return_beams_clear_standing_equals_its_literal_twin():
+    # The laser's standing, from the definition (`LiteralStanding`), composed with the literal
+    # rule: no_return_reach while it stands, 0 while it moves, evidence dropped as it starts.
+    rule = real_rule(no_return_reach=0.8, no_return_standing_distance=0.1,
+                     no_return_standing_time=0.5)
+    literal_rule = dataclasses.replace(rule, no_return_standing_distance=0.0)
+    side = 8.0
+    grid = grid_for(rule, side)
+    origin = (-side / 2, -side / 2)
+    labels = np.zeros(grid.labels.shape, dtype=np.uint8)
+    seen_free = np.zeros(grid.labels.shape, dtype=bool)
+    last_hit = np.full(grid.labels.shape, -math.inf)
+    fine_seen_free = np.zeros(grid.fine_evidence.seen_free.shape, dtype=bool)
+    surfaces = LiteralSurfaceMemory(origin, rule.noise_margin, rule.surface_time,
+                                    rule.surface_memory)
+    standing = LiteralStanding(0.1, 0.5)
+    last_stamp = -math.inf
+    states = []
+    # Stands, drives along the wall, stands again (jittering 5 cm, turning), drives on.
+    scans = list(grazing_wall_scans(stand=8, moves=6)) + [
+        (3.0 + 0.1 * k, (-1.5 + 0.05 * (k % 2), 0.0, 0.1 * k), grazing_wall_ranges(0.1 * k))
+        for k in range(9)]
+    scans += [(4.0 + 0.1 * k, (-1.5 + 0.3 * k, 0.0, 0.0), ranges)
+              for k, (_, _, ranges) in enumerate(grazing_wall_scans(start_x=-1.5, stand=0,
+                                                                    moves=5, step=0.3))]
+    dropped = 0
+    for stamp, pose, ranges in scans:
+        if standing.step(pose[0], pose[1], stamp):
+            # Started to move: the free evidence goes (coarse and fine).
+            dropped += int(np.count_nonzero(seen_free) + np.count_nonzero(fine_seen_free))
+            seen_free[...] = False
+            fine_seen_free[...] = False
+        states.append(standing.standing)
+        reach = rule.no_return_reach if standing.standing else 0.0
+        _, last_stamp = literal_update_with_rule(
+            labels, seen_free, last_hit, origin, 0.5, pose, ranges, ANGLE_MIN, INCREMENT, 0.1,
+            8.0, 0.6, rule=dataclasses.replace(literal_rule, no_return_reach=reach),
+            stamp=stamp, last_stamp=last_stamp, fine_seen_free=fine_seen_free,
+            surfaces=surfaces)
+        grid.update(pose, ranges, ANGLE_MIN, INCREMENT, 0.1, 8.0, 0.6, stamp=stamp)
+        assert grid.laser_standing.standing == standing.standing
+        assert_array_equal(grid.labels, labels)
+        assert_array_equal(grid.seen_free, seen_free)
+        assert_array_equal(grid.fine_evidence.seen_free, fine_seen_free)
+    # The scene stands, moves and stands again (twice a start), and drops evidence.
+    assert dropped > 0
+    assert states[:4] == [False] * 4 and states[6] and not states[9]
+    assert sum(1 for a, b in zip(states, states[1:]) if a and not b) == 2
+
+
+def test_laser_standing_follows_the_place_and_the_clock():
+    standing = LaserStanding(0.1, 0.5)
+    assert not standing.step((0.0, 0.0), 0.0)
+    assert not standing.standing
+    standing.step((0.05, 0.0), 0.4)
+    assert not standing.standing
+    standing.step((0.0, 0.08), 0.5)
+    assert standing.standing                      # 0.5 s within 0.1 m of the place
+    assert standing.step((0.2, 0.0), 0.6)         # it started to move
+    assert not standing.standing
+    assert not standing.step((0.4, 0.0), 0.7)     # moving on is no new start
+    standing.step((0.4, 0.0), 0.2)                # time went back: it arrived then
+    standing.step((0.4, 0.0), 0.69)
+    assert not standing.standing
+    standing.step((0.4, 0.0), 0.75)
+    assert standing.standing
+    standing.reset()
+    assert not standing.step((0.4, 0.0), 5.0) and not standing.standing
+    for distance, time in ((0.0, 1.0), (-0.1, 1.0), (math.inf, 1.0), (0.1, -1.0),
+                           (0.1, math.nan)):
+        with pytest.raises(ValueError):
+            LaserStanding(distance, time)
+
+
+def test_bad_standing_parameters_raise():
+    for name in ('no_return_standing_distance', 'no_return_standing_time'):
+        for value in (-0.1, math.inf, math.nan):
+            with pytest.raises(ValueError, match=name):
+                LabelRule(**{name: value})
+    assert LabelRule().no_return_standing_distance == 0.0      # off in the paper

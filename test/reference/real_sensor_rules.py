@@ -2,7 +2,8 @@
 Literal twins of the rules for real lasers: no-echo codes, no-return reach, surfaces.
 
 Written beam by beam and hit by hit from ``LabelRule``'s definitions (``no_echo_below_range_min``,
-``no_return_reach``, ``surface_time``), for ``literal_reference.literal_update_with_rule``.
+``no_return_reach``, ``surface_time``), for ``literal_reference.literal_update_with_rule``; and
+whether the laser stands (``no_return_standing_distance``), for the tests to compose with it.
 
 """
 
@@ -184,3 +185,29 @@ def literal_narrow(hits, beams, segment_gap, min_width):
         width = math.hypot(hits[last][0] - hits[first][0], hits[last][1] - hits[first][1])
         narrow.append(width < min_width)
     return narrow
+
+
+class LiteralStanding:
+    """
+    Whether the laser stands (``no_return_standing_distance``), from its definition.
+
+    The laser stands once it has stayed within ``distance`` of the place where it came to
+    rest for ``time``; a position farther away is a new place, and it moves.
+    """
+
+    def __init__(self, distance, time):
+        self.distance = distance
+        self.time = time
+        self.place = None
+        self.arrived = None
+        self.standing = False
+
+    def step(self, x, y, stamp):
+        """Take the laser's position at ``stamp``; return True when it stood and moves now."""
+        if self.place is None or math.hypot(x - self.place[0], y - self.place[1]) > self.distance:
+            stood = self.standing
+            self.place, self.arrived, self.standing = (x, y), stamp, False
+            return stood
+        self.arrived = min(self.arrived, stamp)
+        self.standing = stamp - self.arrived >= self.time
+        return False

@@ -249,6 +249,12 @@ class FineEvidence:
                        np.ascontiguousarray(hits[1], dtype=np.float64), x0, y0,
                        self.geometry.resolution, squared_bound(self.radius), stamp)
 
+    def drop_free(self):
+        """Forget which fine cells were seen free (both generations); keep the hit clock."""
+        self._seen_free[...] = False
+        if self._older is not None:
+            self._older[...] = False
+
     def capped_range_max(self, range_min, range_max):
         """Return the scan's ``range_max`` [m] as the fine evidence takes it: at most max_range."""
         return min(range_max, max(self.max_range, range_min))

@@ -21,6 +21,7 @@ import numpy as np
 from .fine_evidence import FineEvidence
 from .label_update import (expire_listed, mark_free_window, scan_hits, scan_update,
                            squared_bound, surely_free_update)
+from .laser_standing import LaserStanding
 from .motion_tracks import MotionTracks, TrackConfig
 from .object_memory import ObjectMemory
 from .scan_reading import (edge_pixels, no_return_as_reading, read_no_echo,
@@ -243,6 +244,19 @@ class LabelRule:
         the sensor's range); 0: a no-return beam clears nothing (``inf_is_valid`` false).
         Weak echoes (dark or far surfaces, grazing incidence) drop out long before
         ``range_max``, so a beam with no return does not show the last stretch empty.
+    no_return_standing_distance : float
+        Beams with no return clear only while the laser stands [m]
+        (``laser_standing.LaserStanding``): with this > 0, ``no_return_reach`` applies while
+        the laser has stayed within this distance of one place for
+        ``no_return_standing_time``; while it moves such beams clear nothing (as with
+        ``no_return_reach`` 0), and when it starts to move the free evidence (``seen_free``
+        and the fine evidence) is dropped. A wall at grazing incidence returns nothing; from
+        a moving laser it turns towards the beams, and its echo would land in space they
+        showed empty. 0 turns it off (``no_return_reach`` always applies). Needs the scan's
+        ``stamp``.
+    no_return_standing_time : float
+        How long the laser must stay within ``no_return_standing_distance`` of a place before
+        it stands [s], >= 0.
     surface_time : float
         Intermittent surfaces [s] (``surface_memory.SurfaceMemory``): a place (a cell of
         ``noise_margin``) hit for this long in all, in the scans' time, is a known surface,
@@ -321,6 +335,8 @@ class LabelRule:
     object_memory_short_segments: bool = False
     no_echo_below_range_min: bool = False
     no_return_reach: float = 1.0
+    no_return_standing_distance: float = 0.0
+    no_return_standing_time: float = 0.5
     surface_time: float = 0.0
     surface_memory: float = 10.0
     noise_margin: float = 0.1
@@ -404,7 +420,8 @@ class LabelRule:
         if self.veiling_angle > 0.0 and self.surface_time == 0.0:
             raise ValueError('veiling_angle needs surface_time > 0: the veiling hits lose their '
                              'motion evidence with those on known surfaces')
-        for name in ('free_burn_in', 'object_min_width'):
+        for name in ('free_burn_in', 'object_min_width', 'no_return_standing_distance',
+                     'no_return_standing_time'):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0.0):
                 raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
@@ -689,6 +706,9 @@ class LabelGrid(PlanningMap):
         self.surface_memory = (SurfaceMemory(self.geometry, rule.noise_margin,
                                              rule.surface_time, rule.surface_memory)
                                if rule.surface_time > 0.0 else None)
+        self.laser_standing = (LaserStanding(rule.no_return_standing_distance,
+                                             rule.no_return_standing_time)
+                               if rule.no_return_standing_distance > 0.0 else None)
 
     def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
                safety_radius, path=None, angle_max=None, stamp=None, defer_evidence=False):
@@ -742,6 +762,7 @@ class LabelGrid(PlanningMap):
         expiring = self.rule.mobile_expiry > 0.0
         if expiring:
             self._restart_clocks_if_time_went_back(stamp)
+        reach = self._no_return_reach(pose, stamp)
         ranges = read_no_echo(ranges, range_min, self.rule.no_echo_below_range_min)
         if self.rule.mixed_pixel_angle > 0.0 or self.rule.spike_angle > 0.0:
             mixed = edge_pixels(ranges, angle_increment, range_min, range_max,
@@ -755,14 +776,13 @@ class LabelGrid(PlanningMap):
             self._fresh_free.fill(False)
         followed = points = None
         if (self.rule.track_confirm_time > 0.0 or self.fine_evidence is not None
-                or self.surface_memory is not None or self.rule.no_return_reach < 1.0):
+                or self.surface_memory is not None or reach < 1.0):
             followed, points = self._follow(pose, ranges, angle_min, angle_increment,
-                                            range_min, range_max, stamp)
+                                            range_min, range_max, stamp, reach)
         fine_scan = None
         if self.fine_evidence is not None:
             # Read by the next scans only (`_follow` took this one's before).
-            fine_ranges = no_return_as_reading(ranges, range_min, range_max,
-                                               self.rule.no_return_reach)
+            fine_ranges = no_return_as_reading(ranges, range_min, range_max, reach)
             fine_scan = (pose, fine_ranges.copy() if defer_evidence and fine_ranges is ranges
                          else fine_ranges, angle_min, angle_increment, range_min, range_max,
                          0.0 if stamp is None else stamp, (points[2], points[3]))
@@ -783,7 +803,7 @@ class LabelGrid(PlanningMap):
             # radius above the free one keeps more cells out): `seen_free` at the next renewal.
             burning_in = self.rule.free_burn_in > 0.0
             surely_free_update(self._fresh_free, self.geometry, pose, no_return_as_reading(
-                ranges, range_min, range_max, self.rule.no_return_reach), angle_min,
+                ranges, range_min, range_max, reach), angle_min,
                 angle_increment, range_min, range_max,
                 max(self.rule.free_evidence_radius, safety_radius),
                 self.last_hit if burning_in else None, self._free_fresh_after(stamp))
@@ -826,9 +846,40 @@ class LabelGrid(PlanningMap):
             return stamp - self.rule.free_burn_in
         return -math.inf
 
-    def _follow(self, pose, ranges, angle_min, angle_increment, range_min, range_max, stamp):
+    def _no_return_reach(self, pose, stamp):
+        """
+        Return how far beams with no return clear in this scan, as a share of ``range_max``.
+
+        ``no_return_reach``, or 0 while the laser moves (``no_return_standing_distance``);
+        when the laser starts to move, drops the free evidence.
+        """
+        if self.laser_standing is None:
+            return self.rule.no_return_reach
+        if self.laser_standing.step(pose, stamp):
+            self._drop_free_evidence()
+        return self.rule.no_return_reach if self.laser_standing.standing else 0.0
+
+    def _drop_free_evidence(self):
+        """
+        Forget which space was surely seen free (coarse and fine, both generations).
+
+        The labels and the hit clocks stay. Used when the laser starts to move after it
+        stood: its beams with no return showed space empty that a wall at grazing incidence
+        may fill from the next place.
+        """
+        if self.seen_free is not None:
+            self.seen_free.fill(False)
+        if self._fresh_free is not None:
+            self._fresh_free.fill(False)
+        if self.fine_evidence is not None:
+            self.fine_evidence.drop_free()
+
+    def _follow(self, pose, ranges, angle_min, angle_increment, range_min, range_max, stamp,
+                reach):
         """
         Follow the moving objects through the scan.
+
+        ``reach`` is how far beams with no return clear, a share of ``range_max``.
 
         Returns the hits of followed objects and those the fine evidence shows moving, and the
         scan's points and moving hits (`scan_hits`, with the fine evidence's) for the update.
@@ -838,9 +889,8 @@ class LabelGrid(PlanningMap):
             angle_min, angle_increment, range_min, range_max, self._kernel_rule,
             find_moving=self.surface_memory is None)
         vertices_x, vertices_y, hits_x, hits_y, hit_beams, moving = points
-        if self.rule.no_return_reach < 1.0:
-            shorten_no_returns(vertices_x, vertices_y, ranges, range_min, range_max,
-                               self.rule.no_return_reach)
+        if reach < 1.0:
+            shorten_no_returns(vertices_x, vertices_y, ranges, range_min, range_max, reach)
         if self.surface_memory is not None:
             return self._follow_off_surfaces(pose, ranges, angle_min, angle_increment,
                                              range_min, range_max, stamp, points)
@@ -991,10 +1041,11 @@ class LabelGrid(PlanningMap):
             self.geometry.shape, pose, ranges, angle_min, angle_increment, range_min, range_max,
             safety_radius, path, angle_max)
         if (self.rule.mobile_expiry > 0.0 or self.rule.track_confirm_time > 0.0
-                or self.rule.free_burn_in > 0.0):
+                or self.rule.free_burn_in > 0.0 or self.rule.no_return_standing_distance > 0.0):
             if stamp is None or not math.isfinite(stamp):
                 raise ValueError('the label rule (mobile_expiry, track_confirm_time, '
-                                 f'free_burn_in) needs a finite scan stamp, got {stamp!r}')
+                                 'free_burn_in, no_return_standing_distance) needs a finite '
+                                 f'scan stamp, got {stamp!r}')
             stamp = float(stamp)
         return pose, ranges, safety_radius, path, stamp
 
@@ -1138,6 +1189,9 @@ class LabelGrid(PlanningMap):
         self._marked = np.zeros(0, dtype=np.int64)
         if self.object_memory is not None:
             self.object_memory.reset()
+        if self.laser_standing is not None:
+            self.laser_standing.reset()
+
         if self.fine_evidence is not None:
             self.fine_evidence.reset()
         if self.surface_memory is not None:
