@@ -414,6 +414,21 @@ def test_range_noise_is_no_motion_and_a_walker_still_moves(margin, fraction, wal
     assert walker_mobile
 
 
+def twin_state(grid, rule, side):
+    """
+    Return the literal twin's empty state for ``grid`` (centred on the origin, ``side`` m).
+
+    ``(origin, labels, seen_free, last_hit, fine_seen_free, fine_hit_stamp, surfaces)``.
+    """
+    origin = (-side / 2, -side / 2)
+    fine_seen_free = np.zeros(grid.fine_evidence.seen_free.shape, dtype=bool)
+    return (origin, np.zeros(grid.labels.shape, dtype=np.uint8),
+            np.zeros(grid.labels.shape, dtype=bool), np.full(grid.labels.shape, -math.inf),
+            fine_seen_free, np.full(fine_seen_free.shape, -math.inf),
+            LiteralSurfaceMemory(origin, rule.noise_margin, rule.surface_time,
+                                 rule.surface_memory))
+
+
 def twin_run(rule, plain_rule, scans, side=8.0):
     """
     Update a grid with ``rule`` and the literal twin from the origin, scan by scan.
@@ -424,14 +439,8 @@ def twin_run(rule, plain_rule, scans, side=8.0):
     """
     grid = grid_for(rule, side)
     plain = grid_for(plain_rule, side)
-    origin = (-side / 2, -side / 2)
-    labels = np.zeros(grid.labels.shape, dtype=np.uint8)
-    seen_free = np.zeros(grid.labels.shape, dtype=bool)
-    last_hit = np.full(grid.labels.shape, -math.inf)
-    fine_seen_free = np.zeros(grid.fine_evidence.seen_free.shape, dtype=bool)
-    fine_hit_stamp = np.full(fine_seen_free.shape, -math.inf)
-    surfaces = LiteralSurfaceMemory(origin, rule.noise_margin, rule.surface_time,
-                                    rule.surface_memory)
+    origin, labels, seen_free, last_hit, fine_seen_free, fine_hit_stamp, surfaces = \
+        twin_state(grid, rule, side)
     last_stamp = -math.inf
     differs = False
     for stamp, ranges, _ in scans:
@@ -700,13 +709,8 @@ def test_no_return_beams_clear_standing_equals_its_literal_twin():
     literal_rule = dataclasses.replace(rule, no_return_standing_distance=0.0)
     side = 8.0
     grid = grid_for(rule, side)
-    origin = (-side / 2, -side / 2)
-    labels = np.zeros(grid.labels.shape, dtype=np.uint8)
-    seen_free = np.zeros(grid.labels.shape, dtype=bool)
-    last_hit = np.full(grid.labels.shape, -math.inf)
-    fine_seen_free = np.zeros(grid.fine_evidence.seen_free.shape, dtype=bool)
-    surfaces = LiteralSurfaceMemory(origin, rule.noise_margin, rule.surface_time,
-                                    rule.surface_memory)
+    state = twin_state(grid, rule, side)
+    origin, labels, seen_free, last_hit, fine_seen_free, _, surfaces = state
     standing = LiteralStanding(0.1, 0.5)
     last_stamp = -math.inf
     states = []
