@@ -223,6 +223,13 @@ class NavigatorConfig:
         'segments to both within this angle of its beam, is read as invalid (two mixed pixels '
         "side by side at a depth edge, speckle, a thing one beam wide; laser_filters' speckle "
         'filter drops them by range difference); 0: off (the paper)', 0.0, 1.5707963267948966)
+    edge_pixel_flatness: float = setting(
+        0.0, 'm', 'flat walls at grazing incidence: a hit within this distance, along its beam, '
+        "of the line through its neighbours' points is on a flat surface with them, neither a "
+        'mixed pixel nor a spike (a wall met more than 90 deg - `mixed_pixel_angle` from its '
+        'normal looks like one); 0: off ([method](method.md#the-dpn-label-rules-not-in-the-'
+        'paper))',
+        0.0, 1.0)
     veiling_angle: float = setting(
         0.0, 'rad', "veiling hits (laser_filters' shadow filter): a hit whose segment to a "
         'neighbour lies within this angle of its beam (beside a depth edge, or on a surface '

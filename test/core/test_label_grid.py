@@ -310,6 +310,10 @@ RULES = {
                         surface_time=0.3, surface_memory=2.0, noise_margin=0.25,
                         mixed_pixel_angle=0.5, spike_angle=0.5, veiling_angle=0.4),
     'spikes_alone': LabelRule(spike_angle=0.6),
+    'flat_walls': LabelRule(free_evidence_radius=0.5, moving_object_size=0.7, segment_gap=0.6,
+                            surface_time=0.3, surface_memory=2.0, noise_margin=0.25,
+                            mixed_pixel_angle=0.5, spike_angle=0.5, edge_pixel_flatness=0.3,
+                            veiling_angle=0.4),
     # A hit's motion evidence checked the range noise margin beyond it, coarse and fine.
     'range_noise': LabelRule(free_evidence_radius=0.5, moving_object_size=0.7, segment_gap=0.6,
                              object_min_hits=2, fine_evidence_resolution=0.25,
@@ -329,8 +333,8 @@ RULES = {
                         free_burn_in=0.2),
 }
 REAL_SENSOR_RULES = ('real', 'no_return_clears_nothing', 'no_return_short', 'edge_pixels',
-                     'mixed_pixels_alone', 'spikes', 'spikes_alone', 'range_noise', 'burn_in',
-                     'narrow')
+                     'mixed_pixels_alone', 'spikes', 'spikes_alone', 'flat_walls', 'range_noise',
+                     'burn_in', 'narrow')
 
 
 @settings(max_examples=120)

@@ -248,8 +248,10 @@ def literal_update_with_rule(labels, seen_free, last_hit, origin, resolution, po
     ``fine_evidence_radius`` of it) with the burn-in.
     """
     ranges = literal_read(ranges, range_min, rule.no_echo_below_range_min)
-    mixed = literal_mixed(ranges, angle_increment, range_min, range_max, rule.mixed_pixel_angle)
-    spiked = literal_spikes(ranges, angle_increment, range_min, range_max, rule.spike_angle)
+    mixed = literal_mixed(ranges, angle_increment, range_min, range_max, rule.mixed_pixel_angle,
+                          rule.edge_pixel_flatness)
+    spiked = literal_spikes(ranges, angle_increment, range_min, range_max, rule.spike_angle,
+                            rule.edge_pixel_flatness)
     mixed = [m or k for m, k in zip(mixed, spiked)]
     ranges = [math.nan if m else r for r, m in zip(ranges, mixed)]
     vertices, hits = literal_scan_points(

@@ -130,18 +130,48 @@ def literal_veiling(ranges, angle_increment, range_min, range_max, min_angle):
             for i in range(len(ranges))]
 
 
-def literal_mixed(ranges, angle_increment, range_min, range_max, min_angle):
-    """Return, beam by beam, whether a hit lies between both neighbours, veiling to both."""
-    return _literal_both_ways(ranges, angle_increment, range_min, range_max, min_angle,
-                              lambda before, middle, after: (before < middle < after)
-                              or (before > middle > after))
+def literal_mixed(ranges, angle_increment, range_min, range_max, min_angle, flatness=0.0):
+    """
+    Return, beam by beam, whether a hit lies between both neighbours, veiling to both.
+
+    With ``flatness`` > 0, not when it lies within that distance of the line through its
+    neighbours' points (a flat surface).
+    """
+    def placed(before, middle, after):
+        between = (before < middle < after) or (before > middle > after)
+        return between and not (flatness > 0.0 and literal_off_line(
+            before, middle, after, angle_increment) <= flatness)
+
+    return _literal_both_ways(ranges, angle_increment, range_min, range_max, min_angle, placed)
 
 
-def literal_spikes(ranges, angle_increment, range_min, range_max, min_angle):
-    """Return, beam by beam, whether a hit lies past or before both neighbours, veiling to both."""
-    return _literal_both_ways(ranges, angle_increment, range_min, range_max, min_angle,
-                              lambda before, middle, after: (middle > max(before, after))
-                              or (middle < min(before, after)))
+def literal_off_line(before, middle, after, angle_increment):
+    """
+    How far the middle hit lies from the line of its neighbours' points, along its beam [m].
+
+    In the middle beam's frame (its beam along +x) the neighbours' points lie at
+    ``-angle_increment`` and ``+angle_increment``; the line through them meets the x axis.
+    """
+    ax, ay = before * math.cos(-angle_increment), before * math.sin(-angle_increment)
+    bx, by = after * math.cos(angle_increment), after * math.sin(angle_increment)
+    # The point of the line a + t (b - a) with y = 0.
+    t = -ay / (by - ay)
+    return abs(middle - (ax + t * (bx - ax)))
+
+
+def literal_spikes(ranges, angle_increment, range_min, range_max, min_angle, flatness=0.0):
+    """
+    Return, beam by beam, whether a hit lies past or before both neighbours, veiling to both.
+
+    With ``flatness`` > 0, not when it lies within that distance of the line through its
+    neighbours' points (a flat surface).
+    """
+    def placed(before, middle, after):
+        alone = (middle > max(before, after)) or (middle < min(before, after))
+        return alone and not (flatness > 0.0 and literal_off_line(
+            before, middle, after, angle_increment) <= flatness)
+
+    return _literal_both_ways(ranges, angle_increment, range_min, range_max, min_angle, placed)
 
 
 def _literal_both_ways(ranges, angle_increment, range_min, range_max, min_angle, placed):

@@ -280,6 +280,13 @@ class LabelRule:
         a lone point in depth (two mixed pixels side by side at a depth edge, speckle, a thing
         one beam wide). With ``mixed_pixel_angle`` at the same angle, every hit that veils
         towards both sides is invalid. 0 turns it off.
+    edge_pixel_flatness : float
+        Flat walls at grazing incidence [m]: a hit within this distance, along its beam, of
+        the line through its neighbours' points lies on a flat surface with them and is
+        neither a mixed pixel
+        nor a spike (a wall met more than ``pi / 2 - mixed_pixel_angle`` from its normal veils
+        towards both neighbours too, and its range noise makes spikes). 0 turns it off. Read
+        with ``mixed_pixel_angle`` or ``spike_angle`` > 0.
     veiling_angle : float
         Veiling hits [rad] (``scan_reading.veiling_points``, ROS ``laser_filters``' shadow
         filter): a hit whose segment to a neighbour lies within this angle of its beam (beside
@@ -342,6 +349,7 @@ class LabelRule:
     noise_margin: float = 0.1
     mixed_pixel_angle: float = 0.0
     spike_angle: float = 0.0
+    edge_pixel_flatness: float = 0.0
     veiling_angle: float = 0.0
     range_noise_margin: float = 0.0
     range_noise_fraction: float = 0.0
@@ -409,7 +417,7 @@ class LabelRule:
             value = getattr(self, name)
             if not (math.isfinite(value) and 0.0 <= value <= 0.5 * math.pi):
                 raise ValueError(f'{name} must lie in [0, pi / 2] rad, got {value!r}')
-        for name in ('range_noise_margin', 'range_noise_fraction'):
+        for name in ('range_noise_margin', 'range_noise_fraction', 'edge_pixel_flatness'):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0.0):
                 raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
@@ -766,7 +774,8 @@ class LabelGrid(PlanningMap):
         ranges = read_no_echo(ranges, range_min, self.rule.no_echo_below_range_min)
         if self.rule.mixed_pixel_angle > 0.0 or self.rule.spike_angle > 0.0:
             mixed = edge_pixels(ranges, angle_increment, range_min, range_max,
-                                self.rule.mixed_pixel_angle, self.rule.spike_angle)
+                                self.rule.mixed_pixel_angle, self.rule.spike_angle,
+                                self.rule.edge_pixel_flatness)
             if mixed.any():
                 ranges = ranges.copy()
                 ranges[mixed] = math.nan

@@ -165,20 +165,24 @@ def veiling_points(ranges, angle_increment, range_min, range_max, min_angle):
     return veiling
 
 
-def mixed_pixels(ranges, angle_increment, range_min, range_max, min_angle):
+def mixed_pixels(ranges, angle_increment, range_min, range_max, min_angle, flatness=0.0):
     """
     Find the hits that lie between their two neighbours in depth, veiling towards both.
 
     A mixed pixel floats between the nearer object of a depth edge and what lies behind it:
     the segments to its neighbours on either side are both within ``min_angle`` of its beam
     (`veiling_points`), one neighbour nearer and one farther. The edge hit of an object
-    veils only towards the far side, and is kept. Parameters and result as `veiling_points`'s:
-    the (L,) bool array of the mixed pixels.
+    veils only towards the far side, and is kept. A flat wall met more than
+    ``pi / 2 - min_angle`` from its normal veils both ways too: with ``flatness`` > 0 [m], a
+    hit within that distance, along its beam, of the line through its two neighbours' points
+    lies on a flat surface with them and is kept (0: off). Parameters and result as
+    `veiling_points`'s: the (L,) bool array of the mixed pixels.
     """
-    return _veiling_both_ways(ranges, angle_increment, range_min, range_max, min_angle, 1)
+    return _veiling_both_ways(ranges, angle_increment, range_min, range_max, min_angle, 1,
+                              flatness)
 
 
-def spikes(ranges, angle_increment, range_min, range_max, min_angle):
+def spikes(ranges, angle_increment, range_min, range_max, min_angle, flatness=0.0):
     """
     Find the spikes of a scan: hits that veil towards both neighbours, which lie on one side.
 
@@ -188,31 +192,40 @@ def spikes(ranges, angle_increment, range_min, range_max, min_angle):
     neighbour is the farther one) and speckle (a lone return off nothing) are spikes; so is a
     thing one beam wide, which a laser cannot tell from them (ROS ``laser_filters``' speckle
     filter drops them too, by their range difference). Together with `mixed_pixels` these are
-    the hits that veil towards both sides. Parameters and result as `veiling_points`'s: the
-    (L,) bool array of the spikes.
+    the hits that veil towards both sides. ``flatness`` [m] as `mixed_pixels`'s: range noise
+    on a wall at grazing incidence makes spikes too. Parameters and result as
+    `veiling_points`'s: the (L,) bool array of the spikes.
     """
-    return _veiling_both_ways(ranges, angle_increment, range_min, range_max, min_angle, -1)
+    return _veiling_both_ways(ranges, angle_increment, range_min, range_max, min_angle, -1,
+                              flatness)
 
 
-def edge_pixels(ranges, angle_increment, range_min, range_max, mixed_angle, spike_angle):
+def edge_pixels(ranges, angle_increment, range_min, range_max, mixed_angle, spike_angle,
+                flatness=0.0):
     """
     Return the hits read as invalid at depth edges: `mixed_pixels` or `spikes`, (L,) bool.
 
     One veiling test serves both when their angles are equal (``dpn_real_laser``'s): the
-    hits that veil towards both neighbours, in depth between them or not.
+    hits that veil towards both neighbours, in depth between them or not. ``flatness`` [m]
+    as `mixed_pixels`'s.
     """
     if mixed_angle != spike_angle:
-        return (mixed_pixels(ranges, angle_increment, range_min, range_max, mixed_angle)
-                | spikes(ranges, angle_increment, range_min, range_max, spike_angle))
-    return _veiling_both_ways(ranges, angle_increment, range_min, range_max, mixed_angle, 0)
+        return (mixed_pixels(ranges, angle_increment, range_min, range_max, mixed_angle,
+                             flatness)
+                | spikes(ranges, angle_increment, range_min, range_max, spike_angle,
+                         flatness))
+    return _veiling_both_ways(ranges, angle_increment, range_min, range_max, mixed_angle, 0,
+                              flatness)
 
 
-def _veiling_both_ways(ranges, angle_increment, range_min, range_max, min_angle, order):
+def _veiling_both_ways(ranges, angle_increment, range_min, range_max, min_angle, order,
+                       flatness=0.0):
     """
     Return the hits that veil towards both neighbours, by their order in depth, (L,) bool.
 
     ``order`` 1: between the neighbours (`mixed_pixels`); -1: both neighbours on one side
-    (`spikes`); 0: either.
+    (`spikes`); 0: either. With ``flatness`` > 0 [m], a hit within that distance, along its
+    beam, of the line through its neighbours' points is kept (a flat surface).
     """
     ranges, found, sides = _edge_test(ranges, angle_increment, range_min, range_max,
                                       min_angle, 3)
@@ -223,7 +236,26 @@ def _veiling_both_ways(ranges, angle_increment, range_min, range_max, min_angle,
         product = (ranges[:-2] - ranges[1:-1]) * (ranges[1:-1] - ranges[2:])
     ordered = product != 0.0 if order == 0 else np.sign(product) == order
     found[1:-1] = to_before[:-1] & to_after[1:] & ordered
+    if flatness > 0.0:
+        middle = np.flatnonzero(found[1:-1]) + 1
+        if middle.size:
+            flat = _off_neighbours_line(ranges, middle, angle_increment) <= flatness
+            found[middle[flat]] = False
     return found
+
+
+def _off_neighbours_line(ranges, middle, angle_increment):
+    """
+    Return how far each middle hit lies, along its beam, from the line of its neighbours [m].
+
+    The line through the neighbours' points (at ``-angle_increment`` and ``+angle_increment``
+    from the middle beam, ranges ``r0`` and ``r2``) crosses the middle beam at
+    ``2 r0 r2 cos(angle_increment) / (r0 + r2)``; on a flat surface the middle hit lies there.
+    ``middle`` holds beam indices with valid hits on both sides. (K,) float64.
+    """
+    before, after = ranges[middle - 1], ranges[middle + 1]
+    crossing = 2.0 * before * after * math.cos(angle_increment) / (before + after)
+    return np.abs(ranges[middle] - crossing)
 
 
 def _edge_test(ranges, angle_increment, range_min, range_max, min_angle, min_beams):
