@@ -8,6 +8,7 @@ Examples::
     dpn-benchmark --profile paper --ray-address auto --out out/paper
     dpn-benchmark --maps back_and_forth --tasks 0 --wanderers 5 --repeats 1 --record out/bags
     dpn-benchmark --profile smoke --laser hokuyo_utm30lx --out out/smoke_utm30lx
+    dpn-benchmark --profile smoke --set give_way_time=15 --out out/smoke_give_way_15
 
 
 Episodes are appended to ``OUT/episodes.csv`` as they finish. Running a command again into the
@@ -21,7 +22,9 @@ stderr and exit status 2; the log keeps every episode finished before. At the en
 ``OUT/detection.png`` (the map as a detector against the wanderer count,
 ``detection_report``), with ``--strip`` a Fig. 9-style strip of one episode and
 with ``--animate`` an animated GIF of it. ``--record DIR`` writes every episode run as a
-rosbag2 MCAP bag into DIR (docs/recording.md).
+rosbag2 MCAP bag into DIR (docs/recording.md). ``--set NAME=VALUE`` changes a setting of a
+built-in navigator (an ablation; ``navigator_overrides``); the reports label such a log
+``dpn [NAME=VALUE]``.
 
 """
 
@@ -35,6 +38,7 @@ import time
 
 from .detection_report import detection_stats, save_detection_figure
 from .episode_log import read_log
+from .navigator_overrides import parse_overrides, run_label
 from .output_files import os_error_line, write_file_atomically, write_text_atomically
 from .protocol import MAP_MODELS, NAVIGATORS, plan_episodes, PROFILES, resolve_maps
 from .report import save_success_figure, summary_markdown
@@ -82,6 +86,13 @@ def build_parser():
                              '(docs/benchmark.md); package.module:Class: your own navigator, '
                              'a class implementing the protocol of '
                              'dpn_navigator.benchmark.navigator_plugin (default: %(default)s)')
+    parser.add_argument('--set', action='append', default=[], metavar='NAME=VALUE',
+                        dest='overrides',
+                        help='change a setting of a built-in navigator, e.g. '
+                             'give_way_time=15 (repeatable; the names and ranges of '
+                             'docs/ros_reference.md, which the node takes as parameters): an '
+                             'ablation on the same episodes; recorded in run.json, and the '
+                             'reports label the log "dpn [give_way_time=15.0]"')
     parser.add_argument('--seed', type=int, default=0,
                         help='base seed of the episode seeds (default: %(default)s)')
     parser.add_argument('--out', default='benchmark_out', type=Path,
@@ -154,10 +165,14 @@ def run_settings(args):
     """
     Return what must be the same for every episode of one log, for ``run.json``.
 
-    The navigator; the agent model, the pose noise and the laser only when not the defaults,
-    so that the ``run.json`` of a default run reads as before.
+    The navigator; its setting overrides (``--set``), the agent model, the pose noise and the
+    laser only when not the defaults, so that the ``run.json`` of a default run reads as
+    before.
     """
     settings = {'navigator': args.navigator}
+    overrides = navigator_settings(args)
+    if overrides:
+        settings['settings'] = overrides
     if args.agents != 'p3at':
         settings['agents'] = args.agents
     if args.pose_noise:
@@ -199,6 +214,28 @@ def episode_options(args):
     return options or None
 
 
+def navigator_settings(args):
+    """
+    Return the ``--set`` overrides of the navigator's settings, a dict (empty: none).
+
+    Raises
+    ------
+    ValueError
+        For a bad pair (`parse_overrides`), or overrides with a plug-in navigator.
+
+    """
+    if not args.overrides:
+        return {}
+    if args.navigator not in NAVIGATORS:
+        raise ValueError('--set needs a built-in navigator; a plug-in takes its own settings')
+    return parse_overrides(args.overrides, NAVIGATORS[args.navigator])
+
+
+def navigator_options(args):
+    """Return the ``NavigatorConfig`` overrides of a built-in navigator with ``--set``'s."""
+    return {**NAVIGATORS.get(args.navigator, {}), **navigator_settings(args)}
+
+
 def map_str(values):
     """Return the values as strings (for help texts)."""
     return [str(value) for value in values]
@@ -229,6 +266,7 @@ def run_benchmark(parser, args):
         specs = plan_episodes(map_keys, args.tasks or profile.tasks,
                               args.wanderers if args.wanderers is not None else
                               profile.wanderers, args.repeats or profile.repeats, args.seed)
+        navigator_settings(args)                        # before the output folder is made
         args.out.mkdir(parents=True, exist_ok=True)
         options = episode_options(args)
         check_run_settings(args.out / 'run.json', run_settings(args))
@@ -238,7 +276,7 @@ def run_benchmark(parser, args):
         stats = run_protocol(specs, log_path, workers=args.workers,
                              ray_address=args.ray_address, index=args.index,
                              progress=not args.no_progress,
-                             navigator_options=NAVIGATORS.get(args.navigator, {}),
+                             navigator_options=navigator_options(args),
                              detection=not args.no_detection, record_dir=args.record,
                              map_model=MAP_MODELS.get(args.navigator, 'labels'),
                              episode_options=options)
@@ -253,22 +291,23 @@ def run_benchmark(parser, args):
           f'{stats.simulated_time:.0f} s simulated, {stats.speed_per_core:.1f}x real time per '
           f'worker, {stats.episodes_per_hour:.0f} episodes per hour')
     rows = read_log(log_path)
-    title = f'dpn benchmark, {args.navigator} navigator'
+    label = run_label(run_settings(args))
+    title = f'dpn benchmark, {label} navigator'
     if args.laser != 'ideal':
         title += f', {args.laser} laser'
     summary = summary_markdown(rows, title=title, navigator=args.navigator)
     write_text_atomically(args.out / 'summary.md', summary)
     if rows:
         write_file_atomically(args.out / 'success_rate.png', lambda path: save_success_figure(
-            path, rows, title=f'Success rate per map, {args.navigator} navigator'))
+            path, rows, title=f'Success rate per map, {label} navigator'))
     print(f'wrote {args.out / "summary.md"} and {args.out / "success_rate.png"}')
     if detection_stats(rows) is not None:
         write_file_atomically(args.out / 'detection.png', lambda path: save_detection_figure(
-            path, {args.navigator: rows},
-            title=f'Detection against wanderer count, {args.navigator} navigator'))
+            path, {label: rows},
+            title=f'Detection against wanderer count, {label} navigator'))
         print(f'wrote {args.out / "detection.png"}')
     if (args.strip or args.animate) and specs and args.navigator in NAVIGATORS:
-        showcase = rerun_showcase(specs, args.index, navigator_options=NAVIGATORS[args.navigator],
+        showcase = rerun_showcase(specs, args.index, navigator_options=navigator_options(args),
                                   map_model=MAP_MODELS[args.navigator],
                                   episode_options=episode_options(args))
         if args.strip:

@@ -24,6 +24,7 @@ import numpy as np
 
 from .episode_log import read_log, row_key
 from .metrics_report import paired_markdown, per_map_markdown, standard_metrics_markdown
+from .navigator_overrides import run_label
 from .report import cell_stats, group_rows, map_order
 from .statistics import sign_test
 
@@ -56,7 +57,7 @@ def load_runs(folders):
         if not (folder / 'episodes.csv').is_file():
             raise ValueError(f'{folder} holds no episodes.csv')
         settings_path = folder / 'run.json'
-        name = (json.loads(settings_path.read_text()).get('navigator', folder.name)
+        name = (run_label(json.loads(settings_path.read_text()), folder.name)
                 if settings_path.is_file() else folder.name)
         if name in rows_by_navigator:
             raise ValueError(f'two folders hold the {name} navigator; give one of each')

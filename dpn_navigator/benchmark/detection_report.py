@@ -21,6 +21,7 @@ import numpy as np
 
 from .detection import ratio, REPLAN_CLASSES
 from .episode_log import read_log
+from .navigator_overrides import run_label
 from .protocol import MAP_MODELS
 
 
@@ -261,7 +262,7 @@ def main(argv=None):
     rows_by_navigator = {}
     for folder in args.folders:
         settings = json.loads((folder / 'run.json').read_text())
-        name = settings.get('navigator', folder.name)
+        name = run_label(settings, folder.name)
         if name in rows_by_navigator:
             name = f'{name} ({folder})'
         rows_by_navigator[name] = read_log(folder / 'episodes.csv')
