@@ -297,6 +297,15 @@ class NavigatorConfig:
     route_switch_margin: float = setting(
         3.0, 'm', 'route commitment: how much cheaper a new route must be to replace the '
         'current one (read only with `route_block_distance` > 0)', 0.0, 1000.0)
+    route_review_period: float = setting(
+        2.0, 's', 'route commitment: while a route is followed, plan again this often and take '
+        'the new plan when it is cheaper by `route_review_margin` (a detour taken round a '
+        'blocked corridor is left once the corridor opens again; the paper plans again only '
+        'when a cell of the path turns obstacle); 0: off (the paper; read only with '
+        '`route_block_distance` > 0)', 0.0, 3600.0)
+    route_review_margin: float = setting(
+        10.0, 'm', 'route commitment: how much cheaper a plan found by `route_review_period` '
+        'must be to replace the route (at least `route_switch_margin`)', 0.0, 1000.0)
     mobile_wait_time: float = setting(
         5.0, 's', 'waiting: a mobile blob within `route_block_distance` is planned through at '
         'the cost of driving this long plus the time already waited for it, and the robot '
@@ -358,7 +367,8 @@ class NavigatorConfig:
                      'turn_sweep_margin', 'turn_sweep_spot_distance', 'drive_guard_distance',
                      'stale_obstacle_age',
                      'path_trust_time', 'route_block_distance', 'route_switch_margin',
-                     'mobile_wait_time', 'give_way_time', 'give_way_distance',
+                     'route_review_period', 'route_review_margin', 'mobile_wait_time',
+                     'give_way_time', 'give_way_distance',
                      'give_way_hold', 'unknown_cell_cost', 'forgotten_obstacle_cost',
                      'wall_continuation_angle', 'wall_continuation_cost', 'map_growth_step',
                      'map_growth_margin', 'map_memory_limit'):
@@ -444,6 +454,9 @@ class Navigator:
         the goal was set (``NavigatorConfig.stale_obstacle_age``).
     commitment : RouteCommitment or None
         The route commitment and the wait (``route_block_distance``); None when off.
+    route_reviews : int
+        How many times a route review (``route_review_period``) replaced the route since the
+        goal was set (each also counts in ``replans``).
     map_growths, map_growth_refusals : int
         How often the map grew (``map_growth_step``), and how many distinct growths it needed
         were refused (``map_memory_limit``, the cell limit, or a map that cannot grow); the
@@ -508,6 +521,8 @@ class Navigator:
             blob_depth=2.0 * config.safety_radius + config.resolution)
         self._trusted_after = None             # the no-path spell ends at this stamp [s]
         self._next_wait_replan = -math.inf
+        self._next_review = -math.inf          # the next route review (route_review_period) [s]
+        self.route_reviews = 0
         self.give_way = None if config.give_way_time == 0.0 or not windowed else GiveWay(
             shape, config.give_way_time, config.give_way_distance, config.give_way_hold)
         self._give_way_follower = replace(config.follower, goal_approach_margin=0.0)
@@ -542,6 +557,8 @@ class Navigator:
         self._no_path_since = None
         self._spell_forgets = 0
         self.stale_drops = 0
+        self.route_reviews = 0
+        self._next_review = -math.inf
         self._trusted_after = None
         if self.commitment is not None:
             self.commitment.reset()
@@ -843,7 +860,10 @@ class Navigator:
         cause = ReplanCause.NONE
         waiting_replan = (self.commitment is not None and self.commitment.waited > 0.0
                           and stamp >= self._next_wait_replan)
-        if replan_flag or waiting_replan or self._path_is_stale(pose):
+        stale = replan_flag or waiting_replan or self._path_is_stale(pose)
+        if not stale and self._review_route(stamp, pose):
+            replanned, cause = True, ReplanCause.OTHER
+        if stale:
             if self.path is None and stamp < self._next_retry:
                 return NavigatorOutput(STOP, self.status, self.reason)
             if self.path is None and self.status is NavigatorStatus.NO_PATH:
@@ -888,6 +908,42 @@ class Navigator:
                     pose, self._obstacle_at, within=self.drive_guard.reach))
             command = swept
         return command
+
+    def _review_route(self, stamp, pose):
+        """
+        Every ``route_review_period``, plan again and take a plan cheaper by the review margin.
+
+        The paper plans again only when a cell of the path turns obstacle. A detour taken
+        because a wanderer blocked the corridor ahead is then driven to its end, however long,
+        after the corridor has opened again: nothing on the detour changes. The review finds
+        the shorter route; ``route_review_margin`` (at least ``route_switch_margin``) keeps it
+        from trading one route for another of about the same cost.
+
+        Returns
+        -------
+        switched : bool
+            True when the review replaced the route (counted in ``replans`` and
+            ``route_reviews``).
+
+        """
+        period = self.config.route_review_period
+        if (period == 0.0 or self.commitment is None or self.path is None
+                or stamp < self._next_review):
+            return False
+        self._next_review = stamp + period
+        route = (self.path, self._path_xy, self.status, self.reason)
+        self._plan(pose, self._planning_terms(pose), count=False, review=True)
+        if self.path is None:
+            # A review never drops the route (the planning masks may block a cell of it that
+            # the labels do not): whether it is blocked is the usual replan's to say.
+            self.path, self._path_xy, self.status, self.reason = route
+            return False
+        if self.path is route[0]:
+            return False
+        self.replans += 1
+        self.route_reviews += 1
+        self._trust_new_path(stamp)
+        return True
 
     def _give_way(self, stamp, pose):
         """
@@ -993,11 +1049,13 @@ class Navigator:
             extra = wait if extra is None else extra + wait
         return extra, opened
 
-    def _plan(self, pose, terms=(None, None), count=True):
+    def _plan(self, pose, terms=(None, None), count=True, review=False):
         """
         Plan from the robot's cell to the goal's; set path, status and reason.
 
-        ``count``: add one to ``replans`` (not for a second search within one replan).
+        ``count``: add one to ``replans`` (not for a second search within one replan);
+        ``review``: a route review (`_review_route`), whose plan must beat the route by
+        ``route_review_margin``.
         """
         geometry = self.grid.geometry
         start = tuple(int(v) for v in geometry.world_to_cell(pose[0], pose[1]))
@@ -1013,7 +1071,7 @@ class Navigator:
         # half-cell a cut corner saves would bring the robot's corners to the wall.
         cells = self._masks.plan(start, goal, self._footprint(pose), cut_corners=False,
                                  extra_cost=extra, opened=opened)
-        if self._keeps_current_route(pose, cells, extra, opened):
+        if self._keeps_current_route(pose, cells, extra, opened, review):
             return True
         if cells is None:
             return self._no_path('no path to the goal on the current map')
@@ -1025,13 +1083,14 @@ class Navigator:
         self.reason = ''
         return True
 
-    def _keeps_current_route(self, pose, cells, extra, opened):
+    def _keeps_current_route(self, pose, cells, extra, opened, review=False):
         """
         Tell whether the current route stays instead of the new plan ``cells`` (or None).
 
         Only with route commitment, a path being followed (the robot within
         ``max_path_deviation`` of it), and the rest of it not blocked: it stays unless the new
-        plan is cheaper by ``route_switch_margin``.
+        plan is cheaper by ``route_switch_margin`` (by ``route_review_margin``, and at least
+        that, for a route review, which the commitment does not count).
         """
         if self.commitment is None or self.path is None:
             return False
@@ -1047,7 +1106,10 @@ class Navigator:
                else self.commitment.route_cost(np.array(cells, dtype=np.int64), blocked, cost))
         if not math.isfinite(current):
             return False
-        return self.commitment.keep_current(current, new)
+        if not review:
+            return self.commitment.keep_current(current, new)
+        margin = max(self.config.route_review_margin, self.config.route_switch_margin)
+        return self.commitment.keep_current(current, new, margin, count=False)
 
     def _drop_stale_obstacles(self, pose, stamp, terms):
         """

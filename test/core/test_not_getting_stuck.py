@@ -223,3 +223,69 @@ def test_an_explored_dead_end_whose_end_wall_was_forgotten_is_not_planned_throug
         through_end_wall[name] = bool(np.any((path[:, 1] > 6.5) & (path[:, 0] > 10.5)
                                              & (path[:, 0] < 12.3)))
     assert through_end_wall == {'shipped': False, 'no memory': True}
+
+
+# (d) A detour round a wanderer that has since left the corridor -----------------------------
+
+def detour_after_a_wanderer(route_review_period):
+    """
+    Drive into the south corridor, meet a wanderer 0.9 m ahead for 2 s, then drive on.
+
+    The wanderer's mobile cells within 1 m of the robot block (route commitment), so the robot
+    turns for the north corridor; then the wanderer leaves. Returns the robot at the goal or
+    after 60 s more.
+    """
+    occupied = two_corridors()
+    config = NavigatorConfig(width=24.0, height=9.0, route_review_period=route_review_period)
+    navigator = Navigator(config)
+    navigator.set_goal(22.0, 1.65)
+    robot = Robot(navigator, occupied, (2.0, 1.65, 0.0))
+    robot.run_until(10.0, lambda bot: bot.pose[0] >= 6.0)
+    box_x = robot.pose[0] + 0.9
+    carve(occupied, box_x, 1.4, box_x + 0.5, 1.9, value=True)
+    robot.run_until(2.0)
+    assert navigator.grid.labels[navigator.grid.geometry.world_to_cell(box_x - 0.1, 1.65)] \
+        == CellLabel.MOBILE_OBSTACLE
+    assert robot.pose[2] > 0.5 * math.pi or robot.pose[2] < -0.5 * math.pi, 'it did not turn'
+    carve(occupied, box_x, 1.4, box_x + 0.5, 1.9)
+    robot.run_until(60.0)
+    return robot
+
+
+def test_a_detour_is_left_once_the_corridor_ahead_has_opened_again():
+    # Without the route review the robot drives on along its detour until something on it
+    # changes: here back past the block and up to the north corridor's mouth (y 6) before it
+    # turns (the held-out maze episode, task 1 with 3 wanderers, drove a 61 m detour for 36 s
+    # from 6 m before its goal).
+    robot = detour_after_a_wanderer(2.0)
+    assert robot.outputs[-1].status is NavigatorStatus.GOAL_REACHED
+    assert robot.navigator.route_reviews >= 1
+    assert robot.travelled < 1.15 * 20.0
+    assert max(y for x, y, _ in robot.trace if 10.0 < x < 14.0) < 3.0, 'it took the detour'
+    without = detour_after_a_wanderer(0.0)
+    assert without.outputs[-1].status is NavigatorStatus.GOAL_REACHED
+    assert without.navigator.route_reviews == 0
+    assert without.travelled > 1.5 * 20.0
+    assert max(y for _, y, _ in without.trace) > 5.0
+    assert max(y for _, y, _ in robot.trace) < 3.0
+
+
+def test_a_review_that_finds_no_path_keeps_the_route():
+    # The planning masks can block a cell of the route that the labels (which decide whether
+    # the route is blocked) do not; the review's search then finds nothing. It must leave the
+    # route to the usual replan: before this guard the robot was left with no path to follow
+    # in the middle of a step (seen on the held-out alleys).
+    occupied = two_corridors()
+    navigator = Navigator(NavigatorConfig(width=24.0, height=9.0, route_review_period=2.0))
+    navigator.set_goal(22.0, 1.65)
+    robot = Robot(navigator, occupied, (2.0, 1.65, 0.0))
+    robot.run_until(3.0)
+    route = navigator.path
+    assert route is not None
+    navigator._masks.plan = lambda *args, **kwargs: None
+    navigator._keeps_current_route = lambda *args, **kwargs: False
+    out = robot.run_until(4.5)
+    assert navigator.path is route
+    assert out.status is NavigatorStatus.ACTIVE
+    assert navigator.route_reviews == 0
+    assert robot.pose[0] > 5.0

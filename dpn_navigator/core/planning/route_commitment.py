@@ -185,7 +185,7 @@ class RouteCommitment:
             cost += float(cell_cost[entered[:, 0], entered[:, 1]].sum())
         return cost
 
-    def keep_current(self, current_cost, new_cost):
+    def keep_current(self, current_cost, new_cost, margin=None, count=True):
         """
         Tell whether the current route stays, and count the decision.
 
@@ -193,18 +193,23 @@ class RouteCommitment:
         ----------
         current_cost, new_cost : float
             The two routes' costs from `route_cost` [cells] (inf: blocked).
+        margin : float, optional
+            How much cheaper the new route must be [m] (default ``switch_margin``).
+        count : bool
+            Count the decision in ``kept`` or ``switches`` (not for a route review).
 
         Returns
         -------
         keep : bool
-            True unless the new route is cheaper by ``switch_margin``.
+            True unless the new route is cheaper by the margin.
 
         """
+        margin = self.switch_margin if margin is None else margin
         keep = math.isfinite(current_cost) and (
-            new_cost > current_cost - self.switch_margin / self.resolution)
-        if keep:
+            new_cost > current_cost - margin / self.resolution)
+        if count and keep:
             self.kept += 1
-        else:
+        elif count:
             self.switches += 1
         return keep
 
