@@ -306,6 +306,12 @@ class NavigatorConfig:
     route_review_margin: float = setting(
         10.0, 'm', 'route commitment: how much cheaper a plan found by `route_review_period` '
         'must be to replace the route (at least `route_switch_margin`)', 0.0, 1000.0)
+    route_block_memory: float = setting(
+        3.0, 's', 'route commitment: a route left because a cell of it was blocked is not taken '
+        'back for this long: a new plan through a cell that blocked a route within this time '
+        'does not replace an open route (a cell beside a standing agent flickers between mobile '
+        'and free); 0: off (the paper; read only with `route_block_distance` > 0)',
+        0.0, 3600.0)
     mobile_wait_time: float = setting(
         5.0, 's', 'waiting: a mobile blob within `route_block_distance` is planned through at '
         'the cost of driving this long plus the time already waited for it, and the robot '
@@ -367,7 +373,8 @@ class NavigatorConfig:
                      'turn_sweep_margin', 'turn_sweep_spot_distance', 'drive_guard_distance',
                      'stale_obstacle_age',
                      'path_trust_time', 'route_block_distance', 'route_switch_margin',
-                     'route_review_period', 'route_review_margin', 'mobile_wait_time',
+                     'route_review_period', 'route_review_margin', 'route_block_memory',
+                     'mobile_wait_time',
                      'give_way_time', 'give_way_distance',
                      'give_way_hold', 'unknown_cell_cost', 'forgotten_obstacle_cost',
                      'wall_continuation_angle', 'wall_continuation_cost', 'map_growth_step',
@@ -518,7 +525,8 @@ class Navigator:
         self.commitment = None if config.route_block_distance == 0.0 else RouteCommitment(
             config.route_block_distance, config.route_switch_margin, config.mobile_wait_time,
             config.follower.max_linear_speed, config.resolution,
-            blob_depth=2.0 * config.safety_radius + config.resolution)
+            blob_depth=2.0 * config.safety_radius + config.resolution,
+            block_memory=config.route_block_memory)
         self._trusted_after = None             # the no-path spell ends at this stamp [s]
         self._next_wait_replan = -math.inf
         self._next_review = -math.inf          # the next route review (route_review_period) [s]
@@ -1090,7 +1098,10 @@ class Navigator:
         Only with route commitment, a path being followed (the robot within
         ``max_path_deviation`` of it), and the rest of it not blocked: it stays unless the new
         plan is cheaper by ``route_switch_margin`` (by ``route_review_margin``, and at least
-        that, for a route review, which the commitment does not count).
+        that, for a route review, which the commitment does not count), and it stays whatever
+        the cost when the new plan enters a cell that blocked a route within
+        ``route_block_memory``. A route left because it is blocked leaves its blocked cells
+        to that memory.
         """
         if self.commitment is None or self.path is None:
             return False
@@ -1104,12 +1115,27 @@ class Navigator:
         current = self.commitment.route_cost(self.path[closest:], blocked, cost)
         new = (math.inf if cells is None
                else self.commitment.route_cost(np.array(cells, dtype=np.int64), blocked, cost))
+        stamp = self._last_stamp
         if not math.isfinite(current):
+            if stamp is not None:
+                ahead = self.path[closest + 1:]
+                self.commitment.note_blockers(
+                    self._cell_centres(ahead[blocked[ahead[:, 0], ahead[:, 1]]]), stamp)
             return False
+        if (cells is not None and stamp is not None
+                and self.commitment.enters_blocker(self._cell_centres(cells), stamp)):
+            self.commitment.held_back += 1
+            return True
         if not review:
             return self.commitment.keep_current(current, new)
         margin = max(self.config.route_review_margin, self.config.route_switch_margin)
         return self.commitment.keep_current(current, new, margin, count=False)
+
+    def _cell_centres(self, cells):
+        """Return the centres [m] of ``(row, col)`` cells, (N, 2) float64, map frame."""
+        cells = np.asarray(cells, dtype=np.int64).reshape(-1, 2)
+        x, y = self.grid.geometry.cell_to_world(cells[:, 0], cells[:, 1])
+        return np.column_stack((x, y)).astype(np.float64)
 
     def _drop_stale_obstacles(self, pose, stamp, terms):
         """

@@ -206,6 +206,7 @@ PARAMETERS = (
                 'drive_guard_distance'),
     *_navigator('stale_obstacle_age', 'path_trust_time', 'route_block_distance',
                 'route_switch_margin', 'route_review_period', 'route_review_margin',
+                'route_block_memory',
                 'mobile_wait_time', 'give_way_time',
                 'give_way_distance', 'give_way_hold', 'unknown_cell_cost',
                 'forgotten_obstacle_cost', 'wall_continuation_angle', 'wall_continuation_reach',

@@ -5,7 +5,8 @@ Each scene is a small ground-truth grid, ray-cast scans and a unicycle robot dri
 core ``Navigator`` with its default (dpn) configuration; each failed with the navigator before
 issue 31 (the failure is named in the test) and passes now. The scenes: (a) a closed hall whose
 exit one stale obstacle closes; (b) two parallel corridors with a wanderer flickering far ahead
-in one; (c) a corridor with a dead end beside it and a wanderer just ahead.
+in one; (c) a corridor with a dead end beside it and a wanderer just ahead; (d) a detour round a
+wanderer that has since left; (e) a cell beside a standing agent that flickers.
 """
 
 import dataclasses
@@ -289,3 +290,60 @@ def test_a_review_that_finds_no_path_keeps_the_route():
     assert out.status is NavigatorStatus.ACTIVE
     assert navigator.route_reviews == 0
     assert robot.pose[0] > 5.0
+
+
+# (e) A route blocked by a cell that flickers beside a standing agent -------------------------
+
+def flicker_beside_an_agent(route_block_memory):
+    """
+    Block the south corridor 0.5 m ahead of the robot for one step, then open it again.
+
+    The labels are set by hand (the map known, as after exploring): two corridors, the south
+    one 2 m wide, the robot in it at x 6.25, and a column of mobile cells across it that the
+    next step clears, as the cell beside a standing P3-AT turns mobile and free from scan to
+    scan. Returns the corridor of the route at each decision, by its stamp [s].
+    """
+    navigator = Navigator(NavigatorConfig(width=24.0, height=9.0,
+                                          route_block_memory=route_block_memory))
+    grid, geometry = navigator.grid, navigator.grid.geometry
+    grid.labels[:] = CellLabel.STEADY_OBSTACLE
+    (r0, c0), (r1, c1) = geometry.world_to_cell(0.6, 0.6), geometry.world_to_cell(23.4, 8.4)
+    grid.labels[r0:r1 + 1, c0:c1 + 1] = CellLabel.EXPLORED
+    (r0, c0), (r1, c1) = geometry.world_to_cell(4.0, 2.6), geometry.world_to_cell(20.0, 6.0)
+    grid.labels[r0:r1 + 1, c0:c1 + 1] = CellLabel.STEADY_OBSTACLE
+    grid.labels_changed()
+    navigator.set_goal(22.0, 1.5)
+    pose = (6.25, 1.5, 0.0)
+    corridors = {}
+
+    def decide(stamp):
+        navigator.decide(stamp, pose)
+        corridors[stamp] = corridor_of(navigator.path_xy)
+
+    decide(0.0)
+    (r0, column), (r1, _) = geometry.world_to_cell(6.75, 0.6), geometry.world_to_cell(6.75, 2.4)
+    grid.labels[r0:r1 + 1, column] = CellLabel.MOBILE_OBSTACLE      # within 1 m: it blocks
+    grid.labels_changed()
+    decide(0.1)
+    grid.labels[r0:r1 + 1, column] = CellLabel.EXPLORED
+    grid.labels_changed()
+    for stamp in (0.2, 2.2, 3.0, 4.2):
+        decide(stamp)
+    return navigator, corridors
+
+
+def test_a_route_left_for_a_flickering_cell_is_not_taken_back_at_once():
+    # Before `route_block_memory` the robot took the corridor back as soon as the cell cleared
+    # and left it again when it turned mobile: 19 switches in 30 s beside a standing P3-AT on
+    # seed 0's u_turn (task 0, 9 wanderers), turning back and forth on the spot until the time
+    # ran out.
+    navigator, corridors = flicker_beside_an_agent(3.0)
+    assert corridors[0.0] == 'south' and corridors[0.1] == 'north'
+    # The route reviews at 0.2 and 2.2 s find the south corridor 10 m shorter but hold back.
+    assert [corridors[t] for t in (0.2, 2.2, 3.0)] == ['north'] * 3
+    assert navigator.commitment.held_back == 2
+    assert corridors[4.2] == 'south'                 # 3 s on, the review takes it back
+    without, corridors = flicker_beside_an_agent(0.0)
+    assert corridors[0.1] == 'north'
+    assert corridors[0.2] == 'south'                 # back at the first review
+    assert without.commitment.held_back == 0

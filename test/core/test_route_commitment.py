@@ -65,11 +65,38 @@ def test_the_robot_waits_in_front_of_a_mobile_cell_and_counts_the_wait():
     assert route.waited == 0.0
 
 
+def test_cells_that_blocked_a_route_hold_back_plans_through_them_for_the_memory():
+    route = commitment(block_memory=3.0)
+    route.note_blockers([(2.25, 0.25), (2.25, 0.75)], 10.0)
+    through = np.array([(1.25, 0.25), (1.75, 0.25), (2.25, 0.75), (2.75, 0.75)])
+    past = np.array([(1.25, 0.25), (1.75, 1.25), (2.25, 1.25), (2.75, 1.25)])
+    assert route.enters_blocker(through, 10.0)
+    assert route.enters_blocker(through, 13.0)                # 3 s later: still
+    assert not route.enters_blocker(through, 13.1)            # then no more
+    assert not route.enters_blocker(past, 11.0)               # a plan beside them
+    assert not route.enters_blocker(through, 9.0)             # the clock went back
+    # The robot's own cell (a plan's first) is not entered.
+    assert not route.enters_blocker(np.array([(2.25, 0.25), (2.75, 0.25)]), 11.0)
+    # A new note keeps the recent ones and drops the old ones.
+    route.note_blockers([(5.25, 0.25)], 12.0)
+    assert route.enters_blocker(through, 12.5)
+    route.note_blockers([(5.25, 0.75)], 14.0)
+    assert not route.enters_blocker(through, 14.0)
+    assert route.enters_blocker(np.array([(4.75, 0.25), (5.25, 0.25)]), 14.0)
+    route.reset()                                             # a new goal
+    assert not route.enters_blocker(np.array([(4.75, 0.25), (5.25, 0.75)]), 14.0)
+    off = commitment()                                        # block_memory 0: nothing kept
+    off.note_blockers([(2.25, 0.25)], 10.0)
+    assert not off.enters_blocker(through, 10.0)
+
+
 def test_bad_settings_raise():
     with pytest.raises(ValueError, match='block_distance'):
         commitment(block_distance=0.0)
     with pytest.raises(ValueError, match='wait_time'):
         commitment(wait_time=-1.0)
+    with pytest.raises(ValueError, match='block_memory'):
+        commitment(block_memory=math.inf)
     with pytest.raises(ValueError, match='unknown_cost'):
         ExplorationMemory((2, 2), math.nan, 1.0)
 

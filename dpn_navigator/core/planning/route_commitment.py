@@ -15,7 +15,13 @@ to the other, and back when it walks into that one: the robot shuttles between c
   stops in front of it to wait (`must_wait`); one closer still blocks, as before (a wanderer
   that comes up to a waiting robot is given way to, by a detour if there is one);
 - a new plan replaces the current route only when it is cheaper by ``switch_margin``, or
-  when the current route is blocked.
+  when the current route is blocked;
+- a route left because it was blocked is not taken back for ``block_memory`` seconds: a new
+  plan that enters a cell which blocked a route within that time does not replace a current
+  route that is open. A P3-AT standing beside the corridor flickers the cell next to it
+  between mobile and free from scan to scan; without this memory the robot switched between
+  that corridor and a way round 19 times in 30 s, turning back and forth on the spot, and
+  never left (seed-0 u_turn, task 0, 9 wanderers).
 
 """
 
@@ -50,6 +56,9 @@ class RouteCommitment:
     blob_depth : float
         How deep a moving object's blob of mobile cells is along a path crossing it [m]
         (its body and the safety radius on both sides), > 0; the wait is spread over it.
+    block_memory : float
+        How long the cells that blocked a route keep a new plan through them from replacing an
+        open route [s], >= 0; 0: not at all.
 
     Attributes
     ----------
@@ -59,14 +68,18 @@ class RouteCommitment:
         How many times a replan changed the route for one cheaper by the margin.
     kept : int
         How many replans kept the current route.
+    held_back : int
+        How many new plans were refused for entering a cell that blocked a route within
+        ``block_memory``.
 
     """
 
     def __init__(self, block_distance, switch_margin, wait_time, speed, resolution,
-                 blob_depth=1.7):
+                 blob_depth=1.7, block_memory=0.0):
         if not (math.isfinite(block_distance) and block_distance > 0.0):
             raise ValueError(f'block_distance must be positive, got {block_distance!r}')
-        for name, value in (('switch_margin', switch_margin), ('wait_time', wait_time)):
+        for name, value in (('switch_margin', switch_margin), ('wait_time', wait_time),
+                            ('block_memory', block_memory)):
             if not (math.isfinite(value) and value >= 0.0):
                 raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
         if not (speed > 0.0 and resolution > 0.0 and blob_depth > 0.0):
@@ -77,15 +90,69 @@ class RouteCommitment:
         self.speed = float(speed)
         self.resolution = float(resolution)
         self.blob_depth = float(blob_depth)
+        self.block_memory = float(block_memory)
         self.waited = 0.0
         self.switches = 0
         self.kept = 0
+        self.held_back = 0
         self._waiting_since = None
+        self._blockers_xy = np.empty((0, 2))   # centres of cells that blocked a route [m]
+        self._blocker_stamps = np.empty(0)     # when each did [s]
 
     def reset(self):
-        """Forget the wait (a new goal)."""
+        """Forget the wait and the cells that blocked a route (a new goal)."""
         self.waited = 0.0
         self._waiting_since = None
+        self._blockers_xy = np.empty((0, 2))
+        self._blocker_stamps = np.empty(0)
+
+    def note_blockers(self, cells_xy, stamp):
+        """
+        Remember the cells that blocked the route being left (``block_memory`` > 0).
+
+        Parameters
+        ----------
+        cells_xy : (N, 2) array_like of float
+            The blocked cells' centres in the map frame [m].
+        stamp : float
+            Now [s].
+
+        """
+        if self.block_memory == 0.0:
+            return
+        cells_xy = np.asarray(cells_xy, dtype=np.float64).reshape(-1, 2)
+        recent = self._recent(stamp)
+        self._blockers_xy = np.concatenate((self._blockers_xy[recent], cells_xy))
+        self._blocker_stamps = np.concatenate((self._blocker_stamps[recent],
+                                               np.full(cells_xy.shape[0], float(stamp))))
+
+    def enters_blocker(self, cells_xy, stamp):
+        """
+        Tell whether a plan enters a cell that blocked a route within ``block_memory``.
+
+        Parameters
+        ----------
+        cells_xy : (N, 2) array_like of float
+            The plan's cell centres in the map frame [m], the robot's cell first (not
+            counted: the robot is in it).
+        stamp : float
+            Now [s].
+
+        """
+        recent = self._recent(stamp)
+        if not recent.any():
+            return False
+        cells_xy = np.asarray(cells_xy, dtype=np.float64).reshape(-1, 2)[1:]
+        blockers = self._blockers_xy[recent]
+        # Cell centres: the same cell lies well within a quarter of a cell.
+        same = (np.abs(cells_xy[:, None, :] - blockers[None, :, :])
+                < 0.25 * self.resolution).all(axis=2)
+        return bool(same.any())
+
+    def _recent(self, stamp):
+        """Mark the remembered blockers noted within ``block_memory`` before ``stamp``."""
+        stamps = self._blocker_stamps
+        return (stamps >= stamp - self.block_memory) & (stamps <= stamp)
 
     def mobile_terms(self, labels, geometry, robot_xy):
         """
