@@ -24,7 +24,7 @@ import numpy as np
 #: planner they were measured with.
 NOT_GETTING_STUCK_OFF = {'stale_obstacle_age': 0.0, 'path_trust_time': 0.0,
                          'route_block_distance': 0.0, 'route_switch_margin': 0.0,
-                         'route_review_period': 0.0, 'route_block_memory': 0.0,
+                         'route_review_period': 0.0,
                          'mobile_wait_time': 0.0, 'give_way_time': 0.0,
                          'unknown_cell_cost': 0.0,
                          'forgotten_obstacle_cost': 0.0}
