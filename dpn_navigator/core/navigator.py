@@ -251,6 +251,13 @@ class NavigatorConfig:
         'counts as surely seen empty only when no hit has come within fine_evidence_radius '
         'of it for this long, so that a surface that returns an echo in some scans only does '
         'not look like motion; 0: off (the paper); needs the fine free evidence', 0.0, 60.0)
+    free_first_sight: float = setting(
+        0.0, 's', 'free evidence needs a second look: a cell (label or fine) counts as surely '
+        'seen empty only from a scan at least this long after the first scan that showed it '
+        'empty, so '
+        "that a surface that gave no echo in the first scan to see it (a recording's first) "
+        'does not look like motion when it echoes; 0: off (the paper); needs the fine free '
+        'evidence', 0.0, 10.0)
     object_min_width: float = setting(
         0.0, 'm', 'narrow things: a scan segment whose end hits lie less than this apart '
         'shows no motion of its own (a leg is 0.1-0.15 m wide; a cable, chair leg or spot of '

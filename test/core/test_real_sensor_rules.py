@@ -193,7 +193,7 @@ def test_the_paper_keeps_every_real_sensor_rule_off():
     assert not paper.no_echo_below_range_min and paper.no_return_reach == 1.0
     assert paper.surface_time == 0.0
     assert paper.mixed_pixel_angle == paper.veiling_angle == 0.0
-    assert paper.free_burn_in == paper.object_min_width == 0.0
+    assert paper.free_burn_in == paper.free_first_sight == paper.object_min_width == 0.0
     assert paper.no_return_standing_distance == 0.0
 
 
@@ -498,13 +498,15 @@ def twin_run(rule, plain_rule, scans, side=8.0):
     Update a grid with ``rule`` and the literal twin from the origin, scan by scan.
 
     Asserts they agree after every scan (labels, surely-free cells, the fine evidence and its
-    burn-in clock); returns whether a grid with ``plain_rule`` ever differed from them (the
+    two clocks); returns whether a grid with ``plain_rule`` ever differed from them (the
     scene exercises the rule).
     """
     grid = grid_for(rule, side)
     plain = grid_for(plain_rule, side)
     origin, labels, seen_free, last_hit, fine_seen_free, fine_hit_stamp, surfaces = \
         twin_state(grid, rule, side)
+    fine_first_free = np.full(fine_seen_free.shape, math.inf)
+    first_free = np.full(seen_free.shape, math.inf)
     last_stamp = -math.inf
     differs = False
     for stamp, ranges, _ in scans:
@@ -512,7 +514,8 @@ def twin_run(rule, plain_rule, scans, side=8.0):
         _, last_stamp = literal_update_with_rule(
             labels, seen_free, last_hit, origin, 0.5, (0.0, 0.0, 0.0), ranges, *scan, rule=rule,
             stamp=stamp, last_stamp=last_stamp, fine_seen_free=fine_seen_free,
-            surfaces=surfaces, fine_hit_stamp=fine_hit_stamp)
+            surfaces=surfaces, fine_hit_stamp=fine_hit_stamp, fine_first_free=fine_first_free,
+            first_free=first_free)
         grid.update((0.0, 0.0, 0.0), ranges, *scan, stamp=stamp)
         plain.update((0.0, 0.0, 0.0), ranges, *scan, stamp=stamp)
         assert_array_equal(grid.labels, labels)
@@ -520,6 +523,9 @@ def twin_run(rule, plain_rule, scans, side=8.0):
         assert_array_equal(grid.fine_evidence.seen_free, fine_seen_free)
         if grid.fine_evidence.hit_stamp is not None:
             assert_array_equal(grid.fine_evidence.hit_stamp, fine_hit_stamp)
+        if grid.fine_evidence.first_free is not None:
+            assert_array_equal(grid.fine_evidence.first_free, fine_first_free)
+            assert_array_equal(grid.first_free, first_free)
         differs |= not (np.array_equal(grid.labels, plain.labels)
                         and np.array_equal(grid.seen_free, plain.seen_free)
                         and np.array_equal(grid.fine_evidence.seen_free,
@@ -651,7 +657,7 @@ def test_the_burn_in_holds_through_deferred_evidence_and_time_going_back():
     # Deferring the evidence to `settle` marks the same cells; a bag played again from its
     # start (time goes back) leaves no hit in the future holding cells back for good.
     settings = {'surface_time': 100.0, 'surface_memory': 200.0, 'no_return_reach': 1.0,
-                'free_burn_in': 0.5}
+                'free_burn_in': 0.5, 'free_first_sight': 0.15}
     eager, deferred = grid_for(dpn_rule(**settings)), grid_for(dpn_rule(**settings))
     scans = list(flickering_scans(20))
     for stamp, ranges, _ in scans + scans:
@@ -663,6 +669,78 @@ def test_the_burn_in_holds_through_deferred_evidence_and_time_going_back():
         assert_array_equal(eager.seen_free, deferred.seen_free)
         assert_array_equal(eager.fine_evidence.seen_free, deferred.fine_evidence.seen_free)
         assert eager.fine_evidence.hit_stamp.max() <= stamp
+        assert_array_equal(eager.fine_evidence.first_free, deferred.fine_evidence.first_free)
+        assert_array_equal(eager.first_free, deferred.first_free)
+        assert eager.fine_evidence.first_free.min() <= stamp
+        assert eager.first_free.min() <= stamp
+
+
+# --- Free evidence needs a second look (`free_first_sight`).
+
+BOARD_X = 3.5
+
+
+def first_silent_scans(count, walker_from=20):
+    """
+    Yield ``(stamp, ranges, legs)`` at 10 Hz: a post silent in the first scan only.
+
+    A wall 4 m ahead and a post 0.4 m wide 0.3 m before it that gives no echo in the first
+    scan (its beams then read ``+inf``, and the polygon takes its place for empty), then one
+    in every scan; from ``walker_from`` on a person crosses 1.5 m ahead at 1.5 m/s.
+    """
+    for stamp, ranges, legs in flickering_scans(count, thing_x=BOARD_X, thing_radius=0.2,
+                                                walker_from=walker_from, period=1):
+        if stamp == 0.0:
+            board = cast(0.0, 100.0, [(BOARD_X, 0.0)], leg_radius=0.2)
+            ranges[np.isfinite(board) & (board <= ranges)] = np.inf
+        yield stamp, ranges, legs
+
+
+BOARD = [(BOARD_X - 0.2 * math.cos(a), 0.2 * math.sin(a)) for a in np.linspace(-1.2, 1.2, 9)]
+
+
+@pytest.mark.parametrize('first_sight, board_ever_mobile', [(0.0, True), (0.15, False)])
+def test_a_surface_silent_in_the_first_scan_shows_no_motion_with_a_second_look(
+        first_sight, board_ever_mobile):
+    # The first scan sees through the board to the wall, the next ones hit the board: without
+    # a second look its place was surely free and the board seems to have moved in. The
+    # person crosses space seen empty for 2 s and moves either way.
+    grid = grid_for(real_rule(free_first_sight=first_sight))
+    board_mobile, walker_mobile = ever_mobile(grid, first_silent_scans(35), BOARD)
+    assert board_mobile == board_ever_mobile
+    assert walker_mobile
+
+
+@pytest.mark.parametrize('scene, burn_in', [('first silent', 0.0), ('first silent', 0.5),
+                                            ('board', 0.5)])
+def test_the_second_look_equals_its_literal_twin(scene, burn_in):
+    rule = LabelRule(free_evidence_radius=0.5, moving_object_size=0.7, segment_gap=0.6,
+                     fine_evidence_resolution=0.1, fine_evidence_radius=0.2,
+                     fine_evidence_range=8.0, mobile_expiry=3.0, surface_time=100.0,
+                     surface_memory=200.0, noise_margin=0.1, free_burn_in=burn_in,
+                     free_first_sight=0.15)
+    scans = {'first silent': first_silent_scans(12, walker_from=6),
+             'board': flickering_scans(12, walker_from=6)}[scene]
+    assert twin_run(rule, dataclasses.replace(rule, free_first_sight=0.0), scans)
+
+
+def test_the_second_look_waits_from_the_first_scan_that_showed_a_cell_empty():
+    # Scans 0.1 s apart: with 0.25 s the cells first seen empty at 0 count from the scan at
+    # 0.3 s on, and a bag played again from its start takes no first time in the future.
+    from dpn_navigator.core.mapping.fine_evidence import FineEvidence
+    evidence = FineEvidence(GridGeometry(8.0, 8.0, 0.5, origin=(-4.0, -4.0)), 0.1, 0.2, 8.0,
+                            first_sight=0.25)
+    ranges = cast(0.0, 4.0, [])
+    marked = []
+    for stamp in (0.0, 0.1, 0.2, 0.3, 0.4):
+        evidence.update((0.0, 0.0, 0.0), ranges, ANGLE_MIN, INCREMENT, 0.1, 8.0, stamp=stamp)
+        marked.append(int(evidence.seen_free.sum()))
+    assert marked[:3] == [0, 0, 0] and marked[3] > 0 and marked[4] == marked[3]
+    assert evidence.first_free[evidence.seen_free].max() == 0.0
+    evidence.update((0.0, 0.0, 0.0), ranges, ANGLE_MIN, INCREMENT, 0.1, 8.0, stamp=0.05)
+    assert evidence.first_free[np.isfinite(evidence.first_free)].max() <= 0.05
+    evidence.reset()
+    assert np.isinf(evidence.first_free).all() and not evidence.seen_free.any()
 
 
 @pytest.mark.parametrize('seed', range(8))
@@ -685,12 +763,14 @@ def test_narrow_segments_equal_their_literal_twin(seed):
 
 
 def test_bad_burn_in_and_width_parameters_raise():
-    for name in ('free_burn_in', 'object_min_width'):
+    for name in ('free_burn_in', 'free_first_sight', 'object_min_width'):
         for value in (-0.1, math.inf, math.nan):
             with pytest.raises(ValueError, match=name):
                 LabelRule(**{name: value})
     with pytest.raises(ValueError, match='free_burn_in needs'):
         LabelRule(free_evidence_radius=0.5, moving_object_size=0.7, free_burn_in=0.5)
+    with pytest.raises(ValueError, match='free_first_sight needs'):
+        LabelRule(free_evidence_radius=0.5, moving_object_size=0.7, free_first_sight=0.15)
     with pytest.raises(ValueError, match='object_min_width needs surface_time'):
         LabelRule(free_evidence_radius=0.5, moving_object_size=0.7, object_min_width=0.05)
     grid = grid_for(real_rule(free_burn_in=0.5))

@@ -236,7 +236,8 @@ def literal_moving_hits(hits, beams, evidence, segment_gap, object_size, min_hit
 def literal_update_with_rule(labels, seen_free, last_hit, origin, resolution, pose, ranges,
                              angle_min, angle_increment, range_min, range_max, safety_radius,
                              rule, stamp, last_stamp, path=None, fine_seen_free=None,
-                             surfaces=None, fine_hit_stamp=None):
+                             surfaces=None, fine_hit_stamp=None, fine_first_free=None,
+                             first_free=None):
     """
     Apply the dpn label rule to every cell, in place; return (replan, new last_stamp).
 
@@ -245,7 +246,9 @@ def literal_update_with_rule(labels, seen_free, last_hit, origin, resolution, po
     ``rule.fine_evidence_resolution`` from ``origin``) with the fine free evidence,
     ``surfaces`` (``real_sensor_rules.LiteralSurfaceMemory``) with the intermittent surfaces,
     and ``fine_hit_stamp`` (float, per fine cell the latest time a hit lay within
-    ``fine_evidence_radius`` of it) with the burn-in.
+    ``fine_evidence_radius`` of it) with the burn-in, and ``fine_first_free`` (float, per fine
+    cell the time of the first scan that showed it empty, ``inf`` before) with
+    ``free_first_sight``; ``first_free`` likewise per label cell.
     """
     ranges = literal_read(ranges, range_min, rule.no_echo_below_range_min)
     mixed = literal_mixed(ranges, angle_increment, range_min, range_max, rule.mixed_pixel_angle,
@@ -307,13 +310,16 @@ def literal_update_with_rule(labels, seen_free, last_hit, origin, resolution, po
                                      rule.moving_object_size, rule.object_min_hits,
                                      vertices[0], len(ranges))
     moving_hits = [h for h, m in zip(hits, moving) if m]
-    if rule.mobile_expiry > 0.0 or rule.free_burn_in > 0.0:
+    if rule.mobile_expiry > 0.0 or rule.free_burn_in > 0.0 or rule.free_first_sight > 0.0:
         if stamp < last_stamp:
-            # Time went back: no hit is newer than now.
+            # Time went back: no hit is newer than now, no cell first seen later.
             if rule.mobile_expiry > 0.0:
                 np.minimum(last_hit, stamp, out=last_hit)
             if rule.free_burn_in > 0.0:
                 np.minimum(fine_hit_stamp, stamp, out=fine_hit_stamp)
+            if rule.free_first_sight > 0.0:
+                np.minimum(fine_first_free, stamp, out=fine_first_free)
+                np.minimum(first_free, stamp, out=first_free)
         last_stamp = stamp
     on_path = set() if path is None else {(int(r), int(c)) for r, c in path}
     replan = False
@@ -347,6 +353,15 @@ def literal_update_with_rule(labels, seen_free, last_hit, origin, resolution, po
             if (i, j) in on_path and old in (NON_EXPLORED, EXPLORED) and new in (STEADY, MOBILE):
                 replan = True
     for i, j in newly_seen:
+        if rule.free_first_sight > 0.0:
+            # A second look: not before free_first_sight after the first scan that showed
+            # the cell surely empty.
+            if seen_free[i, j]:
+                continue
+            if math.isinf(first_free[i, j]):
+                first_free[i, j] = stamp
+            if stamp - first_free[i, j] < rule.free_first_sight:
+                continue
         seen_free[i, j] = True
     if rule.fine_evidence_radius > 0.0:
         fine = rule.fine_evidence_resolution
@@ -363,8 +378,17 @@ def literal_update_with_rule(labels, seen_free, last_hit, origin, resolution, po
                 # Burn-in: not while a hit of the last free_burn_in seconds was near.
                 if rule.free_burn_in > 0.0 and fine_hit_stamp[i, j] > stamp - rule.free_burn_in:
                     continue
-                if literal_surely_free(cx, cy, vertices, hits, radius, radius):
-                    fine_seen_free[i, j] = True
+                if fine_seen_free[i, j] or not literal_surely_free(cx, cy, vertices, hits,
+                                                                   radius, radius):
+                    continue
+                if rule.free_first_sight > 0.0:
+                    # A second look: not before free_first_sight after the first scan that
+                    # showed the cell empty.
+                    if math.isinf(fine_first_free[i, j]):
+                        fine_first_free[i, j] = stamp
+                    if stamp - fine_first_free[i, j] < rule.free_first_sight:
+                        continue
+                fine_seen_free[i, j] = True
         if rule.free_burn_in > 0.0:
             # Then this scan's returns (not the fine scan's vertices) stamp their discs.
             for i in range(fine_seen_free.shape[0]):

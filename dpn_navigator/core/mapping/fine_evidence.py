@@ -37,6 +37,13 @@ latest, ``hit_stamp``): the burn-in of Dynablox's ever-free space (Schmid et al.
 echoes, read as no return) is seen empty between its hits; without the burn-in its next hit
 lands in space seen empty and looks like motion.
 
+With ``first_sight`` > 0 a fine cell counts as surely free only from a scan that shows it empty
+at least ``first_sight`` after the first scan that did (each cell keeps that first time,
+``first_free``): free evidence needs a second look. At the start of a recording, or where
+space is first seen, the first scan's polygon takes for empty the place of a surface that
+returned no echo in that one scan (a dark surface, an echo lost), and its echo in the next
+scans looks like motion; the burn-in cannot hold it back, as no hit has come near it yet.
+
 """
 
 import math
@@ -45,6 +52,7 @@ import numpy as np
 
 from .label_update import surely_free_update
 from .map_growth import embed_at, subgrid_offset
+from .second_look import hold_back, scan_window
 from .travel_generations import TravelGenerations
 from .._kernels import fine_evidence as fine_kernels
 from .._kernels.free_space import stamp_hits
@@ -73,18 +81,25 @@ class FineEvidence:
     burn_in : float
         A fine cell is marked only when no hit has been within ``radius`` of it for this long
         [s]; 0: off.
+    first_sight : float
+        A fine cell is marked only by a scan at least this long after the first scan that
+        showed it empty [s]; 0: off.
 
     """
 
-    def __init__(self, geometry, resolution, radius, max_range, renewal=0.0, burn_in=0.0):
+    def __init__(self, geometry, resolution, radius, max_range, renewal=0.0, burn_in=0.0,
+                 first_sight=0.0):
         self.radius = float(radius)
         self.max_range = float(max_range)
         self.renewal = float(renewal)
         self.burn_in = float(burn_in)
+        self.first_sight = float(first_sight)
         if not (math.isfinite(self.renewal) and self.renewal >= 0.0):
             raise ValueError(f'renewal must be finite and >= 0, got {renewal!r} m')
         if not (math.isfinite(self.burn_in) and self.burn_in >= 0.0):
             raise ValueError(f'burn_in must be finite and >= 0, got {burn_in!r} s')
+        if not (math.isfinite(self.first_sight) and self.first_sight >= 0.0):
+            raise ValueError(f'first_sight must be finite and >= 0, got {first_sight!r} s')
         if not self.radius > 0.0:
             raise ValueError(f'radius must be > 0, got {radius!r} m')
         if not self.max_range > 0.0:
@@ -100,6 +115,10 @@ class FineEvidence:
         # With the burn-in: per fine cell, the latest time a hit lay within `radius` [s].
         self.hit_stamp = (np.full(self.geometry.shape, -math.inf) if self.burn_in > 0.0
                           else None)
+        # With first_sight: per fine cell, the time of the first scan that showed it empty
+        # [s]; +inf: none yet.
+        self.first_free = (np.full(self.geometry.shape, math.inf) if self.first_sight > 0.0
+                           else None)
         self._last_stamp = -math.inf
 
     def grow(self, geometry):
@@ -121,13 +140,17 @@ class FineEvidence:
             # Without a whole offset the evidence starts again: so does its clock.
             self.hit_stamp = (np.full(new.shape, -math.inf) if offset is None
                               else embed_at(self.hit_stamp, new.shape, *offset, -math.inf))
+        if self.first_free is not None:
+            self.first_free = (np.full(new.shape, math.inf) if offset is None
+                               else embed_at(self.first_free, new.shape, *offset, math.inf))
         self.geometry = new
 
     @property
     def nbytes(self):
-        """Bytes held by the fine grid (both generations with renewal, the burn-in's clock)."""
+        """Bytes held by the fine grid (both generations with renewal, the two clocks)."""
         return (self._seen_free.nbytes + (0 if self._older is None else self._older.nbytes)
-                + (0 if self.hit_stamp is None else self.hit_stamp.nbytes))
+                + (0 if self.hit_stamp is None else self.hit_stamp.nbytes)
+                + (0 if self.first_free is None else self.first_free.nbytes))
 
     @property
     def seen_free(self):
@@ -229,20 +252,30 @@ class FineEvidence:
         With the burn-in, ``stamp`` is the scan's time [s] and ``hits`` its hit points
         ``(hits_x, hits_y)`` [m] (the scan's returns, not the vertices of beams with none):
         cells stamped after ``stamp - burn_in`` are not marked, then the hits stamp theirs.
+        With ``first_sight``, the cells this scan marks for the first time, or less than
+        ``first_sight`` after their first time, are taken back (``second_look.hold_back``).
         """
         if self._generations is not None and self._generations.step(pose):
             self._older, self._seen_free = self._seen_free, self._older
             self._seen_free[...] = False
         stamp = float(stamp)
-        if self.hit_stamp is not None:
-            if stamp < self._last_stamp:
-                # Time went back (a restarted simulation, a bag played again): no hit is
-                # newer than now.
-                np.minimum(self.hit_stamp, stamp, out=self.hit_stamp)
-            self._last_stamp = stamp
+        if stamp < self._last_stamp:
+            # Time went back (a restarted simulation, a bag played again): no clock is
+            # later than now.
+            for clock in (self.hit_stamp, self.first_free):
+                if clock is not None:
+                    np.minimum(clock, stamp, out=clock)
+        self._last_stamp = stamp
+        capped = self.capped_range_max(range_min, range_max)
+        window = before = None
+        if self.first_free is not None:
+            window = scan_window(self.geometry, pose, capped + self.radius)
+            before = self._seen_free[window].copy()
         surely_free_update(self._seen_free, self.geometry, pose, ranges, angle_min,
-                           angle_increment, range_min, self.capped_range_max(range_min, range_max),
+                           angle_increment, range_min, capped,
                            self.radius, self.hit_stamp, stamp - self.burn_in)
+        if window is not None:
+            hold_back(self._seen_free, self.first_free, window, before, stamp, self.first_sight)
         if self.hit_stamp is not None and hits is not None:
             x0, y0 = self.geometry.origin
             stamp_hits(self.hit_stamp, np.ascontiguousarray(hits[0], dtype=np.float64),
@@ -260,11 +293,13 @@ class FineEvidence:
         return min(range_max, max(self.max_range, range_min))
 
     def reset(self):
-        """Forget all evidence (and the travel, and the burn-in's clock)."""
+        """Forget all evidence (and the travel, and the two clocks)."""
         self._seen_free[...] = False
         if self.hit_stamp is not None:
             self.hit_stamp.fill(-math.inf)
-            self._last_stamp = -math.inf
+        if self.first_free is not None:
+            self.first_free.fill(math.inf)
+        self._last_stamp = -math.inf
         if self._older is not None:
             self._older[...] = False
             self._generations.reset()

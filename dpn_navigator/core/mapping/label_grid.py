@@ -26,6 +26,7 @@ from .motion_tracks import MotionTracks, TrackConfig
 from .object_memory import ObjectMemory
 from .scan_reading import (edge_pixels, no_return_as_reading, read_no_echo,
                            shorten_no_returns, veiling_points)
+from .second_look import hold_back, scan_window
 from .surface_memory import SurfaceMemory
 from .trail_marks import update_trails
 from .travel_generations import TravelGenerations
@@ -313,6 +314,14 @@ class LabelRule:
         clock). A surface that returns an echo in some scans and none in others is seen empty
         between its hits, and its next hit would show motion. 0 turns it off. Needs the fine
         free evidence, ``mobile_expiry`` > 0 and a scan stamp.
+    free_first_sight : float
+        Free evidence needs a second look [s] (``second_look``): a cell, of the label grid's
+        ``seen_free`` or of the fine evidence, counts as surely free only from a scan at least
+        this long after the first scan that showed it empty. The first scan of a recording,
+        or the first to show a place, takes for empty the place of a surface that returned no
+        echo in that one scan, and its echo in the next scans would show motion; no hit came
+        near it before, so the burn-in cannot hold it back. 0 turns it off. Needs the fine
+        free evidence and a scan stamp.
     object_min_width : float
         Narrow things [m]: a scan segment whose first and last hits lie less than this apart
         shows no motion of its own: its evidence is taken away with that of the hits on known
@@ -354,6 +363,7 @@ class LabelRule:
     range_noise_margin: float = 0.0
     range_noise_fraction: float = 0.0
     free_burn_in: float = 0.0
+    free_first_sight: float = 0.0
     object_min_width: float = 0.0
 
     def __post_init__(self):
@@ -428,8 +438,8 @@ class LabelRule:
         if self.veiling_angle > 0.0 and self.surface_time == 0.0:
             raise ValueError('veiling_angle needs surface_time > 0: the veiling hits lose their '
                              'motion evidence with those on known surfaces')
-        for name in ('free_burn_in', 'object_min_width', 'no_return_standing_distance',
-                     'no_return_standing_time'):
+        for name in ('free_burn_in', 'free_first_sight', 'object_min_width',
+                     'no_return_standing_distance', 'no_return_standing_time'):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0.0):
                 raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
@@ -438,6 +448,9 @@ class LabelRule:
             raise ValueError('free_burn_in needs fine_evidence_radius > 0 and mobile_expiry > '
                              '0: it holds back the fine and the coarse free evidence by their '
                              'hit clocks')
+        if self.free_first_sight > 0.0 and self.fine_evidence_radius == 0.0:
+            raise ValueError('free_first_sight needs fine_evidence_radius > 0: it holds back '
+                             'the coarse and the fine free evidence')
         if self.object_min_width > 0.0 and self.surface_time == 0.0:
             raise ValueError('object_min_width needs surface_time > 0: the narrow segments lose '
                              'their motion evidence with those on known surfaces')
@@ -683,6 +696,10 @@ class LabelGrid(PlanningMap):
                              else None)
         self.last_hit = (np.full(self.geometry.shape, -math.inf)
                          if rule.mobile_expiry > 0.0 else None)
+        # A second look (`second_look`): per cell the first scan that showed it surely empty.
+        self.first_free = (np.full(self.geometry.shape, math.inf)
+                           if self.seen_free is not None and rule.free_first_sight > 0.0
+                           else None)
         self._kernel_rule = rule.kernel_arguments()
         # The ghost expiry's list of mobile cells (flat indices, the first _mobile_count), the
         # grid of which cells it holds, and a lower bound of their last_hit.
@@ -707,7 +724,8 @@ class LabelGrid(PlanningMap):
                               if rule.object_memory > 0.0 else None)
         self.fine_evidence = (FineEvidence(self.geometry, rule.fine_evidence_resolution,
                                            rule.fine_evidence_radius, rule.fine_evidence_range,
-                                           rule.free_evidence_renewal, rule.free_burn_in)
+                                           rule.free_evidence_renewal, rule.free_burn_in,
+                                           rule.free_first_sight)
                               if rule.fine_evidence_radius > 0.0 else None)
         # Free evidence an update left for `settle`: (free window, fine scan), or None.
         self._deferred = None
@@ -768,7 +786,7 @@ class LabelGrid(PlanningMap):
             pose, ranges, angle_min, angle_increment, range_min, range_max, safety_radius, path,
             angle_max, stamp)
         expiring = self.rule.mobile_expiry > 0.0
-        if expiring:
+        if expiring or self.first_free is not None:
             self._restart_clocks_if_time_went_back(stamp)
         reach = self._no_return_reach(pose, stamp)
         ranges = read_no_echo(ranges, range_min, self.rule.no_echo_below_range_min)
@@ -798,6 +816,11 @@ class LabelGrid(PlanningMap):
             if not defer_evidence:
                 self.fine_evidence.update(*fine_scan)
                 fine_scan = None
+        look = None
+        if self.first_free is not None:
+            look = (scan_window(self.geometry, pose, range_max + max(
+                safety_radius, self.rule.free_evidence_radius)), stamp)
+            before = None if defer_evidence else self.seen_free[look[0]].copy()
         replan, self.last_window, new_mobile, free_scan = scan_update(
             self.labels, _NO_BOOL if self.seen_free is None else self.seen_free,
             _NO_TIME if self.last_hit is None else self.last_hit,
@@ -806,16 +829,21 @@ class LabelGrid(PlanningMap):
             stamp if expiring else 0.0, _NO_PATH if path is None else path, followed, points,
             defer_free=defer_evidence, free_fresh_after=self._free_fresh_after(stamp))
         if free_scan is not None or fine_scan is not None:
-            self._deferred = (free_scan, fine_scan)
+            self._deferred = (free_scan, fine_scan, look)
+        elif look is not None:
+            self._hold_back(self.seen_free, *look, before)
         if self._fresh_free is not None:
             # This generation's marks, at least as conservative as the kernel's (a safety
             # radius above the free one keeps more cells out): `seen_free` at the next renewal.
             burning_in = self.rule.free_burn_in > 0.0
+            fresh_before = None if look is None else self._fresh_free[look[0]].copy()
             surely_free_update(self._fresh_free, self.geometry, pose, no_return_as_reading(
                 ranges, range_min, range_max, reach), angle_min,
                 angle_increment, range_min, range_max,
                 max(self.rule.free_evidence_radius, safety_radius),
                 self.last_hit if burning_in else None, self._free_fresh_after(stamp))
+            if look is not None:
+                self._hold_back(self._fresh_free, *look, fresh_before)
         self._widen_trackers(self.last_window[0], self.last_window[1])
         if expiring:
             self._list_mobile(new_mobile, stamp)
@@ -837,12 +865,19 @@ class LabelGrid(PlanningMap):
             self.object_memory.settle()
         if self._deferred is None:
             return
-        free_scan, fine_scan = self._deferred
+        free_scan, fine_scan, look = self._deferred
         self._deferred = None
         if free_scan is not None:
+            before = None if look is None else self.seen_free[look[0]].copy()
             mark_free_window(self.seen_free, self.geometry, free_scan, self.last_hit)
+            if look is not None:
+                self._hold_back(self.seen_free, *look, before)
         if fine_scan is not None:
             self.fine_evidence.update(*fine_scan)
+
+    def _hold_back(self, marks, window, stamp, before):
+        """Take back a scan's coarse ``marks`` on cells first seen free too recently."""
+        hold_back(marks, self.first_free, window, before, stamp, self.rule.free_first_sight)
 
     def _free_fresh_after(self, stamp):
         """
@@ -1050,11 +1085,12 @@ class LabelGrid(PlanningMap):
             self.geometry.shape, pose, ranges, angle_min, angle_increment, range_min, range_max,
             safety_radius, path, angle_max)
         if (self.rule.mobile_expiry > 0.0 or self.rule.track_confirm_time > 0.0
-                or self.rule.free_burn_in > 0.0 or self.rule.no_return_standing_distance > 0.0):
+                or self.rule.free_burn_in > 0.0 or self.rule.free_first_sight > 0.0
+                or self.rule.no_return_standing_distance > 0.0):
             if stamp is None or not math.isfinite(stamp):
                 raise ValueError('the label rule (mobile_expiry, track_confirm_time, '
-                                 'free_burn_in, no_return_standing_distance) needs a finite '
-                                 f'scan stamp, got {stamp!r}')
+                                 'free_burn_in, free_first_sight, no_return_standing_distance) '
+                                 f'needs a finite scan stamp, got {stamp!r}')
             stamp = float(stamp)
         return pose, ranges, safety_radius, path, stamp
 
@@ -1073,9 +1109,12 @@ class LabelGrid(PlanningMap):
         self._earliest_hit = min(self._earliest_hit, stamp)
 
     def _restart_clocks_if_time_went_back(self, stamp):
-        """After a jump back in time (a restarted simulation), no hit is newer than now."""
+        """After a jump back in time (a restarted simulation), no clock is later than now."""
         if stamp < self._last_stamp:
-            np.minimum(self.last_hit, stamp, out=self.last_hit)
+            if self.last_hit is not None:
+                np.minimum(self.last_hit, stamp, out=self.last_hit)
+            if self.first_free is not None:
+                np.minimum(self.first_free, stamp, out=self.first_free)
             self._earliest_hit = min(self._earliest_hit, stamp)
         self._last_stamp = stamp
 
@@ -1146,6 +1185,8 @@ class LabelGrid(PlanningMap):
         if self.last_hit is not None:
             self.last_hit = growth.embed(self.last_hit, shape, -math.inf)
             self._listed = growth.embed(self._listed, shape, False)
+        if self.first_free is not None:
+            self.first_free = growth.embed(self.first_free, shape, math.inf)
         count = self._mobile_count
         self._mobile_cells[:count] = growth.remap(self._mobile_cells[:count], old.cols,
                                                   new.cols)
@@ -1168,7 +1209,7 @@ class LabelGrid(PlanningMap):
     def nbytes(self):
         """Bytes held by the per-cell arrays (the memories' finer grids too)."""
         arrays = [self.labels, self.seen_free, self.last_hit, self._listed, self.cell_track,
-                  self._fresh_free]
+                  self._fresh_free, self.first_free]
         total = sum(array.nbytes for array in arrays if array is not None)
         for part in (self.object_memory, self.fine_evidence, self.surface_memory):
             if part is not None:
@@ -1187,6 +1228,8 @@ class LabelGrid(PlanningMap):
         if self.last_hit is not None:
             self.last_hit.fill(-math.inf)
             self._listed.fill(False)
+        if self.first_free is not None:
+            self.first_free.fill(math.inf)
         self._mobile_count = 0
         self._earliest_hit = math.inf
         self._last_stamp = -math.inf
