@@ -675,6 +675,20 @@ def test_the_burn_in_holds_through_deferred_evidence_and_time_going_back():
         assert eager.first_free.min() <= stamp
 
 
+def test_the_standing_laser_file_is_the_real_data_row():
+    # config/dpn_standing_laser.yaml holds the rules docs/real_data.md measures as `dpn with
+    # range noise, burn-in 5 s, a second look, narrow things`, and they make a valid rule.
+    import yaml
+    from dpn_navigator.tools.real_data import STANDING_LASER, TABLE_RULES
+    path = Path(__file__).resolve().parents[2] / 'config' / 'dpn_standing_laser.yaml'
+    overlay = yaml.safe_load(path.read_text())['/**/dpn']['ros__parameters']
+    assert overlay == STANDING_LASER
+    assert any(settings is STANDING_LASER for _, _, settings in TABLE_RULES)
+    rule = dpn_rule(**overlay)
+    assert rule.free_first_sight > 0.0 and rule.free_burn_in > rule.free_first_sight
+    assert rule.no_return_reach == dpn_rule().no_return_reach
+
+
 # --- Free evidence needs a second look (`free_first_sight`).
 
 BOARD_X = 3.5
