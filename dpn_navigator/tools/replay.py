@@ -40,6 +40,7 @@ from ..recording.bag_writer import BagPathError, check_bag_path
 from ..recording.replay_output import BAG_NAME, ReplayOutput
 from ..recording.scan_poses import (grid_box, merge_extents, NoTransformsError, scan_extent,
                                     ScanPoses)
+from ..recording.sensor_survey import SensorSurvey
 from ..ros.dpn_params import check_grid_size, MAX_FINE_GRID_CELLS
 from ..ros.params_file import dpn_parameters, known_parameters, node_values, ParamsFileError
 
@@ -74,6 +75,9 @@ class ReplaySummary:
         [m]
     update_ms_median : float
         Median label update time [ms].
+    hints : list of str
+        What the laser did that the parameters given do not cater for
+        (`recording.sensor_survey.SensorSurvey.hints`).
 
     """
 
@@ -86,6 +90,7 @@ class ReplaySummary:
     height: float
     origin: tuple
     update_ms_median: float
+    hints: list = dataclasses.field(default_factory=list)
 
 
 def build_parser():
@@ -235,6 +240,7 @@ def _run(bag, topic, poses, out_dir, params, limits, values, navigator, animate)
                      config.label_rule())
     poses.skipped.clear()
     update_ms = []
+    survey = SensorSurvey()
     custom = {'replayed_bag': str(bag.path), 'scan_topic': topic, 'pose': poses.mode,
               'map_frame': str(poses.map_frame), 'navigator': navigator}
     output = ReplayOutput(out_dir, grid, poses.map_frame, topic, params.map_mobile_value,
@@ -252,6 +258,7 @@ def _run(bag, topic, poses, out_dir, params, limits, values, navigator, animate)
                 poses.skipped[f'rejected by the label update: {str(error)[:60]}'] += 1
                 continue
             elapsed_ms = 1e3 * (time.perf_counter() - started)
+            survey.add(scan.ranges, scan.range_min, scan.range_max, placed.pose[:2])
             output.add(scan, placed.pose[:2], elapsed_ms)
             update_ms.append(elapsed_ms)
         if not update_ms:
@@ -261,7 +268,8 @@ def _run(bag, topic, poses, out_dir, params, limits, values, navigator, animate)
         output.__exit__(None, None, None)
     update_ms.sort()
     return ReplaySummary(topic, poses.map_frame, scans, output.maps, dict(poses.skipped),
-                         width, height, origin, update_ms[len(update_ms) // 2])
+                         width, height, origin, update_ms[len(update_ms) // 2],
+                         survey.hints(values, files=navigator != 'paper'))
 
 
 def main(argv=None):
@@ -279,6 +287,8 @@ def main(argv=None):
           f'({skipped} skipped) in frame {summary.map_frame}; grid {summary.width:g} x '
           f'{summary.height:g} m at ({summary.origin[0]:g}, {summary.origin[1]:g}); median '
           f'label update {summary.update_ms_median:.2f} ms; wrote {args.out}{reasons}')
+    for hint in summary.hints:
+        print(f'{PROG}: note: {hint}', file=sys.stderr)
     return 0
 
 

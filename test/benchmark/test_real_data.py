@@ -127,3 +127,79 @@ def test_update_cost_times_labels_ready_and_the_whole_update_of_every_rule_set()
         assert float(cells[1]) == pytest.approx(1e3 * cost['paper'][index], abs=6e-4)
         last = real_data.TABLE_RULES[-1][0]                    # the last column's rule set
         assert float(cells[-1]) == pytest.approx(cost[last][index] / paper_whole, abs=0.051)
+
+
+def _passer_by_recording(scans=20, beams=181):
+    """
+    Return a synthetic annotated standing laser with a passer-by outside the annotation.
+
+    A wall at 4 m; a pillar at 1.5 m, 60 deg; a dark surface at 3 m, -50 deg, that returns
+    in a third of the scans only (no echo written as 0.0); a passer-by at 2 m, 40 deg, in
+    scans 5-9 (outside the annotated region); an annotated walker at 2 m straight ahead in
+    scans 12-17 (inside the region).
+    """
+    angle_min, increment = -0.5 * np.pi, np.pi / (beams - 1)
+    angles = angle_min + increment * np.arange(beams)
+    records, legs = [], []
+    for k in range(scans):
+        ranges = np.full(beams, 4.0)
+        ranges[np.abs(angles - np.radians(60.0)) < 0.05] = 1.5
+        dark = np.abs(angles - np.radians(-50.0)) < 0.05
+        ranges[dark] = 3.0 if k % 3 == 0 else 0.0
+        if 5 <= k <= 9:
+            ranges[np.abs(angles - np.radians(40.0)) < 0.06] = 2.0
+        walking = 12 <= k <= 17
+        if walking:
+            ranges[np.abs(angles) < 0.06] = 2.0
+        records.append((0.1 * k, ranges, angle_min, increment, 0.02, 10.0))
+        legs.append(np.array([[2.05, 0.0]]) if walking else np.zeros((0, 2)))
+    return real_data.Recording('passer_by', records, legs, True)
+
+
+def test_people_the_annotation_leaves_out_are_found_in_front_of_the_background():
+    recording = _passer_by_recording()
+    background = real_data.background_ranges(recording)
+    angles = np.degrees(recording.scans[0][2] + recording.scans[0][3] * np.arange(181))
+    assert background[np.argmin(np.abs(angles - 60.0))] == pytest.approx(1.5)
+    assert background[np.argmin(np.abs(angles - 40.0))] == pytest.approx(4.0)
+    # The dark surface returns in a third of the scans: no background, so never a person.
+    assert np.isnan(background[np.argmin(np.abs(angles + 50.0))])
+    people = real_data.unannotated_people(recording)
+    bearing = math.radians(40.0)
+    for k, points in enumerate(people):
+        if 5 <= k <= 9:
+            assert points.shape[0] >= real_data.PERSON_MIN_HITS
+            np.testing.assert_allclose(np.hypot(points[:, 0], points[:, 1]), 2.0)
+            assert np.abs(np.arctan2(points[:, 1], points[:, 0]) - bearing).max() < 0.07
+        else:                       # the annotated walker, the pillar, the dark surface: no
+            assert points.shape == (0, 2)
+    # Scans of different layouts have no common background: no one is found.
+    shifted = list(recording.scans)
+    stamp, ranges, angle_min, increment, range_min, range_max = shifted[3]
+    shifted[3] = (stamp, ranges[:-1], angle_min, increment, range_min, range_max)
+    odd = real_data.Recording('odd', shifted, recording.legs, True)
+    assert real_data.background_ranges(odd) is None
+    assert all(points.shape == (0, 2) for points in real_data.unannotated_people(odd))
+
+
+def test_cells_near_the_people_the_annotation_leaves_out_count_only_when_asked():
+    recording = _passer_by_recording()
+    truth = real_data.ground_truth(recording, 0.6)
+    config = real_data.grid_config(recording, 'paper')
+    labels, visible, _, seconds = real_data.run_core(recording, config)
+    scan = 7
+    centres = real_data._cell_centres(real_data.Navigator(config).grid.geometry)
+    passer_by = (2.0 * math.cos(math.radians(40.0)), 2.0 * math.sin(math.radians(40.0)))
+    cell = np.unravel_index(np.argmin(np.hypot(centres[0] - passer_by[0],
+                                               centres[1] - passer_by[1])), centres[0].shape)
+    assert truth.near_unannotated[scan][cell] and not truth.near[scan][cell]
+    # Mark that cell mobile and visible in that scan only, with nothing else mobile.
+    labels = np.full(labels.shape, CellLabel.EXPLORED, dtype=labels.dtype)
+    labels[scan][cell] = M
+    visible[scan][cell] = True
+    plain = real_data.measure_run(truth, labels, visible, seconds)
+    counted = real_data.measure_run(truth, labels, visible, seconds, unannotated=True)
+    assert (plain.mobile_visible, plain.mobile_visible_true) == (1, 0)
+    assert (counted.mobile_visible, counted.mobile_visible_true) == (1, 1)
+    assert counted.ghosts == plain.ghosts - int(not truth.static[cell])
+    assert counted.walker_cells == plain.walker_cells       # the recalls: annotated only

@@ -409,3 +409,17 @@ def test_scans_the_node_would_reject_are_skipped_and_counted():
     assert poses.place(record(angle_increment=0.0)) is None
     assert sum(poses.skipped.values()) == 3
     assert all(reason.startswith('malformed scan') for reason in poses.skipped)
+
+
+def test_a_moving_laser_gets_no_standing_hint_and_a_fixed_one_does(tf_bag, tmp_path, capsys):
+    summary = replay_tool.replay(tf_bag, tmp_path / 'tf')
+    assert not any('standing' in hint for hint in summary.hints)
+    # The room's walls return every beam: no file is hinted at for the moving laser.
+    assert summary.hints == []
+    assert run([tf_bag, '--out', tmp_path / 'fixed', '--pose', 'fixed']) == 0
+    err = capsys.readouterr().err
+    assert 'dpn-replay: note: the laser stood still' in err
+    assert 'config/dpn_standing_laser.yaml' in err
+    assert run([tf_bag, '--out', tmp_path / 'paper', '--pose', 'fixed',
+                '--navigator', 'paper']) == 0
+    assert 'dpn_standing_laser' not in capsys.readouterr().err

@@ -1,0 +1,136 @@
+"""
+What a recording's laser did, and which of the package's parameter files suits it.
+
+``dpn-replay`` surveys every scan it places (`SensorSurvey.add`) and, after the replay, prints
+the hints of `SensorSurvey.hints` on stderr: a replay with the node's defaults is a replay of
+a robot with an ideal laser, and real recordings often need one of the package's files:
+
+- the driver writes a beam with no echo as a tiny range (the old Hokuyo driver: 0.000-0.019 m,
+  16-47 % of the readings of the leg_tracker recordings): under REP 117 these are invalid, and
+  ``no_echo_below_range_min`` reads them as no return;
+- the laser stood still the whole time: ``config/dpn_standing_laser.yaml``;
+- the laser moved and many beams returned nothing (walls met at a grazing angle):
+  ``config/dpn_real_laser.yaml``.
+
+No rclpy here: a plain survey of numbers, usable in batch runs.
+
+"""
+
+from dataclasses import dataclass
+import math
+
+import numpy as np
+
+#: A share of no-echo codes (finite readings below ``range_min``) above this is worth a hint.
+NO_ECHO_HINT_SHARE = 0.05
+#: A laser that stays within this distance [m] of its first position stood still.
+STANDING_DISTANCE = 0.1
+#: A share of readings with no return (``+inf`` or at ``range_max`` and beyond) above this, on
+#: a laser that moved, is worth a hint.
+NO_RETURN_HINT_SHARE = 0.05
+
+
+@dataclass
+class SensorSurvey:
+    """
+    Counts over the scans of a recording.
+
+    Attributes
+    ----------
+    readings : int
+        Every reading of every scan surveyed.
+    no_echo_codes : int
+        Finite readings ``0 <= range < range_min``.
+    no_returns : int
+        Readings ``+inf`` or ``>= range_max`` (REP 117: no return within range).
+    scans : int
+    first_position : (float, float) or None
+        The laser's first position [m] (map frame).
+    travel : float
+        The farthest the laser came from its first position [m].
+
+    """
+
+    readings: int = 0
+    no_echo_codes: int = 0
+    no_returns: int = 0
+    scans: int = 0
+    first_position: tuple = None
+    travel: float = 0.0
+
+    def add(self, ranges, range_min, range_max, position):
+        """
+        Count one scan.
+
+        Parameters
+        ----------
+        ranges : (L,) array_like of float
+            As recorded [m] (REP 117 ``inf``/``NaN`` kept).
+        range_min, range_max : float
+            [m]
+        position : (float, float)
+            The laser's position in the map frame [m].
+
+        """
+        ranges = np.asarray(ranges, dtype=np.float64)
+        with np.errstate(invalid='ignore'):
+            self.no_echo_codes += int((np.isfinite(ranges) & (ranges >= 0.0)
+                                       & (ranges < range_min)).sum())
+            beyond = np.isfinite(ranges) & (ranges >= range_max)
+            self.no_returns += int(((ranges == math.inf) | beyond).sum())
+        self.readings += int(ranges.shape[0])
+        self.scans += 1
+        x, y = float(position[0]), float(position[1])
+        if self.first_position is None:
+            self.first_position = (x, y)
+        self.travel = max(self.travel, math.hypot(x - self.first_position[0],
+                                                  y - self.first_position[1]))
+
+    def share(self, count):
+        """Return ``count`` over the readings (0 without any)."""
+        return count / self.readings if self.readings else 0.0
+
+    @property
+    def standing(self):
+        """Whether the laser stayed within `STANDING_DISTANCE` of its first position."""
+        return self.scans > 0 and self.travel <= STANDING_DISTANCE
+
+    def hints(self, values, files=True):
+        """
+        Return the hints for a replay made with the parameter overrides ``values``.
+
+        Parameters
+        ----------
+        values : dict of str to value
+            The dpn node's parameters given (the params file's, and ``paper``'s rule set):
+            a hint names only what was not set.
+        files : bool
+            Whether to name the package's parameter files (not for the paper's rule set).
+
+        Returns
+        -------
+        list of str
+            One line each, without the program's name.
+
+        """
+        hints = []
+        no_echo = self.share(self.no_echo_codes)
+        if no_echo > NO_ECHO_HINT_SHARE and 'no_echo_below_range_min' not in values:
+            hints.append(
+                f'{100.0 * no_echo:.0f} % of the readings are finite and below range_min, '
+                'read as invalid (REP 117); if the driver writes a beam with no echo so (the '
+                'old Hokuyo driver), set no_echo_below_range_min: true in a --params-file')
+        if files and self.standing and 'free_burn_in' not in values:
+            hints.append(
+                f'the laser stood still (within {self.travel:.2f} m of its first place): '
+                'config/dpn_standing_laser.yaml of the package suits a laser standing still '
+                '(range noise, burn-in, a second look; docs/real_data.md)')
+        no_return = self.share(self.no_returns)
+        if files and not self.standing and self.scans and no_return > NO_RETURN_HINT_SHARE \
+                and 'no_return_reach' not in values:
+            hints.append(
+                f'the laser moved {self.travel:.1f} m and {100.0 * no_return:.0f} % of the '
+                'readings returned nothing: config/dpn_real_laser.yaml of the package suits a '
+                'moving robot with a real laser (beams with no return clear nothing; '
+                'docs/method.md)')
+        return hints

@@ -1,0 +1,53 @@
+"""What a recording's laser did (``recording.sensor_survey``), and the hints it gives."""
+
+import math
+
+from dpn_navigator.recording.sensor_survey import (NO_ECHO_HINT_SHARE, SensorSurvey,
+                                                   STANDING_DISTANCE)
+import numpy as np
+
+
+def test_the_survey_counts_no_echo_codes_no_returns_and_travel():
+    survey = SensorSurvey()
+    survey.add([0.0, 0.019, 0.5, math.inf, math.nan, -math.inf, 30.0, 29.9], 0.02, 30.0,
+               (1.0, 2.0))
+    survey.add(np.array([0.01, 1.0], np.float32), 0.02, 30.0, (1.0, 2.5))
+    assert survey.readings == 10 and survey.scans == 2
+    assert survey.no_echo_codes == 3            # 0.0, 0.019, 0.01; not NaN, not -inf
+    assert survey.no_returns == 2               # +inf and 30.0 (at range_max)
+    assert survey.travel == 0.5 and not survey.standing
+    assert survey.share(survey.no_echo_codes) == 0.3
+
+
+def _survey(no_echo_share, no_return_share, travel, beams=1000, scans=5):
+    survey = SensorSurvey()
+    for k in range(scans):
+        ranges = np.full(beams, 3.0)
+        ranges[:int(no_echo_share * beams)] = 0.0
+        ranges[beams - int(no_return_share * beams):] = math.inf
+        survey.add(ranges, 0.02, 30.0, (travel * k / (scans - 1), 0.0))
+    return survey
+
+
+def test_a_standing_laser_with_no_echo_codes_is_told_both_files_and_settings():
+    hints = _survey(0.2, 0.0, 0.0).hints({})
+    assert len(hints) == 2
+    assert '20 %' in hints[0] and 'no_echo_below_range_min: true' in hints[0]
+    assert 'config/dpn_standing_laser.yaml' in hints[1]
+    # What the parameters given already cater for is not hinted at.
+    assert _survey(0.2, 0.0, 0.0).hints({'no_echo_below_range_min': True,
+                                         'free_burn_in': 5.0}) == []
+    # Few codes, or the paper's rule set: no file, no code hint below the share.
+    few = NO_ECHO_HINT_SHARE / 2.0
+    assert _survey(few, 0.0, 0.0).hints({}, files=False) == []
+
+
+def test_a_moving_laser_with_silent_beams_is_told_the_real_laser_file():
+    survey = _survey(0.0, 0.4, 3.0)
+    assert survey.travel == 3.0 and not survey.standing
+    (hint,) = survey.hints({})
+    assert 'moved 3.0 m' in hint and '40 %' in hint and 'config/dpn_real_laser.yaml' in hint
+    assert survey.hints({'no_return_reach': 0.0}) == []
+    assert _survey(0.0, 0.01, 3.0).hints({}) == []          # beams that all return
+    # A laser that moves less than the standing distance stands.
+    assert _survey(0.0, 0.4, STANDING_DISTANCE).standing
