@@ -188,7 +188,7 @@ PARAMETERS = (
     _field('navigator', 'safety_radius', 'robot_radius'),
     *_navigator('footprint_radius', 'obstacle_proximity_cost',
                 'forget_obstacles_after', 'free_evidence_radius', 'moving_object_size',
-                'evidence_margin', 'segment_gap', 'object_min_hits',
+                'evidence_margin', 'segment_gap', 'segment_bridge_beams', 'object_min_hits',
                 'fine_evidence_resolution', 'fine_evidence_radius', 'fine_evidence_range'),
     # A localiser's pose carries a heading error: the fine evidence is renewed every 3 m of
     # travel (the core's default, 0, keeps it for good: the benchmark's pose is exact).

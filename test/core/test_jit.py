@@ -214,7 +214,7 @@ from dpn_navigator.core._kernels import fine_evidence, jit
 xs = np.array([1.0, 1.1, 1.2, 1.3])
 moving = fine_evidence.fine_moving_hits(
     np.ones((40, 40), dtype=np.bool_), 0.0, 0.0, 0.1, xs, np.full(4, 1.0),
-    np.arange(4, dtype=np.int64), 0.3, 0.7, 1, 0.0, 0.0, 640)
+    np.arange(4, dtype=np.int64), 0.3, 0.7, 1, 0.0, 0.0, 640, 0)
 print(jit.cache_dir(), ''.join(str(int(flag)) for flag in moving))
 """
 

@@ -331,10 +331,21 @@ RULES = {
                         fine_evidence_range=2.5, surface_time=0.3, surface_memory=2.0,
                         noise_margin=0.25, object_min_width=0.6, mobile_expiry=1.0,
                         free_burn_in=0.2),
+    # Segments across beams without a hit (lost returns), in the kernel's own object rule
+    # and in the intermittent surfaces' (with fine evidence and narrow things).
+    'bridged_thin': LabelRule(free_evidence_radius=0.5, moving_object_size=0.7,
+                              segment_gap=0.6, object_min_hits=3, segment_bridge_beams=2),
+    'bridged_real': LabelRule(free_evidence_radius=0.5, moving_object_size=0.7,
+                              segment_gap=0.6, object_min_hits=2,
+                              fine_evidence_resolution=0.25, fine_evidence_radius=0.3,
+                              fine_evidence_range=2.5, no_echo_below_range_min=True,
+                              no_return_reach=0.0, surface_time=0.3, surface_memory=2.0,
+                              noise_margin=0.25, mixed_pixel_angle=0.5,
+                              object_min_width=0.6, segment_bridge_beams=3),
 }
 REAL_SENSOR_RULES = ('real', 'no_return_clears_nothing', 'no_return_short', 'edge_pixels',
                      'mixed_pixels_alone', 'spikes', 'spikes_alone', 'flat_walls', 'range_noise',
-                     'burn_in', 'narrow')
+                     'burn_in', 'narrow', 'bridged_real')
 
 
 @settings(max_examples=120)

@@ -367,7 +367,8 @@ def assert_same_grids(fast, reference):
 def test_compiled_tracks_equal_the_numpy_ones_on_hall_sequences(seed, still_rules):
     # A laser that stands still for ten scans at a time among boxes that walk; the numpy
     # tracks (and trail marks) of commit 1d9ead7 are the oracle, after every scan. The
-    # shipped rule, and the one before still objects and exclusive tracks.
+    # shipped rule, and the one before still objects and exclusive tracks; seeds 2 and 3
+    # lose 3 % of the returns.
     before = {} if still_rules else {'track_still_distance': 0.0, 'track_exclusive': False,
                                      'object_min_hits': 0}
     rule = NavigatorConfig(width=1.0, height=1.0, **before).label_rule()
@@ -385,6 +386,8 @@ def test_compiled_tracks_equal_the_numpy_ones_on_hall_sequences(seed, still_rule
         if step % 10 == 0:
             pose = free_pose(world, rng)
         ranges = ray_cast(world, pose)
+        if seed >= 2:           # lost returns (the shipped rule's segments go on across them)
+            ranges[rng.random(ranges.shape[0]) < 0.03] = np.inf
         # Mostly forward by a scan period; once back in time (a restarted simulation).
         stamp = 0.5 if step == 80 else stamp + 0.1
         args = (pose, ranges, ANGLE_MIN, ANGLE_INCREMENT, RANGE_MIN, RANGE_MAX, 0.6)

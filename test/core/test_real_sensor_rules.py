@@ -769,11 +769,12 @@ def test_narrow_segments_equal_their_literal_twin(seed):
         ranges[start:start + rng.integers(2, 5)] = rng.uniform(0.3, 6.0)
     increment = float(rng.choice([0.0044, 0.0065, 0.0175]))
     _, _, hits_x, hits_y, beams = scan_points(ranges, 0.0, 0.0, 0.0, -0.3, increment, 0.1, 5.5)
-    narrow = narrow_segments(hits_x, hits_y, beams, 0.3, 0.05)
+    bridge = seed % 3                       # 0: every beam without a hit ends a segment
+    narrow = narrow_segments(hits_x, hits_y, beams, 0.3, 0.05, bridge)
     assert_array_equal(narrow, literal_narrow(list(zip(hits_x, hits_y)), list(beams), 0.3,
-                                              0.05))
+                                              0.05, bridge))
     assert narrow.any() and not narrow.all()
-    assert not narrow_segments(hits_x, hits_y, beams, 0.3, 0.0).any()
+    assert not narrow_segments(hits_x, hits_y, beams, 0.3, 0.0, bridge).any()
 
 
 def test_bad_burn_in_and_width_parameters_raise():
@@ -934,3 +935,63 @@ def test_bad_standing_parameters_raise():
             with pytest.raises(ValueError, match=name):
                 LabelRule(**{name: value})
     assert LabelRule().no_return_standing_distance == 0.0      # off in the paper
+
+
+def walker_along_a_wall(bridge_beams, lost_share, seed, beams=721, scans=80):
+    """
+    Run a walker along a wall past a laser that loses ``lost_share`` of its returns.
+
+    The laser stands 5 m from the wall; a disc (r 0.25 m) walks along it, 0.6 m from it, at
+    0.8 m/s. Returns (mobile cells farther than 0.95 m from the walker, summed over the
+    scans; scans with the walker's near rim mobile).
+    """
+    rule = NavigatorConfig(width=1.0, height=1.0, segment_bridge_beams=bridge_beams)
+    grid = LabelGrid(width=12.0, height=12.0, rule=rule.label_rule())
+    scan = {'angle_min': -math.pi / 2, 'angle_increment': math.pi / (beams - 1),
+            'range_min': 0.1, 'range_max': 20.0}
+    angles = scan['angle_min'] + np.arange(beams) * scan['angle_increment']
+    ux, uy = np.cos(angles), np.sin(angles)
+    laser, wall_x = (1.0, 6.0, 0.0), 6.0
+    rng = np.random.default_rng(seed)
+    far = found = 0
+    for step in range(scans):
+        centre = (5.4, 3.0 + 0.08 * step)
+        ranges = np.full(beams, np.inf)
+        ahead = ux > 1e-9
+        ranges[ahead] = (wall_x - laser[0]) / ux[ahead]
+        ox, oy = centre[0] - laser[0], centre[1] - laser[1]
+        along = ox * ux + oy * uy
+        inside = 0.25 ** 2 - (ox * ox + oy * oy - along * along)
+        hit = (inside >= 0.0) & (along > 0.0)
+        ranges[hit] = np.minimum(ranges[hit], along[hit] - np.sqrt(inside[hit]))
+        ranges[rng.random(beams) < lost_share] = np.inf
+        grid.update(laser, ranges, safety_radius=0.6, stamp=step / 10, **scan)
+        rows, cols = np.nonzero(grid.labels == CellLabel.MOBILE_OBSTACLE)
+        x, y = grid.geometry.cell_to_world(rows, cols)
+        far += int(np.count_nonzero(np.hypot(x - centre[0], y - centre[1]) > 0.95))
+        rr, cc = grid.geometry.world_to_cell(np.array([centre[0] - 0.25]), np.array([centre[1]]))
+        found += grid.labels[rr[0], cc[0]] == CellLabel.MOBILE_OBSTACLE
+    return far, found
+
+
+@pytest.mark.parametrize('seed', range(2))
+def test_lost_returns_in_a_wall_do_not_let_it_follow_a_walker(seed):
+    # Every beam without a hit ended a segment: lost returns cut the wall into short pieces
+    # that stood free, and those next to the walker continued its track (mobile).
+    assert NavigatorConfig(width=1.0, height=1.0).segment_bridge_beams == 2      # shipped
+    assert NavigatorConfig(width=1.0, height=1.0).label_rule().segment_bridge_beams == 2
+    cut_far, cut_found = walker_along_a_wall(0, 0.03, seed)
+    bridged_far, bridged_found = walker_along_a_wall(2, 0.03, seed)
+    assert cut_far > 50 and bridged_far == 0
+    assert bridged_found >= cut_found - 2 and bridged_found > 60       # the walker: mobile
+    # With every return, the rule changes nothing.
+    assert walker_along_a_wall(0, 0.0, seed) == walker_along_a_wall(2, 0.0, seed)
+
+
+def test_bad_segment_bridge_beams_raise():
+    for value in (-1, 1.5, True):
+        with pytest.raises(ValueError, match='segment_bridge_beams'):
+            LabelRule(segment_bridge_beams=value)
+    with pytest.raises(ValueError, match='bridge_beams'):
+        from dpn_navigator.core.mapping.motion_tracks import TrackConfig
+        TrackConfig(bridge_beams=-1)

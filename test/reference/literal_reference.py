@@ -194,9 +194,12 @@ def literal_surely_free(cx, cy, vertices, hits, safety_radius, radius):
 
 
 def literal_moving_hits(hits, beams, evidence, segment_gap, object_size, min_hits=0,
-                        laser=(0.0, 0.0), beam_count=0):
+                        laser=(0.0, 0.0), beam_count=0, bridge_beams=0):
     """
     Mark hits that have a hit with evidence in their segment within object_size of arc.
+
+    A segment ends between hits more than ``segment_gap`` apart, or with more than
+    ``bridge_beams`` beams without a hit between them.
 
     Evidence counts for nothing in a free-standing segment of fewer than ``min_hits`` hits:
     both its ends open, the beam just outside each returning nothing (and existing) or a hit
@@ -209,7 +212,7 @@ def literal_moving_hits(hits, beams, evidence, segment_gap, object_size, min_hit
         dx = hits[k][0] - hits[k - 1][0]
         dy = hits[k][1] - hits[k - 1][1]
         step = math.sqrt(dx * dx + dy * dy)
-        cut = step > segment_gap or beams[k] != beams[k - 1] + 1
+        cut = step > segment_gap or beams[k] - beams[k - 1] - 1 > bridge_beams
         segment[k] = segment[k - 1] + (1 if cut else 0)
         arc[k] = arc[k - 1] + step
 
@@ -304,11 +307,12 @@ def literal_update_with_rule(labels, seen_free, last_hit, origin, resolution, po
                                       rule.veiling_angle)
             evidence = [e and not veiling[b] for e, b in zip(evidence, beams)]
             # Narrow things: no evidence in a narrow segment.
-            narrow = literal_narrow(hits, beams, rule.segment_gap, rule.object_min_width)
+            narrow = literal_narrow(hits, beams, rule.segment_gap, rule.object_min_width,
+                                    rule.segment_bridge_beams)
             evidence = [e and not n for e, n in zip(evidence, narrow)]
         moving = literal_moving_hits(hits, beams, evidence, rule.segment_gap,
                                      rule.moving_object_size, rule.object_min_hits,
-                                     vertices[0], len(ranges))
+                                     vertices[0], len(ranges), rule.segment_bridge_beams)
     moving_hits = [h for h, m in zip(hits, moving) if m]
     if rule.mobile_expiry > 0.0 or rule.free_burn_in > 0.0 or rule.free_first_sight > 0.0:
         if stamp < last_stamp:

@@ -2,20 +2,21 @@
 Objects seen to move: the hits of one scan grouped into objects, and which of them moved.
 
 A wandering robot is not a cell but a compact object. Where one of its hits lands in a cell the
-map once surely saw empty (see ``free_evidence``), the object has moved into that space, and
-so every hit of the same object is a hit on a moving obstacle, even where it lands in space
-never seen before. The scan is cut into segments the usual way for a laser: consecutive valid
-beams whose hit points are at most ``segment_gap`` apart belong to one segment (an invalid or
-no-return beam ends a segment). A hit belongs to a moving object when a hit with motion
-evidence lies in its segment at most ``object_size`` away along the segment; the bound keeps a
-wall that a wanderer touches from being taken along with it.
+map once surely saw empty (see ``free_evidence``), the object has moved into that space, and so
+every hit of the same object is a hit on a moving obstacle, even where it lands in space never
+seen before. The scan is cut into segments the usual way for a laser: consecutive valid beams
+whose hit points are at most ``segment_gap`` apart belong to one segment (more than
+``bridge_beams`` invalid or no-return beams between two hits end a segment). A hit belongs to a
+moving object when a hit with motion evidence lies in its segment at most ``object_size`` away
+along the segment; the bound keeps a wall that a wanderer touches from being taken along with
+it.
 
 """
 
 import numpy as np
 
 
-def scan_segments(hits_x, hits_y, hit_beams, segment_gap):
+def scan_segments(hits_x, hits_y, hit_beams, segment_gap, bridge_beams=0):
     """
     Segment ids and arc positions of a scan's hits.
 
@@ -39,7 +40,7 @@ def scan_segments(hits_x, hits_y, hit_beams, segment_gap):
     dx = np.diff(hits_x)
     dy = np.diff(hits_y)
     step = np.sqrt(dx * dx + dy * dy)
-    cut = (step > segment_gap) | (np.diff(hit_beams) != 1)
+    cut = (step > segment_gap) | (np.diff(hit_beams) - 1 > bridge_beams)
     segment = np.concatenate(([0], np.cumsum(cut))).astype(np.int64)
     arc = np.concatenate(([0.0], np.cumsum(step)))
     return segment[:hits_x.shape[0]], arc[:hits_x.shape[0]]
@@ -87,7 +88,7 @@ def free_standing_segments(laser_xy, hits_x, hits_y, hit_beams, beam_count, segm
 
 
 def moving_object_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_size,
-                       min_hits=0, laser_xy=(0.0, 0.0), beam_count=0):
+                       min_hits=0, laser_xy=(0.0, 0.0), beam_count=0, bridge_beams=0):
     """
     Tell which hits belong to an object seen to move.
 
@@ -110,6 +111,8 @@ def moving_object_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_
         Laser position [m]; read when ``min_hits`` > 1.
     beam_count : int
         Beams in the scan; read when ``min_hits`` > 1.
+    bridge_beams : int
+        Segments go on across this many beams without a hit (``segment_bridge_beams``).
 
     Returns
     -------
@@ -120,7 +123,7 @@ def moving_object_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_
     count = hits_x.shape[0]
     if count == 0 or not evidence.any():
         return np.zeros(count, dtype=bool)
-    segment, arc = scan_segments(hits_x, hits_y, hit_beams, segment_gap)
+    segment, arc = scan_segments(hits_x, hits_y, hit_beams, segment_gap, bridge_beams)
     if min_hits > 1:
         thin = ((np.bincount(segment) < min_hits)
                 & free_standing_segments(laser_xy, hits_x, hits_y, hit_beams, beam_count,

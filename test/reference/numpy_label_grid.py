@@ -85,7 +85,8 @@ class NumpyFineEvidence(FineEvidence):
             return evidence
         return moving_object_hits(hits_x, hits_y, hit_beams, evidence, rule.segment_gap,
                                   rule.moving_object_size, rule.object_min_hits,
-                                  (vertices_x[0], vertices_y[0]), vertices_x.shape[0] - 2)
+                                  (vertices_x[0], vertices_y[0]), vertices_x.shape[0] - 2,
+                                  rule.segment_bridge_beams)
 
     def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
                stamp=0.0, hits=None):
@@ -322,7 +323,8 @@ class NumpyLabelGrid(NumpyExtrasLabelGrid):
                                     self.rule.segment_gap, self.rule.moving_object_size,
                                     self.rule.object_min_hits,
                                     (points.vertices_x[0], points.vertices_y[0]),
-                                    points.vertices_x.shape[0] - 2)
+                                    points.vertices_x.shape[0] - 2,
+                                    self.rule.segment_bridge_beams)
         if self._fine_moving is not None:
             moving |= self._fine_moving
         if self.rule.track_confirm_time > 0.0:

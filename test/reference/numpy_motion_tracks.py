@@ -222,7 +222,8 @@ class NumpyMotionTracks:
         self._claimed = np.zeros(self.positions.shape[0], dtype=bool)
         if count == 0:
             return followed
-        segment, arc = scan_segments(hits_x, hits_y, hit_beams, segment_gap)
+        segment, arc = scan_segments(hits_x, hits_y, hit_beams, segment_gap,
+                                     self.config.bridge_beams)
         centroid_x, centroid_y, extent, open_sides = segment_summary(
             laser_xy, hits_x, hits_y, hit_beams, beam_count, segment, arc)
         small = extent <= self.config.compact_size

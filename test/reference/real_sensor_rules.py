@@ -190,18 +190,18 @@ def _literal_both_ways(ranges, angle_increment, range_min, range_max, min_angle,
     return found
 
 
-def literal_narrow(hits, beams, segment_gap, min_width):
+def literal_narrow(hits, beams, segment_gap, min_width, bridge_beams=0):
     """
     Return, hit by hit, whether the end hits of its segment lie less than ``min_width`` apart.
 
-    A hit's segment: the hits reached from it through neighbouring beams whose hits lie at
-    most ``segment_gap`` apart.
+    A hit's segment: the hits reached from it through consecutive hits at most
+    ``segment_gap`` apart with at most ``bridge_beams`` beams without a hit between them.
     """
     if min_width <= 0.0:
         return [False] * len(hits)
 
     def joined(a, b):
-        return (beams[b] == beams[a] + 1
+        return (beams[b] - beams[a] - 1 <= bridge_beams
                 and math.sqrt((hits[b][0] - hits[a][0]) ** 2
                               + (hits[b][1] - hits[a][1]) ** 2) <= segment_gap)
 

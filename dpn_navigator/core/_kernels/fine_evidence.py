@@ -35,7 +35,7 @@ def fine_hit_evidence(seen_free, x0, y0, resolution, hits_x, hits_y):
 
 @kernel
 def fine_moving_hits(seen_free, x0, y0, resolution, hits_x, hits_y, hit_beams, segment_gap,
-                     object_size, min_hits, laser_x, laser_y, beam_count):
+                     object_size, min_hits, laser_x, laser_y, beam_count, bridge_beams):
     """
     `FineEvidence.moving_hits` compiled: each hit's fine cell looked up, then the object rule.
 
@@ -45,4 +45,4 @@ def fine_moving_hits(seen_free, x0, y0, resolution, hits_x, hits_y, hit_beams, s
     if not found:
         return evidence
     return moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_size,
-                       min_hits, laser_x, laser_y, beam_count)
+                       min_hits, laser_x, laser_y, beam_count, bridge_beams)

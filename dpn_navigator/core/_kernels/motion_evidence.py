@@ -14,8 +14,20 @@ from .raster import disc_box
 
 
 @kernel
+def segment_cut(step, beam_step, segment_gap, bridge_beams):
+    """
+    Tell whether a scan segment ends between two consecutive hits.
+
+    ``step`` [m] is the distance between the hits, ``beam_step`` the difference of their
+    beams: a segment ends where the hits lie more than ``segment_gap`` [m] apart, or more
+    than ``bridge_beams`` beams without a hit lie between them (``segment_bridge_beams``).
+    """
+    return step > segment_gap or beam_step - 1 > bridge_beams
+
+
+@kernel
 def moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_size, min_hits,
-                laser_x, laser_y, beam_count):
+                laser_x, laser_y, beam_count, bridge_beams):
     """``moving_objects.moving_object_hits`` as a loop, with the same arithmetic."""
     count = hits_x.shape[0]
     moving = np.zeros(count, dtype=np.bool_)
@@ -25,7 +37,7 @@ def moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_size, m
         dx = hits_x[k] - hits_x[k - 1]
         dy = hits_y[k] - hits_y[k - 1]
         step = math.sqrt(dx * dx + dy * dy)
-        cut = step > segment_gap or hit_beams[k] - hit_beams[k - 1] != 1
+        cut = segment_cut(step, hit_beams[k] - hit_beams[k - 1], segment_gap, bridge_beams)
         segment[k] = segment[k - 1] + (1 if cut else 0)
         arc[k] = arc[k - 1] + step
     # Evidence counts for nothing in a free-standing segment of fewer than min_hits hits.
@@ -55,12 +67,13 @@ def moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap, object_size, m
 
 
 @kernel
-def narrow_segments(hits_x, hits_y, hit_beams, segment_gap, min_width):
+def narrow_segments(hits_x, hits_y, hit_beams, segment_gap, min_width, bridge_beams):
     """
     Tell for each hit whether it lies in a narrow segment (``object_min_width``).
 
-    Segments as in `moving_hits` (a cut where consecutive hits lie more than ``segment_gap``
-    apart or their beams are not neighbours); a segment is narrow when its first and last hits
+    Segments as in `moving_hits` (`segment_cut`: a cut where consecutive hits lie more than
+    ``segment_gap`` apart or more than ``bridge_beams`` beams without a hit lie between them);
+    a segment is narrow when its first and last hits
     lie less than ``min_width`` [m] apart. Returns the (K,) bool array.
     """
     count = hits_x.shape[0]
@@ -71,7 +84,8 @@ def narrow_segments(hits_x, hits_y, hit_beams, segment_gap, min_width):
             dx = hits_x[k] - hits_x[k - 1]
             dy = hits_y[k] - hits_y[k - 1]
             step = math.sqrt(dx * dx + dy * dy)
-            if step <= segment_gap and hit_beams[k] - hit_beams[k - 1] == 1:
+            if not segment_cut(step, hit_beams[k] - hit_beams[k - 1], segment_gap,
+                               bridge_beams):
                 continue
         width = math.hypot(hits_x[k - 1] - hits_x[start], hits_y[k - 1] - hits_y[start])
         if width < min_width:

@@ -10,6 +10,7 @@ import math
 import numpy as np
 
 from .jit import kernel
+from .motion_evidence import segment_cut
 
 
 #: Fewest hits of a scan segment that is a small object (``MotionTracks.hit_object``).
@@ -80,13 +81,14 @@ def track_update(positions, ids, last_seen, last_confirmed, origins, moved, next
                  hits_x, hits_y, hit_beams, beam_count, moving, segment_gap, compact_size,
                  gate, lost_after, confirm_within, vacated_on, history, min_age, reach,
                  free_margin, half_open_gate, still_distance, still_age, move_distance,
-                 min_hits, exclusive, beam_reach, surface):
+                 min_hits, exclusive, beam_reach, surface, bridge_beams):
     """
     `MotionTracks.update` after its time check, as one pass over the scan's segments.
 
     ``surface`` (K,) bool marks hits on known surfaces (or is empty: none); a segment with at
     least half its hits on them continues no track, is not seen to move by a place left empty
-    and is not remembered as a place an object stood.
+    and is not remembered as a place an object stood. ``bridge_beams``: the segments go on
+    across that many beams without a hit (`motion_evidence.segment_cut`).
 
     Returns ``(followed, hit_ids, hit_long, hit_object, positions, ids, last_seen,
     last_confirmed, origins, moved, next_id, history_xy, history_stamp)``, the state arrays
@@ -138,7 +140,7 @@ def track_update(positions, ids, last_seen, last_confirmed, origins, moved, next
         dy = hits_y[k] - hits_y[k - 1]
         step = math.sqrt(dx * dx + dy * dy)
         arc[k] = arc[k - 1] + step
-        if step > segment_gap or hit_beams[k] - hit_beams[k - 1] != 1:
+        if segment_cut(step, hit_beams[k] - hit_beams[k - 1], segment_gap, bridge_beams):
             first[segments] = k
             segments += 1
     first[segments] = count

@@ -22,8 +22,8 @@ def update_window(labels, seen_free, last_hit, listed, transition, row0, col0, c
                   resolution, vertices_x, vertices_y, hits_x, hits_y, hit_beams,
                   safety_radius, safety_bound, free_on, free_radius, free_bound, objects_on,
                   evidence_radius, evidence_bound, segment_gap, object_size, min_hits,
-                  expiry_on, stamp, path, new_mobile, extra_moving, moving_known, defer_free,
-                  extent, free_fresh_after):
+                  bridge_beams, expiry_on, stamp, path, new_mobile, extra_moving, moving_known,
+                  defer_free, extent, free_fresh_after):
     """
     Fold one scan into the window ``labels[row0:row0 + n_rows, col0:col0 + n_cols]``.
 
@@ -61,6 +61,9 @@ def update_window(labels, seen_free, last_hit, listed, transition, row0, col0, c
     min_hits : int
         ``LabelRule.object_min_hits``: evidence counts for nothing in a free-standing segment
         of fewer hits.
+    bridge_beams : int
+        ``LabelRule.segment_bridge_beams``: segments go on across that many beams without a
+        hit.
     stamp : float
         The scan's time [s]; read with ``expiry_on``.
     path : (N, 2) ndarray of int64
@@ -111,7 +114,7 @@ def update_window(labels, seen_free, last_hit, listed, transition, row0, col0, c
                                     evidence_radius, evidence_bound)
             moving = moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap,
                                  object_size, min_hits, vertices_x[0], vertices_y[0],
-                                 vertices_x.shape[0] - 2)
+                                 vertices_x.shape[0] - 2, bridge_beams)
         if not moving_known and extra_moving.shape[0] == moving.shape[0]:
             for k in range(moving.shape[0]):
                 if extra_moving[k]:
@@ -232,8 +235,8 @@ def expire_listed(labels, last_hit, listed, cells, count, stamp, mobile_expiry, 
 def scan_update(labels, seen_free, last_hit, listed, transition, ranges, x, y, yaw, angle_min,
                 angle_increment, range_min, range_max, x0, y0, resolution, reach,
                 safety_radius, safety_bound, free_on, free_radius, free_bound, objects_on,
-                evidence_radius, evidence_bound, segment_gap, object_size, min_hits, expiry_on,
-                stamp, path, extra_moving, free_fresh_after):
+                evidence_radius, evidence_bound, segment_gap, object_size, min_hits,
+                bridge_beams, expiry_on, stamp, path, extra_moving, free_fresh_after):
     """
     Find the scan's points, then run `points_update` with them (nothing deferred).
 
@@ -245,7 +248,7 @@ def scan_update(labels, seen_free, last_hit, listed, transition, ranges, x, y, y
         labels, seen_free, last_hit, listed, transition, vertices_x, vertices_y, hits_x, hits_y,
         hit_beams, x0, y0, resolution, reach, safety_radius, safety_bound, free_on,
         free_radius, free_bound, objects_on, evidence_radius, evidence_bound, segment_gap,
-        object_size, min_hits, expiry_on, stamp, path, extra_moving, False, False,
+        object_size, min_hits, bridge_beams, expiry_on, stamp, path, extra_moving, False, False,
         free_fresh_after)
     return replan, row0, row_end, col0, col_end, cell_input, new_mobile
 
@@ -254,8 +257,8 @@ def scan_update(labels, seen_free, last_hit, listed, transition, ranges, x, y, y
 def points_update(labels, seen_free, last_hit, listed, transition, vertices_x, vertices_y, hits_x,
                   hits_y, hit_beams, x0, y0, resolution, reach, safety_radius, safety_bound,
                   free_on, free_radius, free_bound, objects_on, evidence_radius,
-                  evidence_bound, segment_gap, object_size, min_hits, expiry_on, stamp, path,
-                  extra_moving, moving_known, defer_free, free_fresh_after):
+                  evidence_bound, segment_gap, object_size, min_hits, bridge_beams, expiry_on,
+                  stamp, path, extra_moving, moving_known, defer_free, free_fresh_after):
     """
     Find the scan's window from its points, then run `update_window` over it.
 
@@ -277,7 +280,7 @@ def points_update(labels, seen_free, last_hit, listed, transition, vertices_x, v
         labels, seen_free, last_hit, listed, transition, row0, col0, cell_input, x0, y0, resolution,
         vertices_x, vertices_y, hits_x, hits_y, hit_beams, safety_radius, safety_bound,
         free_on, free_radius, free_bound, objects_on, evidence_radius, evidence_bound,
-        segment_gap, object_size, min_hits, expiry_on, stamp, path, new_mobile, extra_moving,
-        moving_known, defer_free, extent, free_fresh_after)
+        segment_gap, object_size, min_hits, bridge_beams, expiry_on, stamp, path, new_mobile,
+        extra_moving, moving_known, defer_free, extent, free_fresh_after)
     return (replan, row0, row_end, col0, col_end, cell_input, new_mobile[:new_count].copy(),
             extent)

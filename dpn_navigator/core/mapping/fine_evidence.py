@@ -208,7 +208,8 @@ class FineEvidence:
             ``(vertices_x, vertices_y, hits_x, hits_y, hit_beams, ...)`` of the scan, as
             ``label_update.scan_hits`` returns them; read before `update` with that scan.
         rule : LabelRule
-            Its ``segment_gap``, ``moving_object_size`` and ``object_min_hits``.
+            Its ``segment_gap``, ``segment_bridge_beams``, ``moving_object_size`` and
+            ``object_min_hits``.
 
         Returns
         -------
@@ -227,7 +228,7 @@ class FineEvidence:
                                evidence, float(rule.segment_gap),
                                float(rule.moving_object_size), int(rule.object_min_hits),
                                float(vertices_x[0]), float(vertices_y[0]),
-                               vertices_x.shape[0] - 2)
+                               vertices_x.shape[0] - 2, int(rule.segment_bridge_beams))
         return fine_kernels.fine_moving_hits(self.seen_free, x0, y0, self.geometry.resolution,
                                              np.ascontiguousarray(hits_x, dtype=np.float64),
                                              np.ascontiguousarray(hits_y, dtype=np.float64),
@@ -235,7 +236,8 @@ class FineEvidence:
                                              float(rule.segment_gap), float(
                                                  rule.moving_object_size),
                                              int(rule.object_min_hits), float(vertices_x[0]),
-                                             float(vertices_y[0]), vertices_x.shape[0] - 2)
+                                             float(vertices_y[0]), vertices_x.shape[0] - 2,
+                                             int(rule.segment_bridge_beams))
 
     def update(self, pose, ranges, angle_min, angle_increment, range_min, range_max,
                stamp=0.0, hits=None):

@@ -154,6 +154,14 @@ class LabelRule:
         surely-free disc may reach that far into a wall.
     segment_gap : float
         Consecutive hits farther apart than this start a new scan segment [m].
+    segment_bridge_beams : int
+        Lost returns inside a surface [beams]: a scan segment goes on across up to this many
+        consecutive beams without a hit (no return, an invalid reading, one the edge-pixel
+        rules drop) when the hits on both sides lie within ``segment_gap`` of each other.
+        0: every beam without a hit ends a segment (before issue 28). A real laser loses a
+        return now and then (0.5-2 % of the beams), which cut a wall into short pieces that
+        stand free (both ends next to a beam with no return): such a piece next to a walker
+        could continue its motion track, or be taken whole for a moving object.
     object_min_hits : int
         Thin things [hits]: a free-standing scan segment (both ends open: the beams just
         outside it return farther or nothing) of fewer hits than this is no object that can
@@ -337,6 +345,7 @@ class LabelRule:
     moving_object_size: float = 0.0
     evidence_margin: float = 0.15
     segment_gap: float = 0.3
+    segment_bridge_beams: int = 0
     object_min_hits: int = 0
     fine_evidence_resolution: float = 0.0
     fine_evidence_radius: float = 0.0
@@ -382,6 +391,11 @@ class LabelRule:
                              f'{self.object_min_hits!r}')
         if not (math.isfinite(self.segment_gap) and self.segment_gap > 0.0):
             raise ValueError(f'segment_gap must be positive, got {self.segment_gap!r} m')
+        if (isinstance(self.segment_bridge_beams, bool)
+                or not isinstance(self.segment_bridge_beams, (int, np.integer))
+                or self.segment_bridge_beams < 0):
+            raise ValueError('segment_bridge_beams must be an integer >= 0, got '
+                             f'{self.segment_bridge_beams!r}')
         if self.trail_distance > 0.0 and self.track_confirm_time == 0.0:
             raise ValueError('trail_distance needs track_confirm_time > 0: a trail is left by '
                              'a followed object')
@@ -463,15 +477,16 @@ class LabelRule:
         -------
         tuple
             ``(free_on, free_radius, free_bound, objects_on, evidence_radius,
-            evidence_bound, segment_gap, object_size, min_hits, expiry_on)``, the bounds being
-            ``squared_radius_bound`` of the radius before them.
+            evidence_bound, segment_gap, object_size, min_hits, bridge_beams, expiry_on)``, the
+            bounds being ``squared_radius_bound`` of the radius before them.
 
         """
         evidence_radius = max(self.free_evidence_radius - self.evidence_margin, 0.0)
         return (self.free_evidence_radius > 0.0, self.free_evidence_radius,
                 squared_bound(self.free_evidence_radius), self.moving_object_size > 0.0,
                 evidence_radius, squared_bound(evidence_radius), self.segment_gap,
-                self.moving_object_size, int(self.object_min_hits), self.mobile_expiry > 0.0)
+                self.moving_object_size, int(self.object_min_hits),
+                int(self.segment_bridge_beams), self.mobile_expiry > 0.0)
 
 
 #: The paper's rule: f1, f2 and the FSM table, nothing else.
@@ -714,7 +729,8 @@ class LabelGrid(PlanningMap):
         self.tracks = MotionTracks(TrackConfig(confirm_within=rule.track_confirm_time,
                                                still_distance=rule.track_still_distance,
                                                min_hits=int(rule.object_min_hits),
-                                               exclusive=bool(rule.track_exclusive)))
+                                               exclusive=bool(rule.track_exclusive),
+                                               bridge_beams=int(rule.segment_bridge_beams)))
         self.cell_track = (np.full(self.geometry.shape, -1, dtype=np.int64)
                            if rule.trail_distance > 0.0 else None)
         self._marked = np.zeros(0, dtype=np.int64)   # flat cells that may hold a track
@@ -975,7 +991,7 @@ class LabelGrid(PlanningMap):
         vertices_x, vertices_y, hits_x, hits_y, hit_beams, _ = points
         rule = self.rule
         (_, _, _, _, evidence_radius, evidence_bound, segment_gap, object_size, min_hits,
-         _) = self._kernel_rule
+         bridge_beams, _) = self._kernel_rule
         x0, y0 = self.geometry.origin
         evidence = motion_evidence.hit_evidence(self.seen_free, hits_x, hits_y, x0, y0,
                                                 self.geometry.resolution, evidence_radius,
@@ -995,10 +1011,11 @@ class LabelGrid(PlanningMap):
             evidence = evidence & ~veiling[hit_beams]
         if rule.object_min_width > 0.0 and hits_x.shape[0]:
             evidence = evidence & ~motion_evidence.narrow_segments(
-                hits_x, hits_y, hit_beams, segment_gap, rule.object_min_width)
+                hits_x, hits_y, hit_beams, segment_gap, rule.object_min_width, bridge_beams)
         moving = motion_evidence.moving_hits(hits_x, hits_y, hit_beams, evidence & ~on_surface,
                                              segment_gap, object_size, min_hits,
-                                             vertices_x[0], vertices_y[0], ranges.shape[0])
+                                             vertices_x[0], vertices_y[0], ranges.shape[0],
+                                             bridge_beams)
         points = (vertices_x, vertices_y, hits_x, hits_y, hit_beams, moving)
         self._followed_hits = (hits_x, hits_y)
         self._laser_xy = (vertices_x[0], vertices_y[0])

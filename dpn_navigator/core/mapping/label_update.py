@@ -106,7 +106,8 @@ def scan_update(labels, seen_free, last_hit, listed, geometry, pose, ranges, ang
         f1's ``r`` [m].
     rule_arguments : tuple
         ``LabelRule.kernel_arguments()``: ``(free_on, free_radius, free_bound, objects_on,
-        evidence_radius, evidence_bound, segment_gap, object_size, min_hits, expiry_on)``.
+        evidence_radius, evidence_bound, segment_gap, object_size, min_hits, bridge_beams,
+        expiry_on)``.
     stamp : float
         The scan's time [s] (any float when the expiry is off).
     path : (N, 2) ndarray of int64
@@ -241,7 +242,7 @@ def scan_hits(seen_free, geometry, pose, ranges, angle_min, angle_increment, ran
         np.ascontiguousarray(ranges), pose[0], pose[1], pose[2], float(angle_min),
         float(angle_increment), float(range_min), float(range_max))
     (_, _, _, objects_on, evidence_radius, evidence_bound, segment_gap, object_size,
-     min_hits, _) = rule_arguments
+     min_hits, bridge_beams, _) = rule_arguments
     moving = np.zeros(hits_x.shape[0], dtype=bool)
     if objects_on and find_moving:
         x0, y0 = geometry.origin
@@ -250,7 +251,7 @@ def scan_hits(seen_free, geometry, pose, ranges, angle_min, angle_increment, ran
                                                 evidence_bound)
         moving = motion_evidence.moving_hits(hits_x, hits_y, hit_beams, evidence, segment_gap,
                                              object_size, min_hits, vertices_x[0], vertices_y[0],
-                                             ranges.shape[0])
+                                             ranges.shape[0], bridge_beams)
     return vertices_x, vertices_y, hits_x, hits_y, hit_beams, moving
 
 

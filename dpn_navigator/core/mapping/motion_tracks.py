@@ -107,6 +107,9 @@ class TrackConfig:
         seen to move, it starts a track of its own). Without it, a wanderer's evidence and a
         post next to it moved one track back and forth between them, and the post was
         followed as that wanderer.
+    bridge_beams : int
+        Segments go on across up to this many beams without a hit between hits within the
+        segment gap (``LabelRule.segment_bridge_beams``); 0: every such beam ends one.
 
     """
 
@@ -125,6 +128,7 @@ class TrackConfig:
     move_distance: float = 0.3
     min_hits: int = 0
     exclusive: bool = False
+    bridge_beams: int = 0
 
     def __post_init__(self):
         for name in ('compact_size', 'gate', 'lost_after', 'confirm_within', 'history',
@@ -136,6 +140,9 @@ class TrackConfig:
         if isinstance(self.min_hits, bool) or not isinstance(self.min_hits, (int, np.integer)) \
                 or self.min_hits < 0:
             raise ValueError(f'min_hits must be an integer >= 0, got {self.min_hits!r}')
+        if isinstance(self.bridge_beams, bool) \
+                or not isinstance(self.bridge_beams, (int, np.integer)) or self.bridge_beams < 0:
+            raise ValueError(f'bridge_beams must be an integer >= 0, got {self.bridge_beams!r}')
 
 
 class MotionTracks:
@@ -258,7 +265,7 @@ class MotionTracks:
             float(config.still_age), float(config.move_distance), int(config.min_hits),
             bool(config.exclusive), np.ascontiguousarray(beam_reach, np.float64),
             np.zeros(0, dtype=bool) if surface is None
-            else np.ascontiguousarray(surface, dtype=bool))
+            else np.ascontiguousarray(surface, dtype=bool), int(config.bridge_beams))
         return followed
 
 
