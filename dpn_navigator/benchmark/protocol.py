@@ -70,7 +70,7 @@ NAVIGATORS = {
               'trail_distance': 0.0, 'object_memory': 0.0,
               'object_memory_short_segments': False, 'no_return_reach': 1.0,
               'surface_time': 0.0, 'turn_sweep_memory': 0.0, 'drive_guard_distance': 0.0,
-              'map_growth_step': 0.0, 'segment_bridge_beams': 0,
+              'map_growth_step': 0.0,
               'free_evidence_renewal': 0.0, **NOT_GETTING_STUCK_OFF},
     'costmap': {'forget_obstacles_after': 0.0, **NOT_GETTING_STUCK_OFF},
     'costmap-bare': {'forget_obstacles_after': 0.0, **NOT_GETTING_STUCK_OFF},

@@ -523,8 +523,7 @@ STANDING_LASER = {'range_noise_margin': 0.05, 'range_noise_fraction': 0.03,
 #: ``dpn, no real-sensor rules`` is the dpn rule before issue 28's rules.
 TABLE_RULES = (
     ('paper', 'paper', {}),
-    ('dpn, no real-sensor rules', 'dpn', {'no_return_reach': 1.0, 'surface_time': 0.0,
-                                          'segment_bridge_beams': 0}),
+    ('dpn, no real-sensor rules', 'dpn', {'no_return_reach': 1.0, 'surface_time': 0.0}),
     ('dpn', 'dpn', {}),
     ('dpn with range noise', 'dpn', {'range_noise_margin': 0.05, 'range_noise_fraction': 0.03}),
     ('dpn with range noise, burn-in, narrow things', 'dpn',
@@ -678,12 +677,10 @@ Measures, over the measured scans:
 #: What the page says besides its tables (no figure here: they are in the tables).
 NOTES = """\
 `paper` is the paper's rule; `dpn, no real-sensor rules` is dpn as it was before issue 28
-(`no_return_reach` 1, `surface_time` 0, `segment_bridge_beams` 0); `dpn` is the shipped
-default, with the rules for real lasers of
-[method](method.md#the-dpn-label-rules-not-in-the-paper): no-return beams clear out to 0.8 of
-`range_max` (`no_return_reach`), places hit for 2 s are known surfaces whose hits show no
-motion and continue no track (`surface_time`, `surface_memory`, `noise_margin`), and a scan
-segment goes on across up to 2 beams without a hit (`segment_bridge_beams`). The
+(`no_return_reach` 1, `surface_time` 0); `dpn` is the shipped default, with the rules for real
+lasers of [method](method.md#the-dpn-label-rules-not-in-the-paper): no-return beams clear out
+to 0.8 of `range_max` (`no_return_reach`), and places hit for 2 s are known surfaces whose hits
+show no motion and continue no track (`surface_time`, `surface_memory`, `noise_margin`). The
 annotated recordings' driver writes a beam with no echo as 0.000-0.019 m; read as recorded
 (REP 117: invalid) no space is ever surely seen free where the walkers go, and dpn calls them
 steady. A user of such a driver sets `no_echo_below_range_min` (off by default: REP 117 drivers

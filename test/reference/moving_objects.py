@@ -28,6 +28,9 @@ def scan_segments(hits_x, hits_y, hit_beams, segment_gap, bridge_beams=0):
         Beam index of each hit, increasing.
     segment_gap : float
         Largest distance between consecutive hits of one segment [m].
+    bridge_beams : int
+        Most beams without a hit between consecutive hits of one segment
+        (``segment_bridge_beams``; 0: every such beam ends a segment).
 
     Returns
     -------
