@@ -5,31 +5,20 @@ The nodes' console scripts: stop signals handled first, then the node module imp
 module imports only the standard library and `stop_signals`, so the SIGINT and SIGTERM handlers
 are in place a few tens of milliseconds after the process starts, before the imports of rclpy,
 numpy and the numba kernels and before the kernels' warm-up; a stop signal during any of them
-ends the process with exit code 0 and one line on stderr, never a traceback.
+ends the process at once with exit code 0 and one line on stderr, never a traceback
+(`stop_signals`).
 
 """
 
-import sys
+from importlib import import_module
 
-from .stop_signals import StartupInterrupted, StopRequest
+from .stop_signals import StopRequest
 
 
 def _run(name, module, args):
     """Install the stop handlers, import ``module`` and run its ``main(args, stop=...)``."""
-    stop = StopRequest(starting=True)
-    try:
-        from importlib import import_module
-        node_main = import_module(module).main
-    except Exception:
-        # A C extension being imported (rclpy's) turns the exception raised by the signal
-        # handler into an ImportError: any error after a stop signal is the signal's doing.
-        if not stop.requested:
-            raise
-    except StartupInterrupted:
-        pass
-    if stop.requested:
-        sys.stderr.write(f'{name}: {stop.signal_name} during start-up: stopping\n')
-        return 0
+    stop = StopRequest(starting=True, name=name)
+    node_main = import_module(module).main
     return node_main(args, stop=stop)
 
 

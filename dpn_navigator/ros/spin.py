@@ -5,12 +5,12 @@ rclpy's own signal handlers shut the context down from inside the signal, while 
 still be publishing or the executor building its wait set: such a node ends with exit code 1 and
 a traceback (``publisher's context is invalid``, ``failed to initialize wait set``), and a
 second SIGINT raises ``KeyboardInterrupt`` anywhere, even in ``destroy_node``. Here rclpy is
-initialised without signal handlers; SIGINT and SIGTERM (`stop_signals`) end the start-up
-where it is, or, once the node spins, only set a flag that the spin loop reads between
-callbacks, and make every later one ignored. The loop then ends, the node is
-destroyed while the context is still valid (``DpnNode.destroy_node`` sends its zero command
-there), rclpy shuts down, and ``main`` returns 0. A node that cannot start because of its
-parameters logs one error line and returns 1.
+initialised without signal handlers; SIGINT and SIGTERM (`stop_signals`) end the process at once
+while it starts (exit code 0, one line on stderr), or, once the node spins, only set a flag that
+the spin loop reads between callbacks, and make every later one ignored. The loop then ends, the
+node is destroyed while the context is still valid (``DpnNode.destroy_node`` sends its zero
+command there), rclpy shuts down, and ``main`` returns 0. A node that cannot start because of
+its parameters logs one error line and returns 1.
 
 """
 
@@ -20,7 +20,7 @@ from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.logging import get_logger
 from rclpy.signals import SignalHandlerOptions
 
-from .stop_signals import StartupInterrupted, StopRequest
+from .stop_signals import StopRequest
 
 #: Longest wait for work before the loop looks at the stop flag again [s].
 SPIN_POLL = 0.05
@@ -40,7 +40,7 @@ def run_node(node_class, args=None, stop=None):
         Command-line arguments for ``rclpy.init``.
     stop : StopRequest, optional
         Handlers installed earlier (``node_entry``), in start-up mode: a stop signal before the
-        node spins ends the start-up there. By default they are installed here.
+        node spins ends the process there. By default they are installed here.
 
     Returns
     -------
@@ -49,37 +49,24 @@ def run_node(node_class, args=None, stop=None):
 
     """
     if stop is None:
-        stop = StopRequest(starting=True)
+        stop = StopRequest(starting=True, name=node_class.__name__)
     node = None
-    spinning = False
     try:
         rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
         try:
             node = node_class()
         except (ValueError, ParameterException) as error:
-            if stop.requested:
-                raise           # the signal's doing (below)
             get_logger(node_class.__name__).fatal(f'cannot start: {error}')
             return 1
         executor = SingleThreadedExecutor()
         executor.add_node(node)
         stop.started()
-        spinning = True
         while not stop.requested and rclpy.ok():
             executor.spin_once(timeout_sec=SPIN_POLL)
         if stop.requested:
             node.get_logger().info(f'{stop.signal_name}: stopping')
-    except StartupInterrupted:
-        get_logger(node_class.__name__).info(f'{stop.signal_name} during start-up: stopping')
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
-    except Exception:
-        # A library (a C extension, a numba dispatcher) may turn the exception raised by the
-        # signal handler into an error of its own: any error during the start-up after a stop
-        # signal is the signal's doing.
-        if spinning or not stop.requested:
-            raise
-        get_logger(node_class.__name__).info(f'{stop.signal_name} during start-up: stopping')
     finally:
         # A stop signal from here on is ignored or only sets the flag.
         stop.started()

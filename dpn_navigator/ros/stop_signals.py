@@ -1,37 +1,39 @@
 """
-SIGINT and SIGTERM taken from a node process's first moment: a flag, or an early way out.
+SIGINT and SIGTERM taken from a node process's first moment: an early way out, then a flag.
 
 Light on purpose (the standard library only): the nodes' console scripts install these handlers
 before they import anything slow (rclpy, numpy, the numba kernels), so that a stop signal at
-any moment of the start-up ends the process cleanly, with exit code 0 and no traceback
-(``node_entry``). While the process is starting, a stop signal raises `StartupInterrupted`
-out of whatever runs (an import, ``rclpy.init``, the node's constructor and warm-up), which
-``spin.run_node`` and ``node_entry`` catch; once the node spins, it only sets the flag that the
-spin loop reads between callbacks. Every later stop signal is ignored.
+any moment of the start-up ends the process cleanly, with exit code 0, one line on stderr and
+no traceback (``node_entry``). Once the node spins, a stop signal only sets the flag that the
+spin loop reads between callbacks (``spin.run_node``). Every later stop signal is ignored.
 
-A handler's exception can surface where Python cannot propagate it: in a ``__del__`` or in a C
-library's callback into Python (numba's LLVM object cache, while the kernels load). Python then
-prints "Exception ignored in ..." with a traceback and goes on. While starting, a
-``sys.unraisablehook`` drops exactly those `StartupInterrupted` reports (any other goes to the
-previous hook); the flag stays set, so the start-up ends at its next check and the process
-stops cleanly all the same.
+While the process starts, a stop signal ends it at once (``os._exit``): nothing is left to
+clean up before the node spins (no command sent, no file written), and nothing half-built is
+finalised. An exception raised out of the handler instead, as here before, lands wherever the
+start-up is: in the middle of a C extension's import (llvmlite's, numba's), in a ``__del__`` or
+in numba's LLVM object-cache callback, where Python cannot propagate it. One CI run out of
+about twenty then saw the ``dpn`` process end with a segfault (exit -11, empty log) when the
+signal came 1.0 s into the start-up, during those imports.
 
 """
 
+import os
 import signal
-import sys
 
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
 
-class StartupInterrupted(BaseException):
-    """
-    A stop signal came while the process was starting: stop without a traceback.
+def exit_at_once(code):
+    """End the process now with ``code``, without finalising anything (``os._exit``)."""
+    os._exit(code)
 
-    A ``BaseException``, like ``KeyboardInterrupt``, so that no ``except Exception`` of a
-    library on the way swallows it.
 
-    """
+def _duplicate(fd):
+    """Return a duplicate of file descriptor ``fd``, or None when it is not open."""
+    try:
+        return os.dup(fd)
+    except OSError:
+        return None
 
 
 class StopRequest:
@@ -41,7 +43,13 @@ class StopRequest:
     Parameters
     ----------
     starting : bool
-        Raise `StartupInterrupted` at the first stop signal until `started` is called.
+        End the process at the first stop signal until `started` is called: write
+        ``'<name>: <signal> during start-up: stopping'`` on stderr, then ``exit_process(0)``.
+    name : str
+        The process's name in that line, e.g. ``'dpn'``.
+    exit_process : callable
+        Called with the exit code to end a process stopped while starting; by default
+        `exit_at_once`. Tests give a recorder.
 
     Attributes
     ----------
@@ -50,22 +58,16 @@ class StopRequest:
 
     """
 
-    def __init__(self, starting=False):
+    def __init__(self, starting=False, name='node', exit_process=exit_at_once):
         self.signal_name = None
         self.starting = starting
-        self.unraisable_dropped = 0
-        self._previous_unraisablehook = sys.unraisablehook
-        if starting:
-            sys.unraisablehook = self._on_unraisable
+        self.name = name
+        self._exit_process = exit_process
+        # The line goes to the stderr the process started with, even while a library has
+        # pointed fd 2 elsewhere (the world silences pybullet's URDF warnings that way).
+        self._stderr = _duplicate(2) if starting else None
         for signum in STOP_SIGNALS:
             signal.signal(signum, self._on_signal)
-
-    def _on_unraisable(self, report):
-        """Drop the report of a `StartupInterrupted` raised where it could not propagate."""
-        if isinstance(report.exc_value, StartupInterrupted):
-            self.unraisable_dropped += 1
-            return
-        self._previous_unraisablehook(report)
 
     def _on_signal(self, signum, frame):
         if self.signal_name is None:
@@ -77,13 +79,19 @@ class StopRequest:
             signal.signal(stop_signal, signal.SIG_IGN)
         if self.starting:
             self.starting = False
-            raise StartupInterrupted(self.signal_name)
+            line = f'{self.name}: {self.signal_name} during start-up: stopping\n'
+            try:
+                os.write(2 if self._stderr is None else self._stderr, line.encode())
+            except OSError:
+                pass                        # no stderr: stop all the same
+            self._exit_process(0)
 
     def started(self):
         """Leave the start-up: from now on a stop signal only sets the flag."""
         self.starting = False
-        if sys.unraisablehook == self._on_unraisable:
-            sys.unraisablehook = self._previous_unraisablehook
+        if self._stderr is not None:
+            os.close(self._stderr)
+            self._stderr = None
 
     @property
     def requested(self):

@@ -141,51 +141,75 @@ class SignalledInDel:
 
     def __del__(self):
         os.kill(os.getpid(), signal.SIGTERM)
-        time.sleep(0.5)                     # the handler raises here, inside __del__
+        time.sleep(0.2)                     # the handler runs here, inside __del__
 
 
-def test_a_stop_signal_where_python_cannot_raise_it_leaves_no_traceback(capfd):
-    # As in numba's LLVM object cache callback while the kernels load (a CI-like run printed
-    # "Exception ignored on calling ctypes callback function" and a traceback).
-    import sys
+def wait_for(condition, timeout=2.0):
+    deadline = time.monotonic() + timeout
+    while not condition() and time.monotonic() < deadline:
+        time.sleep(0.01)                    # Python handlers run between bytecodes
+
+
+def test_a_stop_signal_while_starting_ends_the_process_at_once_with_one_line(capfd):
     from dpn_navigator.ros.stop_signals import StopRequest
     saved = {signum: signal.getsignal(signum) for signum in (signal.SIGINT, signal.SIGTERM)}
-    hook = sys.unraisablehook
+    exits = []
     try:
-        stop = StopRequest(starting=True)
-        SignalledInDel()                    # dropped at once: __del__ runs here
-        assert stop.requested and stop.signal_name == 'SIGTERM'
-        assert stop.unraisable_dropped == 1
-        assert 'Exception ignored' not in capfd.readouterr().err
-        # Any other unraisable exception is still reported.
-        seen = []
-        previous, stop._previous_unraisablehook = stop._previous_unraisablehook, seen.append
-        sys.unraisablehook(type('Report', (), {'exc_value': RuntimeError('other')})())
-        assert len(seen) == 1
-        stop._previous_unraisablehook = previous
+        stop = StopRequest(starting=True, name='dpn', exit_process=exits.append)
+        os.kill(os.getpid(), signal.SIGINT)
+        wait_for(lambda: exits)
+        assert exits == [0]
+        assert capfd.readouterr().err == 'dpn: SIGINT during start-up: stopping\n'
+        assert stop.requested and not stop.starting
+        os.kill(os.getpid(), signal.SIGTERM)                # ignored from now on
+        time.sleep(0.1)
+        assert exits == [0] and stop.signal_name == 'SIGINT'
+        stop = StopRequest(starting=True, name='dpn', exit_process=exits.append)
         stop.started()
-        assert sys.unraisablehook is hook   # put back once started
+        os.kill(os.getpid(), signal.SIGTERM)                # a flag only, once started
+        wait_for(lambda: stop.requested)
+        assert stop.signal_name == 'SIGTERM' and exits == [0]
+        assert capfd.readouterr().err == ''
     finally:
-        sys.unraisablehook = hook
         for signum, handler in saved.items():
             signal.signal(signum, handler)
 
 
-def test_a_stop_signal_while_starting_raises_out_of_the_start_up_once():
-    from dpn_navigator.ros.stop_signals import StartupInterrupted, StopRequest
+def test_the_start_up_stop_line_reaches_stderr_while_a_library_silences_it(capfd):
+    # The world silences pybullet's URDF warnings by pointing fd 2 at /dev/null while it loads
+    # the bodies (sim_bridge.scene); a stop signal landing then still says why it stops.
+    from dpn_navigator.ros.stop_signals import StopRequest
+    from sim_bridge.scene import _quiet_native_output
     saved = {signum: signal.getsignal(signum) for signum in (signal.SIGINT, signal.SIGTERM)}
+    exits = []
     try:
-        stop = StopRequest(starting=True)
-        with pytest.raises(StartupInterrupted, match='SIGINT'):
-            os.kill(os.getpid(), signal.SIGINT)
-            time.sleep(1.0)                 # the handler runs at the next bytecode
-        assert stop.requested and not stop.starting
-        os.kill(os.getpid(), signal.SIGTERM)                # ignored from now on
-        assert stop.signal_name == 'SIGINT'
-        stop = StopRequest(starting=True)
+        stop = StopRequest(starting=True, name='pybullet_world', exit_process=exits.append)
+        with _quiet_native_output():
+            os.write(2, b'silenced\n')
+            os.kill(os.getpid(), signal.SIGTERM)
+            wait_for(lambda: exits)
+        assert exits == [0]
+        err = capfd.readouterr().err        # importing pybullet prints its build time first
+        assert err.endswith('pybullet_world: SIGTERM during start-up: stopping\n'), err
+        assert 'silenced' not in err
         stop.started()
-        os.kill(os.getpid(), signal.SIGTERM)                # a flag only, once started
-        assert stop.signal_name == 'SIGTERM'
+    finally:
+        for signum, handler in saved.items():
+            signal.signal(signum, handler)
+
+
+def test_a_stop_signal_where_python_cannot_raise_ends_the_start_up_all_the_same(capfd):
+    # As in numba's LLVM object cache callback while the kernels load: an exception raised by
+    # the handler there was only printed ("Exception ignored ..."); an exit is not lost.
+    from dpn_navigator.ros.stop_signals import StopRequest
+    saved = {signum: signal.getsignal(signum) for signum in (signal.SIGINT, signal.SIGTERM)}
+    exits = []
+    try:
+        StopRequest(starting=True, name='pybullet_world', exit_process=exits.append)
+        SignalledInDel()                    # dropped at once: __del__ runs here
+        assert exits == [0]
+        err = capfd.readouterr().err
+        assert err == 'pybullet_world: SIGTERM during start-up: stopping\n', err
     finally:
         for signum, handler in saved.items():
             signal.signal(signum, handler)
