@@ -65,6 +65,7 @@ NAVIGATORS = {
     'dpn_real_laser': dict(REAL_LASER),
     'paper': {'obstacle_proximity_cost': 0.0, 'forget_obstacles_after': 0.0,
               'free_evidence_radius': 0.0, 'moving_object_size': 0.0, 'object_min_hits': 0,
+              'segment_bridge_beams': 0,
               'fine_evidence_resolution': 0.0, 'fine_evidence_radius': 0.0, 'mobile_expiry': 0.0,
               'track_confirm_time': 0.0, 'track_still_distance': 0.0, 'track_exclusive': False,
               'trail_distance': 0.0, 'object_memory': 0.0,

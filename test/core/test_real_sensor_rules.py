@@ -976,11 +976,13 @@ def walker_along_a_wall(bridge_beams, lost_share, seed, beams=721, scans=80):
 
 @pytest.mark.parametrize('seed', range(2))
 def test_lost_returns_in_a_wall_do_not_let_it_follow_a_walker(seed):
-    # Every beam without a hit ends a segment (off, the default): lost returns cut the wall
-    # into short pieces that stand free, and those next to the walker continue its track.
-    assert NavigatorConfig(width=1.0, height=1.0).segment_bridge_beams == 0
+    # Every beam without a hit ends a segment (0, the paper): lost returns cut the wall into
+    # short pieces that stand free, and those next to the walker continue its track. dpn
+    # bridges 2 beams.
+    assert NavigatorConfig(width=1.0, height=1.0).segment_bridge_beams == 2
+    assert NavigatorConfig(width=1.0, height=1.0).label_rule().segment_bridge_beams == 2
     assert NavigatorConfig(width=1.0, height=1.0,
-                           segment_bridge_beams=2).label_rule().segment_bridge_beams == 2
+                           segment_bridge_beams=0).label_rule().segment_bridge_beams == 0
     cut_far, cut_found = walker_along_a_wall(0, 0.03, seed)
     bridged_far, bridged_found = walker_along_a_wall(2, 0.03, seed)
     assert cut_far > 50 and bridged_far == 0
