@@ -84,23 +84,28 @@ def test_absurd_grid_parameters_end_in_one_error_line(ros_domain_id):
     assert 'Traceback' not in output and 'MemoryError' not in output, output
 
 
+@pytest.fixture
+def stop_handlers_restored():
+    """Put back the process's SIGINT and SIGTERM handlers after a test that installs its own."""
+    saved = {signum: signal.getsignal(signum) for signum in (signal.SIGINT, signal.SIGTERM)}
+    yield
+    for signum, handler in saved.items():
+        signal.signal(signum, handler)
+
+
+@pytest.mark.usefixtures('stop_handlers_restored')
 def test_a_stop_signal_is_taken_once_and_later_ones_are_ignored():
     from dpn_navigator.ros.spin import StopRequest
-    saved = {signum: signal.getsignal(signum) for signum in (signal.SIGINT, signal.SIGTERM)}
-    try:
-        stop = StopRequest()
-        assert not stop.requested
-        os.kill(os.getpid(), signal.SIGTERM)
-        assert stop.signal_name == 'SIGTERM'
-        # Ignored, not handled by Python: Python's exit puts back the default action (which
-        # kills) only for signals with a Python handler.
-        assert signal.getsignal(signal.SIGINT) == signal.SIG_IGN
-        assert signal.getsignal(signal.SIGTERM) == signal.SIG_IGN
-        os.kill(os.getpid(), signal.SIGINT)
-        assert stop.signal_name == 'SIGTERM'
-    finally:
-        for signum, handler in saved.items():
-            signal.signal(signum, handler)
+    stop = StopRequest()
+    assert not stop.requested
+    os.kill(os.getpid(), signal.SIGTERM)
+    assert stop.signal_name == 'SIGTERM'
+    # Ignored, not handled by Python: Python's exit puts back the default action (which
+    # kills) only for signals with a Python handler.
+    assert signal.getsignal(signal.SIGINT) == signal.SIG_IGN
+    assert signal.getsignal(signal.SIGTERM) == signal.SIG_IGN
+    os.kill(os.getpid(), signal.SIGINT)
+    assert stop.signal_name == 'SIGTERM'
 
 
 #: Moments after the start [s] at which a stop signal is sent: the imports (rclpy, numpy,
@@ -150,66 +155,54 @@ def wait_for(condition, timeout=2.0):
         time.sleep(0.01)                    # Python handlers run between bytecodes
 
 
+@pytest.mark.usefixtures('stop_handlers_restored')
 def test_a_stop_signal_while_starting_ends_the_process_at_once_with_one_line(capfd):
     from dpn_navigator.ros.stop_signals import StopRequest
-    saved = {signum: signal.getsignal(signum) for signum in (signal.SIGINT, signal.SIGTERM)}
     exits = []
-    try:
-        stop = StopRequest(starting=True, name='dpn', exit_process=exits.append)
-        os.kill(os.getpid(), signal.SIGINT)
-        wait_for(lambda: exits)
-        assert exits == [0]
-        assert capfd.readouterr().err == 'dpn: SIGINT during start-up: stopping\n'
-        assert stop.requested and not stop.starting
-        os.kill(os.getpid(), signal.SIGTERM)                # ignored from now on
-        time.sleep(0.1)
-        assert exits == [0] and stop.signal_name == 'SIGINT'
-        stop = StopRequest(starting=True, name='dpn', exit_process=exits.append)
-        stop.started()
-        os.kill(os.getpid(), signal.SIGTERM)                # a flag only, once started
-        wait_for(lambda: stop.requested)
-        assert stop.signal_name == 'SIGTERM' and exits == [0]
-        assert capfd.readouterr().err == ''
-    finally:
-        for signum, handler in saved.items():
-            signal.signal(signum, handler)
+    stop = StopRequest(starting=True, name='dpn', exit_process=exits.append)
+    os.kill(os.getpid(), signal.SIGINT)
+    wait_for(lambda: exits)
+    assert exits == [0]
+    assert capfd.readouterr().err == 'dpn: SIGINT during start-up: stopping\n'
+    assert stop.requested and not stop.starting
+    os.kill(os.getpid(), signal.SIGTERM)                # ignored from now on
+    time.sleep(0.1)
+    assert exits == [0] and stop.signal_name == 'SIGINT'
+    stop = StopRequest(starting=True, name='dpn', exit_process=exits.append)
+    stop.started()
+    os.kill(os.getpid(), signal.SIGTERM)                # a flag only, once started
+    wait_for(lambda: stop.requested)
+    assert stop.signal_name == 'SIGTERM' and exits == [0]
+    assert capfd.readouterr().err == ''
 
 
+@pytest.mark.usefixtures('stop_handlers_restored')
 def test_the_start_up_stop_line_reaches_stderr_while_a_library_silences_it(capfd):
     # The world silences pybullet's URDF warnings by pointing fd 2 at /dev/null while it loads
     # the bodies (sim_bridge.scene); a stop signal landing then still says why it stops.
     from dpn_navigator.ros.stop_signals import StopRequest
     from sim_bridge.scene import _quiet_native_output
-    saved = {signum: signal.getsignal(signum) for signum in (signal.SIGINT, signal.SIGTERM)}
     exits = []
-    try:
-        stop = StopRequest(starting=True, name='pybullet_world', exit_process=exits.append)
-        with _quiet_native_output():
-            os.write(2, b'silenced\n')
-            os.kill(os.getpid(), signal.SIGTERM)
-            wait_for(lambda: exits)
-        assert exits == [0]
-        err = capfd.readouterr().err        # importing pybullet prints its build time first
-        assert err.endswith('pybullet_world: SIGTERM during start-up: stopping\n'), err
-        assert 'silenced' not in err
-        stop.started()
-    finally:
-        for signum, handler in saved.items():
-            signal.signal(signum, handler)
+    stop = StopRequest(starting=True, name='pybullet_world', exit_process=exits.append)
+    with _quiet_native_output():
+        os.write(2, b'silenced\n')
+        os.kill(os.getpid(), signal.SIGTERM)
+        wait_for(lambda: exits)
+    assert exits == [0]
+    err = capfd.readouterr().err        # importing pybullet prints its build time first
+    assert err.endswith('pybullet_world: SIGTERM during start-up: stopping\n'), err
+    assert 'silenced' not in err
+    stop.started()
 
 
+@pytest.mark.usefixtures('stop_handlers_restored')
 def test_a_stop_signal_where_python_cannot_raise_ends_the_start_up_all_the_same(capfd):
     # As in numba's LLVM object cache callback while the kernels load: an exception raised by
     # the handler there was only printed ("Exception ignored ..."); an exit is not lost.
     from dpn_navigator.ros.stop_signals import StopRequest
-    saved = {signum: signal.getsignal(signum) for signum in (signal.SIGINT, signal.SIGTERM)}
     exits = []
-    try:
-        StopRequest(starting=True, name='pybullet_world', exit_process=exits.append)
-        SignalledInDel()                    # dropped at once: __del__ runs here
-        assert exits == [0]
-        err = capfd.readouterr().err
-        assert err == 'pybullet_world: SIGTERM during start-up: stopping\n', err
-    finally:
-        for signum, handler in saved.items():
-            signal.signal(signum, handler)
+    StopRequest(starting=True, name='pybullet_world', exit_process=exits.append)
+    SignalledInDel()                    # dropped at once: __del__ runs here
+    assert exits == [0]
+    err = capfd.readouterr().err
+    assert err == 'pybullet_world: SIGTERM during start-up: stopping\n', err
