@@ -2,15 +2,17 @@
 What a recording's laser did, and which of the package's parameter files suits it.
 
 ``dpn-replay`` surveys every scan it places (`SensorSurvey.add`) and, after the replay, prints
-the hints of `SensorSurvey.hints` on stderr: a replay with the node's defaults is a replay of
-a robot with an ideal laser, and real recordings often need one of the package's files:
+the hints of `SensorSurvey.hints` on stderr; the ``dpn`` node surveys its first scans and logs
+them once its laser has moved (`NODE_HINT_SCANS`). The node's defaults are made for an ideal
+laser, and real lasers often need one of the package's files:
 
 - the driver writes a beam with no echo as a tiny range (the old Hokuyo driver: 0.000-0.019 m,
   16-47 % of the readings of the leg_tracker recordings): under REP 117 these are invalid, and
   ``no_echo_below_range_min`` reads them as no return;
 - the laser stood still the whole time: ``config/dpn_standing_laser.yaml``;
-- the laser moved and many beams returned nothing (walls met at a grazing angle):
-  ``config/dpn_real_laser.yaml``.
+- the laser moved, many beams returned nothing (walls met at a grazing angle) and some returns
+  were lost inside surfaces (a real laser's dropouts; an ideal laser in open space has many
+  beams with no return but loses none inside a surface): ``config/dpn_real_laser.yaml``.
 
 No rclpy here: a plain survey of numbers, usable in batch runs.
 
@@ -21,6 +23,8 @@ import math
 
 import numpy as np
 
+from ..core.settings import settings_of
+
 #: A share of no-echo codes (finite readings below ``range_min``) above this is worth a hint.
 NO_ECHO_HINT_SHARE = 0.05
 #: A laser that stays within this distance [m] of its first position stood still.
@@ -28,6 +32,37 @@ STANDING_DISTANCE = 0.1
 #: A share of readings with no return (``+inf`` or at ``range_max`` and beyond) above this, on
 #: a laser that moved, is worth a hint.
 NO_RETURN_HINT_SHARE = 0.05
+#: Lost returns inside a surface: runs of at most this many beams without a valid reading...
+LOST_RETURN_RUN = 2
+#: ... between two hits at most this far apart in range [m] (``segment_gap``'s default).
+LOST_RETURN_GAP = 0.3
+#: A share of such lost returns above this tells a real laser from an ideal one (simulated, on
+#: six maps: ideal 0, SICK LMS1xx 0.2 %, UTM-30LX 0.5 %, RPLIDAR A2 1.0 %).
+LOST_RETURN_HINT_SHARE = 0.001
+#: Scans a running node surveys, its laser having moved, before it logs the hints.
+NODE_HINT_SCANS = 100
+#: The settings the hints are about: a hint names only what was not changed.
+HINTED_SETTINGS = ('no_echo_below_range_min', 'free_burn_in', 'no_return_reach')
+
+
+def changed_settings(config, names=HINTED_SETTINGS):
+    """
+    Return the names among ``names`` whose value in ``config`` is not the default.
+
+    Parameters
+    ----------
+    config : NavigatorConfig
+        The node's settings.
+    names : sequence of str
+        Settings of ``NavigatorConfig``.
+
+    Returns
+    -------
+    set of str
+
+    """
+    defaults = settings_of(type(config))
+    return {name for name in names if getattr(config, name) != defaults[name][0]}
 
 
 @dataclass
@@ -43,6 +78,9 @@ class SensorSurvey:
         Finite readings ``0 <= range < range_min``.
     no_returns : int
         Readings ``+inf`` or ``>= range_max`` (REP 117: no return within range).
+    lost_returns : int
+        Beams without a valid reading (``range_min <= r < range_max``) in runs of at most
+        `LOST_RETURN_RUN` between two hits at most `LOST_RETURN_GAP` apart in range.
     scans : int
     first_position : (float, float) or None
         The laser's first position [m] (map frame).
@@ -54,6 +92,7 @@ class SensorSurvey:
     readings: int = 0
     no_echo_codes: int = 0
     no_returns: int = 0
+    lost_returns: int = 0
     scans: int = 0
     first_position: tuple = None
     travel: float = 0.0
@@ -78,6 +117,13 @@ class SensorSurvey:
                                        & (ranges < range_min)).sum())
             beyond = np.isfinite(ranges) & (ranges >= range_max)
             self.no_returns += int(((ranges == math.inf) | beyond).sum())
+            hits = np.flatnonzero(np.isfinite(ranges) & (ranges >= range_min)
+                                  & (ranges < range_max))
+        if hits.shape[0] >= 2:
+            run = np.diff(hits) - 1
+            lone = ((run >= 1) & (run <= LOST_RETURN_RUN)
+                    & (np.abs(np.diff(ranges[hits])) <= LOST_RETURN_GAP))
+            self.lost_returns += int(run[lone].sum())
         self.readings += int(ranges.shape[0])
         self.scans += 1
         x, y = float(position[0]), float(position[1])
@@ -95,7 +141,7 @@ class SensorSurvey:
         """Whether the laser stayed within `STANDING_DISTANCE` of its first position."""
         return self.scans > 0 and self.travel <= STANDING_DISTANCE
 
-    def hints(self, values, files=True):
+    def hints(self, values, files=True, standing=True):
         """
         Return the hints for a replay made with the parameter overrides ``values``.
 
@@ -106,6 +152,9 @@ class SensorSurvey:
             a hint names only what was not set.
         files : bool
             Whether to name the package's parameter files (not for the paper's rule set).
+        standing : bool
+            Whether a laser that stood still is worth a hint (not for a running node: its
+            robot stands while it waits for a goal).
 
         Returns
         -------
@@ -120,17 +169,19 @@ class SensorSurvey:
                 f'{100.0 * no_echo:.0f} % of the readings are finite and below range_min, '
                 'read as invalid (REP 117); if the driver writes a beam with no echo so (the '
                 'old Hokuyo driver), set no_echo_below_range_min: true in a --params-file')
-        if files and self.standing and 'free_burn_in' not in values:
+        if files and standing and self.standing and 'free_burn_in' not in values:
             hints.append(
                 f'the laser stood still (within {self.travel:.2f} m of its first place): '
                 'config/dpn_standing_laser.yaml of the package suits a laser standing still '
                 '(range noise, burn-in, a second look; docs/real_data.md)')
         no_return = self.share(self.no_returns)
-        if files and not self.standing and self.scans and no_return > NO_RETURN_HINT_SHARE \
-                and 'no_return_reach' not in values:
+        lost = self.share(self.lost_returns)
+        if (files and not self.standing and self.scans and no_return > NO_RETURN_HINT_SHARE
+                and lost > LOST_RETURN_HINT_SHARE and 'no_return_reach' not in values):
             hints.append(
-                f'the laser moved {self.travel:.1f} m and {100.0 * no_return:.0f} % of the '
-                'readings returned nothing: config/dpn_real_laser.yaml of the package suits a '
+                f'the laser moved {self.travel:.1f} m, {100.0 * no_return:.0f} % of the '
+                f'readings returned nothing and {100.0 * lost:.1f} % were returns lost inside '
+                'a surface (a real laser): config/dpn_real_laser.yaml of the package suits a '
                 'moving robot with a real laser (beams with no return clear nothing; '
                 'docs/method.md)')
         return hints

@@ -16,6 +16,10 @@ goal only with ``use_default_goal``. Publishes ``map`` (``nav_msgs/OccupancyGrid
 ``status`` (``diagnostic_msgs/DiagnosticStatus``, latched: status, reason, counters) and the
 same status on ``/diagnostics`` (``DiagnosticArray``).
 
+Once its laser has moved, the node surveys its first scans and logs once, as a warning, which
+of the package's parameter files would suit that laser better than the node's (ideal-laser)
+defaults, as ``dpn-replay`` does (`recording.sensor_survey`).
+
 Malformed scans, odometry, goals and ``/clock`` messages are rejected, counted and warned about
 (throttled); the node keeps running. When scans or odometry are older than ``sensor_timeout`` on
 the node clock or on the steady wall clock, the robot is stopped (docs/safety.md).
@@ -64,6 +68,7 @@ from ..core.navigator import warm_up_navigator
 from ..core.numpy_cache import fill_numpy_cache
 from ..core.pose_history import PoseHistory
 from ..core.scan_polygon import check_scan
+from ..recording.sensor_survey import changed_settings, NODE_HINT_SCANS, SensorSurvey
 
 WATCHDOG_PERIOD = 0.02          # steady clock [s]: first zero command <= sensor_timeout + this
 STOP_ACK_TIMEOUT = 0.2          # wait this long for the last zero command's delivery [s]
@@ -129,6 +134,9 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         self.pending_scans = deque()
         self.scans_waited = 0
         self.scans_skipped = 0
+        # What the laser does, until the hints are given (None after).
+        self.laser_survey = SensorSurvey()
+        self.laser_hints = 0
         self.odom_frame_warned = False
         self.tf = (make_tf_lookup(self) if self.params.pose_source != 'odom' else None)
         self.placer = ScanPlacer(self.params.pose_source, self.params.map_frame,
@@ -423,6 +431,7 @@ class DpnNode(ManagedNavigator, LifecycleNode):
             self.reject('scan', error)
             return
         self.stop_guard.heard('scan', now, pending.arrival)
+        self.survey_laser(placement)
         self.follow_map_growth()
         stamp = msg.header.stamp
         # The map first: it is ready now, and planning can take longer.
@@ -447,6 +456,29 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         if self.markers.due(out.replanned, status_changed, now):
             self.publish_markers(stamp, now)
         self.navigator.settle()
+
+    def survey_laser(self, placement):
+        """
+        Count the scan in the laser survey; once the laser has moved, log the hints once.
+
+        `NODE_HINT_SCANS` scans are surveyed, and the laser has moved more than
+        ``sensor_survey.STANDING_DISTANCE``: a robot standing while it waits for a goal says
+        nothing of its laser's returns on the move. Each hint is a warning; none when the
+        parameters in use already cater for what the laser does.
+        """
+        survey = self.laser_survey
+        if survey is None:
+            return
+        fields = placement.fields
+        position = (placement.laser_pose or placement.base_pose)[:2]
+        survey.add(fields['ranges'], fields['range_min'], fields['range_max'], position)
+        if survey.scans < NODE_HINT_SCANS or survey.standing:
+            return
+        self.laser_survey = None
+        hints = survey.hints(changed_settings(self.params.navigator), standing=False)
+        for hint in hints:
+            self.get_logger().warning(f'laser: {hint}')
+        self.laser_hints = len(hints)
 
     def follow_map_growth(self):
         """
@@ -525,6 +557,8 @@ class DpnNode(ManagedNavigator, LifecycleNode):
             'map_growth_refusals': self.navigator.map_growth_refusals,
             # Parameters given at start that the node does not declare (warned about once).
             'unknown_parameters': len(self.unknown_parameters),
+            # Hints logged on the laser (a parameter file that suits it; sensor_survey).
+            'laser_hints': self.laser_hints,
             # Where scans are placed from: 'tf' or 'odom' ('' before the first).
             'pose_source': self.placer.source or '',
             # Scans that waited for their transform or odometry, and those dropped after

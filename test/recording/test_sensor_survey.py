@@ -19,14 +19,26 @@ def test_the_survey_counts_no_echo_codes_no_returns_and_travel():
     assert survey.share(survey.no_echo_codes) == 0.3
 
 
-def _survey(no_echo_share, no_return_share, travel, beams=1000, scans=5):
+def _survey(no_echo_share, no_return_share, travel, beams=1000, scans=5, lost_every=0):
     survey = SensorSurvey()
     for k in range(scans):
         ranges = np.full(beams, 3.0)
         ranges[:int(no_echo_share * beams)] = 0.0
         ranges[beams - int(no_return_share * beams):] = math.inf
+        if lost_every:
+            ranges[beams // 2:int((1.0 - no_return_share) * beams) - 1:lost_every] = math.nan
         survey.add(ranges, 0.02, 30.0, (travel * k / (scans - 1), 0.0))
     return survey
+
+
+def test_lost_returns_are_lone_beams_without_a_hit_inside_a_surface():
+    survey = SensorSurvey()
+    # A surface at 3 m with one beam lost, then two, then a run of three; a jump from 3 to 5 m
+    # with one beam lost between; a code below range_min between two hits.
+    ranges = [3.0, math.inf, 3.05, math.nan, math.inf, 3.1, math.inf, math.inf, math.inf, 3.1,
+              math.inf, 5.0, 0.01, 5.1]
+    survey.add(ranges, 0.02, 30.0, (0.0, 0.0))
+    assert survey.lost_returns == 1 + 2 + 1
 
 
 def test_a_standing_laser_with_no_echo_codes_is_told_both_files_and_settings():
@@ -43,11 +55,15 @@ def test_a_standing_laser_with_no_echo_codes_is_told_both_files_and_settings():
 
 
 def test_a_moving_laser_with_silent_beams_is_told_the_real_laser_file():
-    survey = _survey(0.0, 0.4, 3.0)
+    survey = _survey(0.0, 0.4, 3.0, lost_every=50)
     assert survey.travel == 3.0 and not survey.standing
+    assert survey.share(survey.lost_returns) == 0.002
     (hint,) = survey.hints({})
-    assert 'moved 3.0 m' in hint and '40 %' in hint and 'config/dpn_real_laser.yaml' in hint
+    assert 'moved 3.0 m' in hint and '40 %' in hint and '0.2 %' in hint
+    assert 'config/dpn_real_laser.yaml' in hint
     assert survey.hints({'no_return_reach': 0.0}) == []
-    assert _survey(0.0, 0.01, 3.0).hints({}) == []          # beams that all return
+    assert _survey(0.0, 0.01, 3.0, lost_every=50).hints({}) == []     # beams that all return
+    # Open space seen by an ideal laser: silent beams, but no return lost inside a surface.
+    assert _survey(0.0, 0.4, 3.0).hints({}) == []
     # A laser that moves less than the standing distance stands.
     assert _survey(0.0, 0.4, STANDING_DISTANCE).standing

@@ -351,3 +351,37 @@ def test_two_namespaced_navigators_do_not_hear_each_other(ros_context):
     assert pair[0].pose is not None and pair[1].pose is None
     assert not maps['robot2'] and not maps['compabot']
     assert pair[1].navigator.grid.labels.max() == CellLabel.NON_EXPLORED
+
+
+def laser_placement(x, ranges):
+    """Return a placed scan of ``ranges`` [m] from a laser at (``x``, 1) [m]."""
+    from dpn_navigator.ros.scan_placement import ScanPlacement
+    fields = {'ranges': np.asarray(ranges, dtype=np.float32), 'angle_min': ANGLE_MIN,
+              'angle_increment': ANGLE_INCREMENT, 'angle_max': -ANGLE_MIN,
+              'range_min': RANGE_MIN, 'range_max': 30.0}
+    return ScanPlacement((x, 1.0, 0.0), (x + 0.3, 1.0, 0.0), fields, 'odom')
+
+
+@pytest.mark.parametrize('moving, overrides, lost, hints', [
+    (True, [], True, 1),                                        # dpn.yaml with a real laser
+    (True, [], False, 0),                                       # an ideal laser, open space
+    (False, [], True, 0),                                       # waiting for a goal: no word
+    (True, [Parameter('no_return_reach', value=0.0)], True, 0),     # dpn_real_laser's rule
+])
+def test_a_laser_losing_returns_on_the_move_gets_one_hint(ros_context, moving, overrides,
+                                                          lost, hints):
+    from dpn_navigator.recording.sensor_survey import NODE_HINT_SCANS
+    dpn = DpnNode(context=ros_context, parameter_overrides=[BARE_ROBOT, *overrides])
+    try:
+        ranges = np.full(640, 4.0)
+        if lost:
+            ranges[::5] = np.inf                                # 20 % lost inside a wall
+        else:
+            ranges[:128] = np.inf                               # 20 % open space
+        for index in range(NODE_HINT_SCANS + 20):
+            dpn.survey_laser(laser_placement(0.02 * index if moving else 0.0, ranges))
+        assert dpn.laser_hints == hints
+        # Surveyed until the hints are given, never after; standing, still surveying.
+        assert (dpn.laser_survey is None) is moving
+    finally:
+        dpn.destroy_node()
