@@ -18,6 +18,8 @@ import zlib
 
 import numpy as np
 
+from ..core.real_laser import REAL_LASER_SETTINGS
+
 #: The settings of issue 31 (a navigator that does not get stuck: stale obstacles, the honest
 #: no-path timer, route commitment and waiting, giving way, exploration with memory), each 0
 #: for off. Off in ``paper``, and in the reference navigators, whose rows stay those of the
@@ -55,17 +57,14 @@ NOT_GETTING_STUCK_OFF = {'stale_obstacle_age': 0.0, 'path_trust_time': 0.0,
 #: noise; space is surely free only after 0.5 s without a hit near it (the burn-in), a scan
 #: segment narrower than 5 cm shows no motion, and a wall seen at more than 60 deg from its
 #: normal next to beams with no return goes on (its unknown cells cost 100 cells more).
-REAL_LASER = {'no_return_reach': 0.0, 'mixed_pixel_angle': 0.1745, 'spike_angle': 0.1745,
-              'veiling_angle': 0.1745,
-              'range_noise_margin': 0.05, 'range_noise_fraction': 0.03, 'free_burn_in': 0.5,
-              'object_min_width': 0.05, 'wall_continuation_angle': 1.0472}
+REAL_LASER = dict(REAL_LASER_SETTINGS)
 NAVIGATORS = {
     'dpn': {},
     'dpn_no_sweep': {'turn_sweep_memory': 0.0},
     'dpn_real_laser': dict(REAL_LASER),
     'paper': {'obstacle_proximity_cost': 0.0, 'forget_obstacles_after': 0.0,
               'free_evidence_radius': 0.0, 'moving_object_size': 0.0, 'object_min_hits': 0,
-              'segment_bridge_beams': 0,
+              'segment_bridge_beams': 0, 'real_laser_switch': 0.0,
               'fine_evidence_resolution': 0.0, 'fine_evidence_radius': 0.0, 'mobile_expiry': 0.0,
               'track_confirm_time': 0.0, 'track_still_distance': 0.0, 'track_exclusive': False,
               'trail_distance': 0.0, 'object_memory': 0.0,

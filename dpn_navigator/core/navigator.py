@@ -35,6 +35,7 @@ from .planning.planning_masks import PlanningMasks, touches_blocked  # noqa: F40
 from .planning.planning_masks import warm_up_planning_masks
 from .planning.route_commitment import RouteCommitment
 from .pose2d import compose
+from .real_laser import real_laser_switch_for, take_real_laser_settings
 from .scan_polygon import check_pose, scan_points
 from .settings import BIG, setting
 
@@ -369,6 +370,15 @@ class NavigatorConfig:
         100.0, 'cells', 'walls that go on: extra A\\* cost of entering a non-explored cell on a '
         "wall's continuation (instead of `unknown_cell_cost` or `forgotten_obstacle_cost` when "
         'larger; read only with `wall_continuation_angle` > 0)', 0.0, 10000.0)
+    real_laser_switch: float = setting(
+        0.001, '1', 'a real laser on the move: once the laser has moved more than 0.1 m and, '
+        'over at least 3 scans, at least 5 and more than this share of the readings were '
+        'returns lost inside a surface (runs of 1-2 beams without a valid reading between '
+        'hits within 0.3 m of each other; an ideal laser loses none, real ones 0.2-1 %), the '
+        'settings of '
+        '`config/dpn_real_laser.yaml` left at their defaults are taken, once, and the free '
+        'evidence gathered so far is dropped ([method](method.md#a-real-laser-on-the-move)); '
+        '0: off (the paper)', 0.0, 1.0)
     map_growth_step: float = setting(
         0.0, 'm', 'maps that grow: when the robot comes within `map_growth_margin` of an edge '
         'of the map, a laser hit falls beyond one, or a goal lies off the map, the map grows on '
@@ -395,7 +405,7 @@ class NavigatorConfig:
                      'give_way_time', 'give_way_distance',
                      'give_way_hold', 'unknown_cell_cost', 'forgotten_obstacle_cost',
                      'wall_continuation_angle', 'wall_continuation_cost', 'map_growth_step',
-                     'map_growth_margin', 'map_memory_limit'):
+                     'map_growth_margin', 'map_memory_limit', 'real_laser_switch'):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0.0):
                 raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
@@ -487,6 +497,14 @@ class Navigator:
         same growth asked for again (by every scan of a robot at the edge) counts once.
     map_growth_refusal : str
         Why the last growth was refused ('' before any).
+    real_laser : RealLaserSwitch or None
+        What tells a real laser on the move (``real_laser_switch``); None when off, on a grid
+        other than the ``LabelGrid``, or when the settings already are the real laser's.
+    real_laser_settings : dict of str to float
+        The settings the switch took (empty until it switched).
+    real_laser_since : float or None
+        The stamp given to `observe` with the first scan read with them [s]: the scan after
+        the one that showed the real laser (None before, or when that scan had none).
 
     """
 
@@ -523,6 +541,11 @@ class Navigator:
         self.map_growth_refusals = 0
         self.map_growth_refusal = ''
         self._refused_growth = None             # (geometry, growth) refused last
+        self.real_laser = real_laser_switch_for(config, self.grid)
+        self.real_laser_settings = {}
+        self.real_laser_since = None
+        self._real_laser_due = False            # the next observe switches
+        self._laser_unwatched = False           # the last scan is not watched yet
 
     def _init_not_getting_stuck(self, config):
         """Set up the parts of issue 31 that ``config`` turns on (each None when off)."""
@@ -665,9 +688,13 @@ class Navigator:
                                 range_min, range_max)
         deferring = ({'defer_evidence': True} if defer_evidence and self.grid.defers_evidence
                      else {})
+        switching = self._real_laser_due
+        if switching:
+            self._take_real_laser_settings(stamp)
         replan = self.grid.update(laser_pose, ranges, angle_min, angle_increment, range_min,
                                   range_max, self.config.safety_radius, path=self.path,
                                   angle_max=angle_max, stamp=stamp, **deferring)
+        replan |= switching
         self._sweep_last_scan()
         self._replan_requested |= replan
         self._remember_scan(stamp)
@@ -676,6 +703,41 @@ class Navigator:
         self._last_scan = (laser_pose, np.array(ranges, dtype=np.float64), angle_min,
                            angle_increment, range_min, range_max, angle_max, stamp)
         self._unswept_pose = pose if self.turn_sweep is not None else None
+        self._laser_unwatched = True
+        if not deferring:
+            self._watch_laser()
+
+    def _watch_laser(self):
+        """
+        Watch the last scan for a real laser on the move (``real_laser_switch``), once.
+
+        Done after the labels are out (in `settle` with ``defer_evidence``): a scan that shows
+        a real laser makes the next `observe` switch, before its update.
+        """
+        if (self.real_laser is None or self.real_laser.switched_at is not None
+                or not self._laser_unwatched):
+            return
+        self._laser_unwatched = False
+        laser_pose, ranges, _, _, range_min, range_max, _, stamp = self._last_scan
+        self._real_laser_due = self.real_laser.watch(laser_pose[:2], ranges, range_min,
+                                                     range_max, stamp)
+
+    def _take_real_laser_settings(self, stamp):
+        """
+        Take the real-laser settings and start the map again, from the scan at ``stamp``.
+
+        ``core.real_laser.take_real_laser_settings`` switches the grid's rule and resets it;
+        the memories of the map start again too (the exploration memory, with the walls that
+        go on, the obstacle confirmations, the route commitment, giving way); the counters
+        stay.
+        """
+        self._real_laser_due = False
+        self.config, self.real_laser_settings = take_real_laser_settings(self.config,
+                                                                         self.grid)
+        self.real_laser_since = stamp
+        stale_drops, route_reviews = self.stale_drops, self.route_reviews
+        self._init_not_getting_stuck(self.config)
+        self.stale_drops, self.route_reviews = stale_drops, route_reviews
 
     def _grow_for_scan(self, pose, laser_pose, ranges, angle_min, angle_increment, range_min,
                        range_max):
@@ -819,6 +881,7 @@ class Navigator:
     def settle(self):
         """Finish what the last ``observe`` with ``defer_evidence`` left for later."""
         self.grid.settle()
+        self._watch_laser()
 
     def _sweep_last_scan(self):
         """Give the turn sweep the hits of the last scan observed, once."""

@@ -12,37 +12,36 @@ laser, and real lasers often need one of the package's files:
 - the laser stood still the whole time: ``config/dpn_standing_laser.yaml``;
 - the laser moved, many beams returned nothing (walls met at a grazing angle) and some returns
   were lost inside surfaces (a real laser's dropouts; an ideal laser in open space has many
-  beams with no return but loses none inside a surface): ``config/dpn_real_laser.yaml``.
+  beams with no return but loses none inside a surface): ``config/dpn_real_laser.yaml``. Only
+  with ``real_laser_switch`` 0: by default the navigator takes that file's settings itself
+  when it sees such a laser on the move (``core.real_laser``).
 
 No rclpy here: a plain survey of numbers, usable in batch runs.
 
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 import math
 
 import numpy as np
 
+from ..core.real_laser import LaserTravel, lost_returns
+from ..core.real_laser import STANDING_DISTANCE  # noqa: F401 (re-exported)
 from ..core.settings import settings_of
 
 #: A share of no-echo codes (finite readings below ``range_min``) above this is worth a hint.
 NO_ECHO_HINT_SHARE = 0.05
-#: A laser that stays within this distance [m] of its first position stood still.
-STANDING_DISTANCE = 0.1
 #: A share of readings with no return (``+inf`` or at ``range_max`` and beyond) above this, on
 #: a laser that moved, is worth a hint.
 NO_RETURN_HINT_SHARE = 0.05
-#: Lost returns inside a surface: runs of at most this many beams without a valid reading...
-LOST_RETURN_RUN = 2
-#: ... between two hits at most this far apart in range [m] (``segment_gap``'s default).
-LOST_RETURN_GAP = 0.3
 #: A share of such lost returns above this tells a real laser from an ideal one (simulated, on
 #: six maps: ideal 0, SICK LMS1xx 0.2 %, UTM-30LX 0.5 %, RPLIDAR A2 1.0 %).
 LOST_RETURN_HINT_SHARE = 0.001
 #: Scans a running node surveys, its laser having moved, before it logs the hints.
 NODE_HINT_SCANS = 100
 #: The settings the hints are about: a hint names only what was not changed.
-HINTED_SETTINGS = ('no_echo_below_range_min', 'free_burn_in', 'no_return_reach')
+HINTED_SETTINGS = ('no_echo_below_range_min', 'free_burn_in', 'no_return_reach',
+                   'real_laser_switch')
 
 
 def changed_settings(config, names=HINTED_SETTINGS):
@@ -79,13 +78,10 @@ class SensorSurvey:
     no_returns : int
         Readings ``+inf`` or ``>= range_max`` (REP 117: no return within range).
     lost_returns : int
-        Beams without a valid reading (``range_min <= r < range_max``) in runs of at most
-        `LOST_RETURN_RUN` between two hits at most `LOST_RETURN_GAP` apart in range.
+        Returns lost inside a surface (``core.real_laser.lost_returns``).
     scans : int
-    first_position : (float, float) or None
-        The laser's first position [m] (map frame).
-    travel : float
-        The farthest the laser came from its first position [m].
+    laser_travel : core.real_laser.LaserTravel
+        How far the laser came from its first position (`travel`, `standing`).
 
     """
 
@@ -94,8 +90,7 @@ class SensorSurvey:
     no_returns: int = 0
     lost_returns: int = 0
     scans: int = 0
-    first_position: tuple = None
-    travel: float = 0.0
+    laser_travel: LaserTravel = field(default_factory=LaserTravel)
 
     def add(self, ranges, range_min, range_max, position):
         """
@@ -117,20 +112,15 @@ class SensorSurvey:
                                        & (ranges < range_min)).sum())
             beyond = np.isfinite(ranges) & (ranges >= range_max)
             self.no_returns += int(((ranges == math.inf) | beyond).sum())
-            hits = np.flatnonzero(np.isfinite(ranges) & (ranges >= range_min)
-                                  & (ranges < range_max))
-        if hits.shape[0] >= 2:
-            run = np.diff(hits) - 1
-            lone = ((run >= 1) & (run <= LOST_RETURN_RUN)
-                    & (np.abs(np.diff(ranges[hits])) <= LOST_RETURN_GAP))
-            self.lost_returns += int(run[lone].sum())
+        self.lost_returns += lost_returns(ranges, range_min, range_max)
         self.readings += int(ranges.shape[0])
         self.scans += 1
-        x, y = float(position[0]), float(position[1])
-        if self.first_position is None:
-            self.first_position = (x, y)
-        self.travel = max(self.travel, math.hypot(x - self.first_position[0],
-                                                  y - self.first_position[1]))
+        self.laser_travel.add(position)
+
+    @property
+    def travel(self):
+        """Return the farthest the laser came from its first position [m]."""
+        return self.laser_travel.farthest
 
     def share(self, count):
         """Return ``count`` over the readings (0 without any)."""
@@ -139,7 +129,7 @@ class SensorSurvey:
     @property
     def standing(self):
         """Whether the laser stayed within `STANDING_DISTANCE` of its first position."""
-        return self.scans > 0 and self.travel <= STANDING_DISTANCE
+        return self.laser_travel.standing
 
     def hints(self, values, files=True, standing=True):
         """
@@ -177,7 +167,8 @@ class SensorSurvey:
         no_return = self.share(self.no_returns)
         lost = self.share(self.lost_returns)
         if (files and not self.standing and self.scans and no_return > NO_RETURN_HINT_SHARE
-                and lost > LOST_RETURN_HINT_SHARE and 'no_return_reach' not in values):
+                and lost > LOST_RETURN_HINT_SHARE and 'no_return_reach' not in values
+                and 'real_laser_switch' in values):
             hints.append(
                 f'the laser moved {self.travel:.1f} m, {100.0 * no_return:.0f} % of the '
                 f'readings returned nothing and {100.0 * lost:.1f} % were returns lost inside '

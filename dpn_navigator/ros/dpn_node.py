@@ -18,7 +18,9 @@ same status on ``/diagnostics`` (``DiagnosticArray``).
 
 Once its laser has moved, the node surveys its first scans and logs once, as a warning, which
 of the package's parameter files would suit that laser better than the node's (ideal-laser)
-defaults, as ``dpn-replay`` does (`recording.sensor_survey`).
+defaults, as ``dpn-replay`` does (`recording.sensor_survey`). A real laser on the move makes the
+navigator take the real-laser settings itself (``real_laser_switch``, `core.real_laser`): the
+node logs that once, as a warning, and says when in its status (``real_laser_since``).
 
 Malformed scans, odometry, goals and ``/clock`` messages are rejected, counted and warned about
 (throttled); the node keeps running. When scans or odometry are older than ``sensor_timeout`` on
@@ -137,6 +139,9 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         # What the laser does, until the hints are given (None after).
         self.laser_survey = SensorSurvey()
         self.laser_hints = 0
+        # The first scan's time, and when the navigator took the real-laser settings [s].
+        self.first_scan_time = None
+        self.real_laser_since = None
         self.odom_frame_warned = False
         self.tf = (make_tf_lookup(self) if self.params.pose_source != 'odom' else None)
         self.placer = ScanPlacer(self.params.pose_source, self.params.map_frame,
@@ -432,6 +437,7 @@ class DpnNode(ManagedNavigator, LifecycleNode):
             return
         self.stop_guard.heard('scan', now, pending.arrival)
         self.survey_laser(placement)
+        self.report_real_laser(now)
         self.follow_map_growth()
         stamp = msg.header.stamp
         # The map first: it is ready now, and planning can take longer.
@@ -479,6 +485,19 @@ class DpnNode(ManagedNavigator, LifecycleNode):
         for hint in hints:
             self.get_logger().warning(f'laser: {hint}')
         self.laser_hints = len(hints)
+
+    def report_real_laser(self, now):
+        """Log once, as a warning, that the navigator took the real-laser settings."""
+        if self.first_scan_time is None:
+            self.first_scan_time = now
+        navigator = self.navigator
+        if self.real_laser_since is not None or not navigator.real_laser_settings:
+            return
+        self.real_laser_since = now if navigator.real_laser_since is None \
+            else navigator.real_laser_since
+        self.get_logger().warning('laser: ' + navigator.real_laser.describe(
+            navigator.real_laser_settings, self.real_laser_since - self.first_scan_time))
+        self.publish_status()
 
     def follow_map_growth(self):
         """
@@ -559,6 +578,9 @@ class DpnNode(ManagedNavigator, LifecycleNode):
             'unknown_parameters': len(self.unknown_parameters),
             # Hints logged on the laser (a parameter file that suits it; sensor_survey).
             'laser_hints': self.laser_hints,
+            # When the navigator took the real-laser settings [s] ('' before; core.real_laser).
+            'real_laser_since': ('' if self.real_laser_since is None
+                                 else f'{self.real_laser_since:.3f}'),
             # Where scans are placed from: 'tf' or 'odom' ('' before the first).
             'pose_source': self.placer.source or '',
             # Scans that waited for their transform or odometry, and those dropped after

@@ -211,7 +211,7 @@ PARAMETERS = (
                 'mobile_wait_time', 'give_way_time',
                 'give_way_distance', 'give_way_hold', 'unknown_cell_cost',
                 'forgotten_obstacle_cost', 'wall_continuation_angle', 'wall_continuation_reach',
-                'wall_continuation_cost'),
+                'wall_continuation_cost', 'real_laser_switch'),
     # The map grows in blocks of 5 m (the core's default, 0, keeps it fixed as the paper).
     _field('navigator', 'map_growth_step', default=5.0),
     *_navigator('map_growth_margin', 'map_memory_limit'),

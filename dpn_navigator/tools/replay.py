@@ -35,6 +35,7 @@ import time
 from ..benchmark.protocol import NAVIGATORS
 from ..core.mapping.label_grid import LabelGrid, warm_up_label_update
 from ..core.mapping.map_values import warm_up_map_values
+from ..core.real_laser import real_laser_switch_for, take_real_laser_settings
 from ..recording.bag_reader import BagReader, BagReadError, LASER_SCAN
 from ..recording.bag_writer import BagPathError, check_bag_path
 from ..recording.replay_output import BAG_NAME, ReplayOutput
@@ -238,6 +239,8 @@ def _run(bag, topic, poses, out_dir, params, limits, values, navigator, animate)
     warm_up_map_values()
     grid = LabelGrid(config.width, config.height, config.resolution, config.origin,
                      config.label_rule())
+    real_laser = real_laser_switch_for(config, grid)
+    real_laser_due, switch_note = False, None
     poses.skipped.clear()
     update_ms = []
     survey = SensorSurvey()
@@ -250,6 +253,11 @@ def _run(bag, topic, poses, out_dir, params, limits, values, navigator, animate)
             output.write_transforms(bag.transforms(), first_stamp)
         for scan, placed in _placed_scans(bag, topic, poses, limits.max_beams):
             started = time.perf_counter()
+            if real_laser_due:
+                # As the node's Navigator does (core.real_laser): the map starts again.
+                config, taken = take_real_laser_settings(config, grid)
+                switch_note = real_laser.describe(taken, (scan.stamp_ns - first_stamp) * 1e-9)
+                real_laser_due = False
             try:
                 grid.update(placed.pose, **placed.fields(), safety_radius=config.safety_radius,
                             stamp=scan.stamp_ns * 1e-9)
@@ -258,6 +266,9 @@ def _run(bag, topic, poses, out_dir, params, limits, values, navigator, animate)
                 poses.skipped[f'rejected by the label update: {str(error)[:60]}'] += 1
                 continue
             elapsed_ms = 1e3 * (time.perf_counter() - started)
+            if real_laser is not None and real_laser.switched_at is None:
+                real_laser_due = real_laser.watch(placed.pose[:2], scan.ranges,
+                                                  scan.range_min, scan.range_max)
             survey.add(scan.ranges, scan.range_min, scan.range_max, placed.pose[:2])
             output.add(scan, placed.pose[:2], elapsed_ms)
             update_ms.append(elapsed_ms)
@@ -269,7 +280,8 @@ def _run(bag, topic, poses, out_dir, params, limits, values, navigator, animate)
     update_ms.sort()
     return ReplaySummary(topic, poses.map_frame, scans, output.maps, dict(poses.skipped),
                          width, height, origin, update_ms[len(update_ms) // 2],
-                         survey.hints(values, files=navigator != 'paper'))
+                         ([switch_note] if switch_note else [])
+                         + survey.hints(values, files=navigator != 'paper'))
 
 
 def main(argv=None):

@@ -53,8 +53,12 @@ def room_ranges(laser, beams=BEAMS):
     return ranges, angles
 
 
-def moving_laser_items(with_map=True, late_tf=0.3):
-    """Items of a bag: TF at 20 Hz logged ``late_tf`` s late, scans at 10 Hz, one too early."""
+def moving_laser_items(with_map=True, late_tf=0.3, lost_every=0):
+    """
+    Items of a bag: TF at 20 Hz logged ``late_tf`` s late, scans at 10 Hz, one too early.
+
+    With ``lost_every`` > 0 every so many beams return nothing (a real laser's lost returns).
+    """
     items = [('/tf_static', TF_MESSAGE, 0, tf_message(transform_stamped(
         0, 'base_link', 'laser', BASE_TO_LASER.translation, BASE_TO_LASER.rotation)))]
     for k in range(111):
@@ -70,6 +74,8 @@ def moving_laser_items(with_map=True, late_tf=0.3):
     for t in [-0.5] + SCAN_TIMES:              # the first has no TF around it: skipped
         stamp = int(round(t * S)) + 10 * S      # + 10 s: no stamp 0
         ranges, _ = room_ranges(base_in_map(max(t, 0.0)) @ BASE_TO_LASER)
+        if lost_every:
+            ranges[lost_every // 2::lost_every] = np.inf
         items.append(('/scan', LASER_SCAN, stamp,
                       laser_scan(stamp, 'laser', ranges, range_max=20.0)))
     # The TF stamps are shifted by the same 10 s.
@@ -300,6 +306,37 @@ def test_a_benchmark_episode_bag_replays_into_the_same_walls(tmp_path):
 
 
 @pytest.mark.slow
+def test_a_recorded_real_laser_with_no_one_moving_replays_with_no_mobile_cell(tmp_path):
+    """
+    A moving robot's bag with a real laser: by default, nothing is taken for moving.
+
+    The simulated UTM-30LX (grazing walls return nothing, returns lost, mixed pixels) on
+    back_and_forth, no wanderer: every mobile cell is wrong. With ``real_laser_switch`` 0 the
+    replay keeps dpn's ideal-laser settings and takes walls for moving.
+    """
+    from dpn_navigator.benchmark.episode import run_episode
+    from dpn_navigator.benchmark.episode_bag import EpisodeBagRecorder
+    from dpn_navigator.benchmark.protocol import NAVIGATORS
+    from sim_bridge.laser_profiles import laser_config
+    from sim_bridge.scenario import load_scenario
+    scenario = load_scenario('back_and_forth')
+    with EpisodeBagRecorder(tmp_path / 'episode', {'scenario': 'back_and_forth'}) as recorder:
+        run_episode(scenario, 0, 0, 7, time_limit=15.0, recorder=recorder,
+                    navigator_options=NAVIGATORS['dpn_real_laser'],
+                    laser=laser_config('hokuyo_utm30lx'))
+    params = tmp_path / 'off.yaml'
+    params.write_text('/**/dpn:\n  ros__parameters:\n    real_laser_switch: 0.0\n')
+    mobile = {}
+    for name, extra in (('default', []), ('off', ['--params-file', params])):
+        assert run([tmp_path / 'episode', '--out', tmp_path / name, *extra]) == 0
+        with open(tmp_path / name / 'replay.csv', newline='') as stream:
+            mobile[name] = [int(row['cells_mobile_obstacle']) for row in csv.DictReader(stream)]
+    assert len(mobile['default']) > 100
+    assert max(mobile['default']) == 0
+    assert sum(count > 0 for count in mobile['off']) > 0.3 * len(mobile['off'])
+
+
+@pytest.mark.slow
 def test_a_bag_recorded_by_dpn_benchmark_replays(tmp_path):
     """The real command line: ``dpn-benchmark --record``, one smoke episode, then replayed."""
     subprocess.run(
@@ -423,3 +460,26 @@ def test_a_moving_laser_gets_no_standing_hint_and_a_fixed_one_does(tf_bag, tmp_p
     assert run([tf_bag, '--out', tmp_path / 'paper', '--pose', 'fixed',
                 '--navigator', 'paper']) == 0
     assert 'dpn_standing_laser' not in capsys.readouterr().err
+
+
+def test_a_real_laser_on_the_move_switches_to_the_real_laser_settings(tmp_path, capsys):
+    """As the node's Navigator does (``core.real_laser``): once, with a note saying so."""
+    lossy = write_bag(tmp_path / 'lossy', moving_laser_items(lost_every=40))
+    assert run([lossy, '--out', tmp_path / 'out']) == 0
+    err = capsys.readouterr().err
+    assert err.count('dpn-replay: note: a real laser: once it moved') == 1
+    assert 'no_return_reach 0' in err and 'from 0.' in err
+    # Switched off in a params file: the labels of a replay without the switch.
+    params = tmp_path / 'off.yaml'
+    params.write_text('dpn:\n  ros__parameters:\n    real_laser_switch: 0.0\n')
+    assert run([lossy, '--out', tmp_path / 'off', '--params-file', params]) == 0
+    assert 'a real laser' not in capsys.readouterr().err
+    # The switch's effect: beams with no return clear nothing any more.
+    explored = [int((final_labels(tmp_path / name)[1] == CellLabel.EXPLORED).sum())
+                for name in ('out', 'off')]
+    assert explored[0] < explored[1]
+
+
+def test_the_ideal_room_never_switches(tf_replay, tf_bag):
+    summary = replay_tool.replay(tf_bag, tf_replay.parent / 'again')
+    assert not any('real laser' in hint for hint in summary.hints)

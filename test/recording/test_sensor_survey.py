@@ -58,12 +58,15 @@ def test_a_moving_laser_with_silent_beams_is_told_the_real_laser_file():
     survey = _survey(0.0, 0.4, 3.0, lost_every=50)
     assert survey.travel == 3.0 and not survey.standing
     assert survey.share(survey.lost_returns) == 0.002
-    (hint,) = survey.hints({})
+    # By default the navigator takes the real-laser settings itself (real_laser_switch).
+    assert survey.hints({}) == []
+    off = {'real_laser_switch': 0.0}
+    (hint,) = survey.hints(off)
     assert 'moved 3.0 m' in hint and '40 %' in hint and '0.2 %' in hint
     assert 'config/dpn_real_laser.yaml' in hint
-    assert survey.hints({'no_return_reach': 0.0}) == []
-    assert _survey(0.0, 0.01, 3.0, lost_every=50).hints({}) == []     # beams that all return
+    assert survey.hints({**off, 'no_return_reach': 0.0}) == []
+    assert _survey(0.0, 0.01, 3.0, lost_every=50).hints(off) == []     # beams that all return
     # Open space seen by an ideal laser: silent beams, but no return lost inside a surface.
-    assert _survey(0.0, 0.4, 3.0).hints({}) == []
+    assert _survey(0.0, 0.4, 3.0).hints(off) == []
     # A laser that moves less than the standing distance stands.
     assert _survey(0.0, 0.4, STANDING_DISTANCE).standing

@@ -362,11 +362,15 @@ def laser_placement(x, ranges):
     return ScanPlacement((x, 1.0, 0.0), (x + 0.3, 1.0, 0.0), fields, 'odom')
 
 
+SWITCH_OFF = Parameter('real_laser_switch', value=0.0)
+
+
 @pytest.mark.parametrize('moving, overrides, lost, hints', [
-    (True, [], True, 1),                                        # dpn.yaml with a real laser
-    (True, [], False, 0),                                       # an ideal laser, open space
-    (False, [], True, 0),                                       # waiting for a goal: no word
-    (True, [Parameter('no_return_reach', value=0.0)], True, 0),     # dpn_real_laser's rule
+    (True, [SWITCH_OFF], True, 1),                              # dpn.yaml with a real laser
+    (True, [], True, 0),                                        # the navigator switches itself
+    (True, [SWITCH_OFF], False, 0),                             # an ideal laser, open space
+    (False, [SWITCH_OFF], True, 0),                             # waiting for a goal: no word
+    (True, [SWITCH_OFF, Parameter('no_return_reach', value=0.0)], True, 0),  # the real rule
 ])
 def test_a_laser_losing_returns_on_the_move_gets_one_hint(ros_context, moving, overrides,
                                                           lost, hints):
@@ -383,5 +387,27 @@ def test_a_laser_losing_returns_on_the_move_gets_one_hint(ros_context, moving, o
         assert dpn.laser_hints == hints
         # Surveyed until the hints are given, never after; standing, still surveying.
         assert (dpn.laser_survey is None) is moving
+    finally:
+        dpn.destroy_node()
+
+
+def test_the_real_laser_switch_is_logged_once_and_in_the_status(ros_context, capfd):
+    dpn = DpnNode(context=ros_context, parameter_overrides=[BARE_ROBOT])
+    try:
+        ranges = np.full(640, 4.0)
+        ranges[::5] = np.inf                                    # 20 % lost inside a wall
+        for index in range(6):
+            placement = laser_placement(0.04 * index, ranges)
+            dpn.navigator.observe(placement.base_pose, **placement.fields, stamp=10.0 + index,
+                                  laser_pose=placement.laser_pose)
+            dpn.report_real_laser(10.0 + index)
+        assert dpn.navigator.real_laser.switched_at == 13.0     # 0.12 m from the start
+        assert dpn.navigator.config.no_return_reach == 0.0      # from the next scan on
+        assert dpn.real_laser_since == 14.0
+        status = {kv.key: kv.value for kv in dpn.diagnostics.last.values}
+        assert status['real_laser_since'] == '14.000'
+        err = capfd.readouterr().err
+        assert err.count('laser: a real laser: once it moved') == 1
+        assert 'from 4.0 s on' in err and 'no_return_reach 0' in err
     finally:
         dpn.destroy_node()

@@ -284,6 +284,21 @@ class FineEvidence:
                        np.ascontiguousarray(hits[1], dtype=np.float64), x0, y0,
                        self.geometry.resolution, squared_bound(self.radius), stamp)
 
+    def set_burn_in(self, burn_in):
+        """
+        Take a new burn-in [s] from the next scan on (0: off); the hit clock starts empty.
+
+        Cells no hit has stamped yet count as long free of hits, as at the start.
+        """
+        burn_in = float(burn_in)
+        if not (math.isfinite(burn_in) and burn_in >= 0.0):
+            raise ValueError(f'burn_in must be finite and >= 0, got {burn_in!r} s')
+        self.burn_in = burn_in
+        if burn_in == 0.0:
+            self.hit_stamp = None
+        elif self.hit_stamp is None:
+            self.hit_stamp = np.full(self.geometry.shape, -math.inf)
+
     def drop_free(self):
         """Forget which fine cells were seen free (both generations); keep the hit clock."""
         self._seen_free[...] = False

@@ -13,7 +13,7 @@ mobile cell that no hit has confirmed for that long goes back to explored while 
 
 """
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
 import math
 
 import numpy as np
@@ -489,6 +489,11 @@ class LabelRule:
                 int(self.segment_bridge_beams), self.mobile_expiry > 0.0)
 
 
+#: The fields of a ``LabelRule`` a running grid may switch (``LabelGrid.switch_rule``): those read
+#: scan by scan, which hold no state of their own.
+SWITCHABLE_RULE_FIELDS = frozenset({
+    'no_return_reach', 'mixed_pixel_angle', 'spike_angle', 'veiling_angle', 'edge_pixel_flatness',
+    'range_noise_margin', 'range_noise_fraction', 'free_burn_in', 'object_min_width'})
 #: The paper's rule: f1, f2 and the FSM table, nothing else.
 PAPER_RULE = LabelRule()
 
@@ -918,6 +923,42 @@ class LabelGrid(PlanningMap):
         if self.laser_standing.step(pose, stamp):
             self._drop_free_evidence()
         return self.rule.no_return_reach if self.laser_standing.standing else 0.0
+
+    def switch_rule(self, rule):
+        """
+        Take ``rule`` from the next scan on, dropping the free evidence gathered so far.
+
+        Only the rules that read each scan as it comes may change (`SWITCHABLE_RULE_FIELDS`:
+        how beams with no return clear, the edge-pixel rules, the range noise, the burn-in,
+        narrow things); the labels, the hit clocks, the tracks and the memories stay. The free
+        evidence (``seen_free`` and the fine evidence) was gathered under the old rule (beams
+        with no return that cleared through a wall, say) and is dropped (`_drop_free_evidence`).
+
+        Parameters
+        ----------
+        rule : LabelRule
+            The rule from the next scan on; a valid ``LabelRule`` (its constructor checks it).
+
+        Raises
+        ------
+        ValueError
+            When a field outside `SWITCHABLE_RULE_FIELDS` differs; the grid is then unchanged.
+
+        """
+        changed = {item.name for item in fields(LabelRule)
+                   if getattr(rule, item.name) != getattr(self.rule, item.name)}
+        fixed = sorted(changed - SWITCHABLE_RULE_FIELDS)
+        if fixed:
+            raise ValueError(f'a grid cannot switch {", ".join(fixed)} while it runs; only '
+                             f'{", ".join(sorted(SWITCHABLE_RULE_FIELDS))}')
+        if not changed:
+            return
+        self.settle()
+        if self.fine_evidence is not None:
+            self.fine_evidence.set_burn_in(rule.free_burn_in)
+        self.rule = rule
+        self._kernel_rule = rule.kernel_arguments()
+        self._drop_free_evidence()
 
     def _drop_free_evidence(self):
         """
