@@ -376,9 +376,9 @@ class NavigatorConfig:
         'returns lost inside a surface (runs of 1-2 beams without a valid reading between '
         'hits within 0.3 m of each other; an ideal laser loses none, real ones 0.2-1 %), the '
         'settings of '
-        '`config/dpn_real_laser.yaml` left at their defaults are taken, once, and the free '
-        'evidence gathered so far is dropped ([method](method.md#a-real-laser-on-the-move)); '
-        '0: off (the paper)', 0.0, 1.0)
+        '`config/dpn_real_laser.yaml` left at their defaults are taken, once, and the map '
+        'starts again from the next scan ([method](method.md#a-real-laser-on-the-move)); 0: '
+        'off (the paper)', 0.0, 1.0)
     map_growth_step: float = setting(
         0.0, 'm', 'maps that grow: when the robot comes within `map_growth_margin` of an edge '
         'of the map, a laser hit falls beyond one, or a goal lies off the map, the map grows on '
